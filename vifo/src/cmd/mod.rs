@@ -1,0 +1,1 @@
+//! Subcommands of `vifo`, one module each.

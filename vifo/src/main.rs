@@ -15,11 +15,17 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Print the build's version and the crates it is made of.
+    About,
 }
 
 fn main() {
     let cli = Cli::parse();
-    let result = match cli.command {
+    let result: anyhow::Result<()> = match cli.command {
+        Command::About => {
+            println!("vifo {} (LIBERO-VIFO in pure Rust)", env!("CARGO_PKG_VERSION"));
+            Ok(())
+        }
     };
     if let Err(err) = result {
         eprintln!("error: {err:#}");

@@ -1,0 +1,11 @@
+//! Robot arms for LIBERO-VIFO.
+//!
+//! - [`model`]: immutable arm descriptions (kinematic tree, inertials, joint parameters, shapes).
+//! - [`dynamics`]: our own forward kinematics, Jacobians, mass matrix and bias forces
+//!   (fixed-size maths, identical bits natively and in wasm).
+//! - [`panda`]: the Panda + PandaGripper (+ RethinkMount) exactly as LIBERO uses them.
+
+pub mod dynamics;
+pub mod model;
+pub mod panda;
+pub mod spatial;

@@ -1,0 +1,204 @@
+//! Kinematics and rigid-body dynamics of an [`ArmModel`], written out with fixed-size maths.
+//!
+//! Everything the operational-space controller needs, computed the way MuJoCo does for the same
+//! tree: body poses, site Jacobians (world frame), the joint-space mass matrix with armature
+//! (`qM`), and the bias forces `c(q, q̇) + g(q)` (`qfrc_bias`). The number of degrees of freedom
+//! is a const generic so all matrices live on the stack.
+
+use nalgebra::{SMatrix, SVector};
+
+use crate::model::{ArmModel, JointKind};
+use crate::spatial::{Pose, Vec3, axis_angle};
+
+/// Generalized vector of an arm with `N` degrees of freedom.
+pub type Coords<const N: usize> = SVector<f64, N>;
+/// World-frame Jacobian: rows 0–2 linear, 3–5 angular.
+pub type Jacobian<const N: usize> = SMatrix<f64, 6, N>;
+
+/// Kinematic state of every body for one joint configuration.
+#[derive(Clone, Debug)]
+pub struct BodyPoses {
+    /// World pose of each body frame.
+    pub poses: Vec<Pose>,
+}
+
+/// Dynamics helper bound to a model: precomputes which degrees of freedom move which body.
+#[derive(Clone, Debug)]
+pub struct ArmDynamics<const N: usize> {
+    model: std::sync::Arc<ArmModel>,
+    /// `support[b][i]`: does dof `i` move body `b`?
+    support: Vec<[bool; N]>,
+    /// Dof index of the joint on body `b`, if any.
+    body_dof: Vec<Option<usize>>,
+    gravity: Vec3,
+}
+
+impl<const N: usize> ArmDynamics<N> {
+    /// Binds a model whose dof count must be `N`.
+    pub fn new(model: std::sync::Arc<ArmModel>, gravity: [f64; 3]) -> Self {
+        assert_eq!(model.ndofs(), N, "model {} has {} dofs", model.name, model.ndofs());
+        let nb = model.bodies.len();
+        let mut body_dof = vec![None; nb];
+        for (i, &b) in model.dofs.iter().enumerate() {
+            body_dof[b] = Some(i);
+        }
+        let mut support = vec![[false; N]; nb];
+        for b in 0..nb {
+            if let Some(p) = model.bodies[b].parent {
+                support[b] = support[p];
+            }
+            if let Some(i) = body_dof[b] {
+                support[b][i] = true;
+            }
+        }
+        ArmDynamics { model, support, body_dof, gravity: Vec3::from(gravity) }
+    }
+
+    pub fn model(&self) -> &ArmModel {
+        &self.model
+    }
+
+    /// World poses of all bodies for joint positions `q`, with the base at `base`.
+    pub fn forward(&self, base: &Pose, q: &Coords<N>) -> BodyPoses {
+        let bodies = &self.model.bodies;
+        let mut poses: Vec<Pose> = Vec::with_capacity(bodies.len());
+        for (b, body) in bodies.iter().enumerate() {
+            let parent = body.parent.map_or(*base, |p| poses[p]);
+            let mut pose = parent.mul(&body.local);
+            if let (Some(joint), Some(i)) = (&body.joint, self.body_dof[b]) {
+                match joint.kind {
+                    JointKind::Hinge => pose.rot *= axis_angle(&joint.axis, q[i]),
+                    JointKind::Slide => pose.pos += pose.rot * joint.axis * q[i],
+                }
+            }
+            poses.push(pose);
+        }
+        BodyPoses { poses }
+    }
+
+    /// World pose of a frame fixed to `body` at `local`.
+    pub fn frame_pose(&self, poses: &BodyPoses, body: usize, local: &Pose) -> Pose {
+        poses.poses[body].mul(local)
+    }
+
+    /// World-frame axis and anchor of dof `i`'s joint.
+    fn joint_axis(&self, poses: &BodyPoses, i: usize) -> (JointKind, Vec3, Vec3) {
+        let b = self.model.dofs[i];
+        let joint = self.model.joint(i);
+        let pose = &poses.poses[b];
+        (joint.kind, pose.rot * joint.axis, pose.pos)
+    }
+
+    /// Jacobian of the point `point` (world coordinates) rigidly attached to `body`:
+    /// `[v; ω] = J q̇`.
+    pub fn point_jacobian(&self, poses: &BodyPoses, body: usize, point: &Vec3) -> Jacobian<N> {
+        let mut jac = Jacobian::<N>::zeros();
+        for i in 0..N {
+            if !self.support[body][i] {
+                continue;
+            }
+            let (kind, axis, anchor) = self.joint_axis(poses, i);
+            match kind {
+                JointKind::Hinge => {
+                    let v = axis.cross(&(point - anchor));
+                    jac.fixed_view_mut::<3, 1>(0, i).copy_from(&v);
+                    jac.fixed_view_mut::<3, 1>(3, i).copy_from(&axis);
+                }
+                JointKind::Slide => jac.fixed_view_mut::<3, 1>(0, i).copy_from(&axis),
+            }
+        }
+        jac
+    }
+
+    /// Joint-space mass matrix including armature (MuJoCo's `qM`).
+    pub fn mass_matrix(&self, poses: &BodyPoses) -> SMatrix<f64, N, N> {
+        let mut m = SMatrix::<f64, N, N>::zeros();
+        for (b, body) in self.model.bodies.iter().enumerate() {
+            let inertial = &body.inertial;
+            if inertial.mass == 0.0 || !self.support[b].iter().any(|&s| s) {
+                continue;
+            }
+            let pose = &poses.poses[b];
+            let com = pose.transform_point(&inertial.com);
+            let j = self.point_jacobian(poses, b, &com);
+            let jv = j.fixed_rows::<3>(0);
+            let jw = j.fixed_rows::<3>(3);
+            let i_world = pose.rot * inertial.inertia * pose.rot.transpose();
+            m += jv.transpose() * jv * inertial.mass + jw.transpose() * i_world * jw;
+        }
+        for i in 0..N {
+            m[(i, i)] += self.model.joint(i).armature;
+        }
+        m
+    }
+
+    /// Inverse dynamics (recursive Newton–Euler): the generalized forces that produce
+    /// accelerations `qdd` at velocities `qd` under gravity. With `qdd = 0` this is MuJoCo's
+    /// `qfrc_bias` (Coriolis, centrifugal and gravity terms).
+    pub fn inverse_dynamics(&self, poses: &BodyPoses, qd: &Coords<N>, qdd: &Coords<N>) -> Coords<N> {
+        let bodies = &self.model.bodies;
+        let nb = bodies.len();
+        // Per body: angular velocity, angular acceleration, linear acceleration of the origin
+        // (the base accelerates upward at g, which stands in for gravity on every body).
+        let mut w = vec![Vec3::zeros(); nb];
+        let mut dw = vec![Vec3::zeros(); nb];
+        let mut a = vec![Vec3::zeros(); nb];
+        // Net force and moment (about the body origin) each body needs, then accumulated upward.
+        let mut f = vec![Vec3::zeros(); nb];
+        let mut n = vec![Vec3::zeros(); nb];
+        for (b, body) in bodies.iter().enumerate() {
+            let pose = &poses.poses[b];
+            let (mut wb, mut dwb, mut ab) = match body.parent {
+                None => (Vec3::zeros(), Vec3::zeros(), -self.gravity),
+                Some(p) => {
+                    let r = pose.pos - poses.poses[p].pos;
+                    let (wp, dwp) = (w[p], dw[p]);
+                    (wp, dwp, a[p] + dwp.cross(&r) + wp.cross(&wp.cross(&r)))
+                }
+            };
+            if let Some(i) = self.body_dof[b] {
+                let (kind, axis, _) = self.joint_axis(poses, i);
+                let wp = wb;
+                match kind {
+                    JointKind::Hinge => {
+                        wb += axis * qd[i];
+                        dwb += wp.cross(&(axis * qd[i])) + axis * qdd[i];
+                    }
+                    JointKind::Slide => {
+                        ab += wp.cross(&(axis * qd[i])) * 2.0 + axis * qdd[i];
+                    }
+                }
+            }
+            let inertial = &body.inertial;
+            let c = pose.rot * inertial.com;
+            let ac = ab + dwb.cross(&c) + wb.cross(&wb.cross(&c));
+            let i_world = pose.rot * inertial.inertia * pose.rot.transpose();
+            let fb = ac * inertial.mass;
+            f[b] = fb;
+            n[b] = i_world * dwb + wb.cross(&(i_world * wb)) + c.cross(&fb);
+            (w[b], dw[b], a[b]) = (wb, dwb, ab);
+        }
+        let mut tau = Coords::<N>::zeros();
+        for b in (0..nb).rev() {
+            if let Some(i) = self.body_dof[b] {
+                let (kind, axis, _) = self.joint_axis(poses, i);
+                tau[i] = match kind {
+                    JointKind::Hinge => axis.dot(&n[b]),
+                    JointKind::Slide => axis.dot(&f[b]),
+                };
+            }
+            if let Some(p) = bodies[b].parent {
+                let r = poses.poses[b].pos - poses.poses[p].pos;
+                let (fb, nb_) = (f[b], n[b]);
+                f[p] += fb;
+                n[p] += nb_ + r.cross(&fb);
+            }
+        }
+        tau
+    }
+
+    /// `qfrc_bias`: Coriolis, centrifugal and gravity generalized forces at rest acceleration.
+    pub fn bias_forces(&self, poses: &BodyPoses, qd: &Coords<N>) -> Coords<N> {
+        self.inverse_dynamics(poses, qd, &Coords::<N>::zeros())
+    }
+}

@@ -1,0 +1,341 @@
+//! The Franka Panda exactly as LIBERO uses it: robosuite 1.4's `Panda` arm, `PandaGripper` and,
+//! for table scenes, the `RethinkMount` pedestal.
+//!
+//! All numbers are robosuite 1.4.0's model facts (kinematic chain, placeholder inertials, joint
+//! damping/armature/frictionloss, limits, gripper geometry). Collision shapes are primitives
+//! fitted to the bounding boxes of robosuite's link meshes, since no mesh files ship with the
+//! project; the finger pads, which do the grasping, are robosuite's own boxes.
+
+use std::sync::Arc;
+
+use crate::model::{ArmModel, Body, Collider, ContactRole, Inertial, JointKind, JointSpec, Shape, Site, Visual};
+use crate::spatial::{Pose, Vec3};
+
+/// LIBERO's `MountedPanda` / `OnTheGroundPanda` `init_qpos`: the OSC nullspace target and the
+/// reset configuration.
+pub const LIBERO_INIT_QPOS: [f64; 7] =
+    [0.0, -0.161037389, 0.0, -2.44459747, 0.0, 2.22675220, std::f64::consts::FRAC_PI_4];
+
+/// Finger positions at reset (robosuite `PandaGripper.init_qpos`).
+pub const GRIPPER_INIT_QPOS: [f64; 2] = [0.020833, -0.020833];
+
+/// Arm motor torque limits (robot.xml `ctrlrange`), N·m.
+pub const TORQUE_LIMITS: [f64; 7] = [80.0, 80.0, 80.0, 80.0, 80.0, 12.0, 12.0];
+
+/// The grip site: robosuite's end-effector point (`gripper0_grip_site`).
+pub const GRIP_SITE: &str = "grip_site";
+/// The body whose orientation robosuite reports as `robot0_eef_quat`.
+pub const HAND_BODY: &str = "right_hand";
+/// The wrist camera (`robot0_eye_in_hand`).
+pub const EYE_IN_HAND: &str = "eye_in_hand";
+
+/// Height of the robot base above the RethinkMount's placement point (`bottom_offset` 0.912 m).
+pub const MOUNT_HEIGHT: f64 = 0.912;
+
+/// Whether the arm stands on robosuite's pedestal (tabletop, kitchen, study scenes) or on the
+/// ground (floor and living-room scenes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mount {
+    Pedestal,
+    Ground,
+}
+
+const WHITE: [f32; 4] = [0.95, 0.95, 0.95, 1.0];
+const DARK: [f32; 4] = [0.15, 0.15, 0.17, 1.0];
+const GREY: [f32; 4] = [0.5, 0.5, 0.5, 1.0];
+
+fn q(w: f64, x: f64, y: f64, z: f64) -> [f64; 4] {
+    [w, x, y, z]
+}
+
+const H: f64 = 0.707107;
+
+fn capsule(name: &'static str, radius: f64, from: [f64; 3], to: [f64; 3]) -> Collider {
+    let (a, b) = (Vec3::from(from), Vec3::from(to));
+    let axis = b - a;
+    let len = axis.norm();
+    let rot = nalgebra::UnitQuaternion::rotation_between(&Vec3::z(), &(axis / len))
+        .unwrap_or_else(nalgebra::UnitQuaternion::identity);
+    Collider {
+        name,
+        shape: Shape::Capsule { radius, half_height: len / 2.0 },
+        local: Pose::new((a + b) / 2.0, rot.to_rotation_matrix().into_inner()),
+        friction: 1.0,
+        role: ContactRole::Link,
+    }
+}
+
+fn cuboid(name: &'static str, half: [f64; 3], center: [f64; 3], role: ContactRole, friction: f64) -> Collider {
+    Collider { name, shape: Shape::Box { half }, local: Pose::from_wxyz(center, q(1.0, 0.0, 0.0, 0.0)), friction, role }
+}
+
+/// Visuals mirroring the colliders, in the Panda's white-and-dark colours.
+fn visuals_of(colliders: &[Collider], rgba: [f32; 4]) -> Vec<Visual> {
+    colliders.iter().map(|c| Visual { shape: c.shape, local: c.local, rgba }).collect()
+}
+
+fn link(
+    name: &'static str,
+    parent: usize,
+    pos: [f64; 3],
+    quat: [f64; 4],
+    joint: JointSpec,
+    inertial: Inertial,
+    colliders: Vec<Collider>,
+    rgba: [f32; 4],
+) -> Body {
+    let visuals = visuals_of(&colliders, rgba);
+    Body { name, parent: Some(parent), local: Pose::from_wxyz(pos, quat), joint: Some(joint), inertial, colliders, visuals }
+}
+
+fn hinge(name: &'static str, range: [f64; 2], damping: f64, armature: f64) -> JointSpec {
+    JointSpec { name, kind: JointKind::Hinge, axis: Vec3::z(), range, damping, armature, frictionloss: 0.1 }
+}
+
+fn finger_joint(name: &'static str, range: [f64; 2]) -> JointSpec {
+    JointSpec { name, kind: JointKind::Slide, axis: Vec3::y(), range, damping: 100.0, armature: 1.0, frictionloss: 1.0 }
+}
+
+/// One finger (body + pad tip). `side` is +1 for the left finger, -1 for the right one.
+fn finger(bodies: &mut Vec<Body>, gripper: usize, side: f64) {
+    let (name, tip, joint, pad_name) = if side > 0.0 {
+        ("leftfinger", "finger1_tip", finger_joint("finger_joint1", [0.0, 0.04]), "finger1_pad")
+    } else {
+        ("rightfinger", "finger2_tip", finger_joint("finger_joint2", [-0.04, 0.0]), "finger2_pad")
+    };
+    let shell = cuboid("finger", [0.0105, 0.0132, 0.0269], [0.0, side * 0.0132, 0.0269], ContactRole::Finger, 1.0);
+    let index = bodies.len();
+    bodies.push(Body {
+        name,
+        parent: Some(gripper),
+        local: Pose::from_wxyz([0.0, 0.0, 0.0524], q(H, 0.0, 0.0, H)),
+        joint: Some(joint),
+        inertial: Inertial::diag(0.1, [0.0, 0.0, 0.05], [0.01, 0.01, 0.005]),
+        visuals: visuals_of(std::slice::from_ref(&shell), GREY),
+        colliders: vec![shell],
+    });
+    let pad = Collider {
+        name: pad_name,
+        shape: Shape::Box { half: [0.008, 0.004, 0.008] },
+        local: Pose::from_wxyz([0.0, -side * 0.005, -0.015], q(0.0, 0.0, 0.0, 1.0)),
+        friction: 2.0,
+        role: ContactRole::Pad,
+    };
+    bodies.push(Body {
+        name: tip,
+        parent: Some(index),
+        local: Pose::from_wxyz([0.0, side * 0.0085, 0.056], q(1.0, 0.0, 0.0, 0.0)),
+        joint: None,
+        inertial: Inertial::new(0.01, [0.0; 3], [0.01, 0.01, 0.01], q(0.0, 0.0, 0.0, 1.0)),
+        visuals: visuals_of(std::slice::from_ref(&pad), DARK),
+        colliders: vec![pad],
+    });
+}
+
+/// robosuite's RethinkMount: static boxes and a cylinder under the base.
+fn pedestal() -> Vec<Collider> {
+    let z = 0.01;
+    vec![
+        cuboid("controller_box", [0.11, 0.2, 0.265], [-0.325, 0.0, -0.38 + z], ContactRole::Link, 1.0),
+        cuboid("pedestal_feet", [0.385, 0.35, 0.155], [-0.1225, 0.0, -0.758 + z], ContactRole::Link, 1.0),
+        Collider {
+            name: "pedestal",
+            shape: Shape::Cylinder { radius: 0.18, half_height: 0.31 },
+            local: Pose::from_wxyz([-0.02, 0.0, -0.29 + z], q(1.0, 0.0, 0.0, 0.0)),
+            friction: 1.0,
+            role: ContactRole::Link,
+        },
+    ]
+}
+
+/// The LIBERO Panda with its gripper; `mount` adds the pedestal's static geometry to the base.
+pub fn model(mount: Mount) -> Arc<ArmModel> {
+    let base_colliders = if mount == Mount::Pedestal { pedestal() } else { Vec::new() };
+    let mut bodies = vec![Body {
+        name: "base",
+        parent: None,
+        local: Pose::IDENTITY,
+        joint: None,
+        inertial: Inertial::diag(0.0, [0.0; 3], [0.0; 3]),
+        visuals: visuals_of(&base_colliders, DARK),
+        colliders: base_colliders,
+    }];
+    let link0 = vec![cuboid("link0", [0.113, 0.095, 0.07], [-0.041, 0.0, 0.07], ContactRole::Link, 1.0)];
+    bodies.push(Body {
+        name: "link0",
+        parent: Some(0),
+        local: Pose::IDENTITY,
+        joint: None,
+        inertial: Inertial::diag(4.0, [0.0, 0.0, 0.05], [0.4, 0.4, 0.4]),
+        visuals: visuals_of(&link0, WHITE),
+        colliders: link0,
+    });
+    let d = 0.1;
+    let links: [(&str, [f64; 3], [f64; 4], JointSpec, Inertial, Vec<Collider>); 7] = [
+        ("link1", [0.0, 0.0, 0.333], q(1.0, 0.0, 0.0, 0.0), hinge("joint1", [-2.8973, 2.8973], d, 5.0),
+            Inertial::diag(3.0, [0.0, 0.0, -0.07], [0.3; 3]),
+            vec![capsule("link1", 0.055, [0.0, 0.0, -0.14], [0.0, 0.0, 0.0])]),
+        ("link2", [0.0; 3], q(H, -H, 0.0, 0.0), hinge("joint2", [-1.7628, 1.7628], d, 2.5),
+            Inertial::diag(3.0, [0.0, -0.1, 0.0], [0.3; 3]),
+            vec![capsule("link2", 0.055, [0.0, 0.0, 0.0], [0.0, -0.14, 0.0])]),
+        ("link3", [0.0, -0.316, 0.0], q(H, H, 0.0, 0.0), hinge("joint3", [-2.8973, 2.8973], d, 5.0 / 3.0),
+            Inertial::diag(2.0, [0.04, 0.0, -0.05], [0.2; 3]),
+            vec![capsule("link3", 0.055, [0.0, 0.0, -0.07], [0.0825, 0.0, 0.0])]),
+        ("link4", [0.0825, 0.0, 0.0], q(H, H, 0.0, 0.0), hinge("joint4", [-3.0718, -0.0698], d, 1.25),
+            Inertial::diag(2.0, [-0.04, 0.05, 0.0], [0.2; 3]),
+            vec![capsule("link4", 0.055, [0.0, 0.0, 0.0], [-0.0825, 0.07, 0.0])]),
+        ("link5", [-0.0825, 0.384, 0.0], q(H, -H, 0.0, 0.0), hinge("joint5", [-2.8973, 2.8973], d, 1.0),
+            Inertial::diag(2.0, [0.0, 0.0, -0.15], [0.2; 3]),
+            vec![capsule("link5", 0.055, [0.0, 0.0, -0.21], [0.0, 0.0, -0.02])]),
+        ("link6", [0.0; 3], q(H, H, 0.0, 0.0), hinge("joint6", [-0.0175, 3.7525], 0.01, 5.0 / 6.0),
+            Inertial::diag(1.5, [0.06, 0.0, 0.0], [0.1; 3]),
+            vec![capsule("link6", 0.05, [0.0, 0.0, 0.0], [0.088, 0.0, 0.0])]),
+        ("link7", [0.088, 0.0, 0.0], q(H, H, 0.0, 0.0), hinge("joint7", [-2.8973, 2.8973], 0.01, 5.0 / 7.0),
+            Inertial::diag(0.5, [0.0, 0.0, 0.08], [0.05; 3]),
+            Vec::new()),
+    ];
+    for (i, (name, pos, quat, joint, inertial, colliders)) in links.into_iter().enumerate() {
+        let rgba = if i % 2 == 0 { WHITE } else { DARK };
+        bodies.push(link(name, bodies.len() - 1, pos, quat, joint, inertial, colliders, rgba));
+    }
+    let link7 = bodies.len() - 1;
+    bodies.push(Body {
+        name: HAND_BODY,
+        parent: Some(link7),
+        local: Pose::from_wxyz([0.0, 0.0, 0.1065], q(0.924, 0.0, 0.0, -0.383)),
+        joint: None,
+        inertial: Inertial::diag(0.5, [0.0; 3], [0.05; 3]),
+        colliders: Vec::new(),
+        visuals: vec![Visual {
+            shape: Shape::Cylinder { radius: 0.045, half_height: 0.012 },
+            local: Pose::from_wxyz([0.0, 0.0, -0.012], q(1.0, 0.0, 0.0, 0.0)),
+            rgba: DARK,
+        }],
+    });
+    let hand = bodies.len() - 1;
+    let hand_box = vec![cuboid("hand", [0.102, 0.0316, 0.046], [0.0018, 0.0, 0.02], ContactRole::Link, 1.0)];
+    bodies.push(Body {
+        name: "right_gripper",
+        parent: Some(hand),
+        local: Pose::from_wxyz([0.0; 3], q(H, 0.0, 0.0, -H)),
+        joint: None,
+        inertial: Inertial::new(0.3, [0.0, 0.0, 0.17], [0.09, 0.07, 0.05], q(H, H, 0.0, 0.0)),
+        visuals: visuals_of(&hand_box, WHITE),
+        colliders: hand_box,
+    });
+    let gripper = bodies.len() - 1;
+    finger(&mut bodies, gripper, 1.0);
+    finger(&mut bodies, gripper, -1.0);
+    let dofs = (0..bodies.len()).filter(|&i| bodies[i].joint.is_some()).collect();
+    let sites = vec![
+        Site { name: GRIP_SITE, body: gripper, local: Pose::from_wxyz([0.0, 0.0, 0.097], q(1.0, 0.0, 0.0, 0.0)) },
+        Site { name: EYE_IN_HAND, body: hand, local: Pose::from_wxyz([0.05, 0.0, 0.0], q(0.0, 0.707108, 0.707108, 0.0)) },
+    ];
+    Arc::new(ArmModel { name: "panda", bodies, dofs, arm_dofs: 7, sites }.validated())
+}
+
+/// World pose of the robot base when LIBERO places the robot at `xpos` (robosuite
+/// `set_base_xpos`): the pedestal lifts the base by [`MOUNT_HEIGHT`].
+pub fn base_pose(mount: Mount, xpos: [f64; 3]) -> Pose {
+    let lift = if mount == Mount::Pedestal { MOUNT_HEIGHT } else { 0.0 };
+    Pose::from_wxyz([xpos[0], xpos[1], xpos[2] + lift], q(1.0, 0.0, 0.0, 0.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::{ArmDynamics, Coords};
+
+    fn at(qpos: [f64; 7]) -> (ArmDynamics<9>, crate::dynamics::BodyPoses) {
+        let dynamics = ArmDynamics::<9>::new(model(Mount::Ground), [0.0, 0.0, -9.81]);
+        let mut q = Coords::<9>::zeros();
+        q.fixed_rows_mut::<7>(0).copy_from_slice(&qpos);
+        q[7] = GRIPPER_INIT_QPOS[0];
+        q[8] = GRIPPER_INIT_QPOS[1];
+        let poses = dynamics.forward(&Pose::IDENTITY, &q);
+        (dynamics, poses)
+    }
+
+    fn grip_site(dynamics: &ArmDynamics<9>, poses: &crate::dynamics::BodyPoses) -> Pose {
+        let site = dynamics.model().site(GRIP_SITE).unwrap();
+        dynamics.frame_pose(poses, site.body, &site.local)
+    }
+
+    /// Golden values measured with MuJoCo on robosuite's composed model (research notes, robots §1.3).
+    #[test]
+    fn matches_mujoco_at_libero_init() {
+        let (dynamics, poses) = at(LIBERO_INIT_QPOS);
+        let site = grip_site(&dynamics, &poses);
+        let expected = Vec3::new(0.451535, 0.0, 0.261279);
+        assert!((site.pos - expected).norm() < 2e-6, "grip site {:?}", site.pos);
+        let qs = site.quat_wxyz();
+        let golden = [-0.020087, 0.706647, 0.706996, -0.020077];
+        let dot: f64 = qs.iter().zip(golden).map(|(a, b)| a * b).sum();
+        assert!(dot.abs() > 1.0 - 1e-5, "grip site quat {qs:?}");
+
+        let bias = dynamics.bias_forces(&poses, &Coords::<9>::zeros());
+        let golden_bias = [0.0, -19.6448, 0.0, 18.0603, 0.0, 2.0677, 0.0];
+        for i in 0..7 {
+            assert!((bias[i] - golden_bias[i]).abs() < 1e-3, "bias[{i}] = {}", bias[i]);
+        }
+        let m = dynamics.mass_matrix(&poses);
+        let golden_diag = [7.2543, 5.0122, 3.3953, 2.8696, 1.5073, 1.2220, 0.9144, 1.11, 1.11];
+        for i in 0..9 {
+            assert!((m[(i, i)] - golden_diag[i]).abs() < 1e-3, "M[{i},{i}] = {}", m[(i, i)]);
+        }
+    }
+
+    #[test]
+    fn matches_mujoco_at_other_configurations() {
+        let (dynamics, poses) = at([0.0, std::f64::consts::PI / 16.0, 0.0, -std::f64::consts::PI / 2.0 - std::f64::consts::PI / 3.0, 0.0, std::f64::consts::PI - 0.2, std::f64::consts::PI / 4.0]);
+        let site = grip_site(&dynamics, &poses);
+        assert!((site.pos - Vec3::new(0.457232, 0.0, 0.099044)).norm() < 2e-6, "{:?}", site.pos);
+        let bias = dynamics.bias_forces(&poses, &Coords::<9>::zeros());
+        for (i, g) in [0.0, -24.6722, 0.0, 12.4923, 0.0, 2.4541, 0.0].into_iter().enumerate() {
+            assert!((bias[i] - g).abs() < 1e-3, "bias[{i}] = {}", bias[i]);
+        }
+        let (dynamics, poses) = at([0.0; 7]);
+        let site = grip_site(&dynamics, &poses);
+        assert!((site.pos - Vec3::new(0.088, 0.0, 0.8295)).norm() < 2e-6, "{:?}", site.pos);
+        let m = dynamics.mass_matrix(&poses);
+        for (i, g) in [6.5241, 5.9885, 2.5908, 2.4082, 1.5173, 1.2020, 0.9144].into_iter().enumerate() {
+            assert!((m[(i, i)] - g).abs() < 1e-3, "M[{i},{i}] = {}", m[(i, i)]);
+        }
+    }
+
+    /// Inverse dynamics and the mass matrix must agree: RNEA(q̇, q̈) − RNEA(q̇, 0) = M q̈ (minus
+    /// armature, which RNEA does not see).
+    #[test]
+    fn inverse_dynamics_is_consistent_with_the_mass_matrix() {
+        let (dynamics, poses) = at([0.3, -0.4, 0.2, -2.0, 0.5, 2.0, 0.1]);
+        let qd = Coords::<9>::from_fn(|i, _| 0.3 * (i as f64) - 1.0);
+        let qdd = Coords::<9>::from_fn(|i, _| 0.7 - 0.2 * (i as f64));
+        let lhs = dynamics.inverse_dynamics(&poses, &qd, &qdd) - dynamics.bias_forces(&poses, &qd);
+        let mut m = dynamics.mass_matrix(&poses);
+        for i in 0..9 {
+            m[(i, i)] -= dynamics.model().joint(i).armature;
+        }
+        assert!((lhs - m * qdd).norm() < 1e-10, "{}", (lhs - m * qdd).norm());
+    }
+
+    /// The site Jacobian must match finite differences of forward kinematics.
+    #[test]
+    fn jacobian_matches_finite_differences() {
+        let dynamics = ArmDynamics::<9>::new(model(Mount::Ground), [0.0, 0.0, -9.81]);
+        let q = Coords::<9>::from_column_slice(&[0.2, -0.3, 0.1, -2.2, 0.4, 2.1, 0.6, 0.02, -0.02]);
+        let site = dynamics.model().site(GRIP_SITE).unwrap().clone();
+        let poses = dynamics.forward(&Pose::IDENTITY, &q);
+        let p0 = dynamics.frame_pose(&poses, site.body, &site.local);
+        let jac = dynamics.point_jacobian(&poses, site.body, &p0.pos);
+        let h = 1e-7;
+        for i in 0..9 {
+            let mut qh = q;
+            qh[i] += h;
+            let p1 = dynamics.frame_pose(&dynamics.forward(&Pose::IDENTITY, &qh), site.body, &site.local);
+            let dv = (p1.pos - p0.pos) / h;
+            let dw = crate::spatial::rotation_vector(&(p1.rot * p0.rot.transpose())) / h;
+            assert!((dv - jac.fixed_view::<3, 1>(0, i)).norm() < 1e-5, "linear column {i}");
+            assert!((dw - jac.fixed_view::<3, 1>(3, i)).norm() < 1e-5, "angular column {i}");
+        }
+    }
+}

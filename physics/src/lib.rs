@@ -17,4 +17,4 @@ pub use params::SimParams;
 pub use world::{Snapshot, World};
 
 /// The rapier3d build this workspace uses (`rapier3d-f64` with `enhanced-determinism`).
-pub use rapier3d;
+pub use rapier3d as rapier;

@@ -77,6 +77,7 @@ impl World {
         for (_, body) in self.rapier.bodies.iter_mut() {
             if body.user_force() != Vector::ZERO || body.user_torque() != Vector::ZERO {
                 body.reset_forces(false);
+                body.reset_torques(false);
             }
         }
         self.steps += 1;

@@ -7,6 +7,7 @@
 
 use nalgebra::{SMatrix, SVector};
 
+use crate::fluid::{Fluid, InertiaBox};
 use crate::model::{ArmModel, JointKind};
 use crate::spatial::{Pose, Vec3, axis_angle};
 
@@ -30,6 +31,8 @@ pub struct ArmDynamics<const N: usize> {
     support: Vec<[bool; N]>,
     /// Dof index of the joint on body `b`, if any.
     body_dof: Vec<Option<usize>>,
+    /// Equivalent inertia box of each body (MuJoCo's fluid model), if it has mass.
+    boxes: Vec<Option<InertiaBox>>,
     gravity: Vec3,
 }
 
@@ -51,7 +54,8 @@ impl<const N: usize> ArmDynamics<N> {
                 support[b][i] = true;
             }
         }
-        ArmDynamics { model, support, body_dof, gravity: Vec3::from(gravity) }
+        let boxes = model.bodies.iter().map(|b| InertiaBox::of(&b.inertial)).collect();
+        ArmDynamics { model, support, body_dof, boxes, gravity: Vec3::from(gravity) }
     }
 
     pub fn model(&self) -> &ArmModel {
@@ -193,6 +197,29 @@ impl<const N: usize> ArmDynamics<N> {
                 f[p] += fb;
                 n[p] += nb_ + r.cross(&fb);
             }
+        }
+        tau
+    }
+
+    /// Generalized forces of MuJoCo's inertia-box fluid model on every moving body.
+    pub fn fluid_forces(&self, fluid: &Fluid, poses: &BodyPoses, qd: &Coords<N>) -> Coords<N> {
+        let mut tau = Coords::<N>::zeros();
+        for (b, body) in self.model.bodies.iter().enumerate() {
+            let Some(ibox) = &self.boxes[b] else { continue };
+            if !self.support[b].iter().any(|&s| s) {
+                continue;
+            }
+            let pose = &poses.poses[b];
+            let com = pose.transform_point(&body.inertial.com);
+            let jac = self.point_jacobian(poses, b, &com);
+            let twist = jac * qd;
+            let v = twist.fixed_rows::<3>(0).into_owned();
+            let w = twist.fixed_rows::<3>(3).into_owned();
+            let (force, torque) = ibox.forces(fluid, &(pose.rot * ibox.axes), &v, &w);
+            let mut wrench = nalgebra::SVector::<f64, 6>::zeros();
+            wrench.fixed_rows_mut::<3>(0).copy_from(&force);
+            wrench.fixed_rows_mut::<3>(3).copy_from(&torque);
+            tau += jac.transpose() * wrench;
         }
         tau
     }

@@ -5,7 +5,14 @@
 //!   (fixed-size maths, identical bits natively and in wasm).
 //! - [`panda`]: the Panda + PandaGripper (+ RethinkMount) exactly as LIBERO uses them.
 
+pub mod action;
+pub mod arm;
+pub mod contact;
+mod convert;
 pub mod dynamics;
+pub mod fluid;
+pub mod gripper;
 pub mod model;
+pub mod osc;
 pub mod panda;
 pub mod spatial;

@@ -8,6 +8,15 @@
 
 use std::sync::Arc;
 
+use serde::{Deserialize, Serialize};
+use vifo_physics::World;
+
+use crate::action::Action;
+use crate::arm::{ArmInstance, JointState};
+use crate::dynamics::{Coords, Jacobian};
+use crate::fluid::Fluid;
+use crate::gripper::{GripperRamp, finger_forces};
+use crate::osc::{self, OscGoal, OscInput, OscParams};
 use crate::model::{ArmModel, Body, Collider, ContactRole, Inertial, JointKind, JointSpec, Shape, Site, Visual};
 use crate::spatial::{Pose, Vec3};
 
@@ -241,6 +250,143 @@ pub fn base_pose(mount: Mount, xpos: [f64; 3]) -> Pose {
     Pose::from_wxyz([xpos[0], xpos[1], xpos[2] + lift], q(1.0, 0.0, 0.0, 0.0))
 }
 
+/// The Panda in a world, driven exactly as robosuite drives it.
+#[derive(Clone, Debug)]
+pub struct Panda {
+    arm: ArmInstance<9>,
+    params: OscParams,
+    grip_site: Site,
+    hand: usize,
+}
+
+/// The controller's per-episode state, which is not part of the physics state: the OSC goal,
+/// the nullspace target and the gripper's hidden ramp. Snapshots must carry it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PandaControl {
+    pub goal: OscGoal,
+    pub nullspace_target: [f64; 7],
+    pub gripper: GripperRamp,
+    /// robosuite's controller caches the robot state and refreshes it only after it has run
+    /// once; right after a reset its cache still describes the reset configuration (arm at
+    /// `init_qpos`, fingers at 0, at rest) even though LIBERO has since loaded an initial state.
+    /// While this is set, the next substep computes its goal and torques from that cache
+    /// (bias forces excepted, which robosuite reads live), exactly as robosuite does.
+    pub stale_cache: bool,
+}
+
+impl Panda {
+    /// Builds the arm into `world` with its base at `base` (see [`base_pose`]).
+    pub fn insert(world: &mut World, mount: Mount, base: Pose) -> Self {
+        let model = model(mount);
+        let grip_site = model.site(GRIP_SITE).expect("grip site").clone();
+        let hand = model.body_index(HAND_BODY).expect("hand body");
+        let arm = ArmInstance::insert(world, model, base);
+        Panda { arm, params: OscParams::ROBOSUITE, grip_site, hand }
+    }
+
+    pub fn arm(&self) -> &ArmInstance<9> {
+        &self.arm
+    }
+
+    /// The controller state right after robosuite's reset: goal at the end-effector pose of
+    /// LIBERO's `init_qpos`, nullspace target `init_qpos`, gripper ramp at zero. LIBERO then
+    /// overwrites the joint state (`set_init_state`) without touching this.
+    pub fn reset_control(&self) -> PandaControl {
+        let q = Self::coords(&LIBERO_INIT_QPOS, &GRIPPER_INIT_QPOS);
+        let poses = self.arm.dynamics().forward(self.arm.base(), &q);
+        let site = self.arm.dynamics().frame_pose(&poses, self.grip_site.body, &self.grip_site.local);
+        PandaControl {
+            goal: OscGoal::new(site.pos, site.rot),
+            nullspace_target: LIBERO_INIT_QPOS,
+            gripper: GripperRamp::default(),
+            stale_cache: true,
+        }
+    }
+
+    fn coords(arm: &[f64; 7], fingers: &[f64; 2]) -> Coords<9> {
+        let mut q = Coords::<9>::zeros();
+        q.fixed_rows_mut::<7>(0).copy_from_slice(arm);
+        q[7] = fingers[0];
+        q[8] = fingers[1];
+        q
+    }
+
+    /// Sets joint positions and velocities (arm 7, fingers 2).
+    pub fn set_joints(&self, world: &mut World, arm: &[f64; 7], fingers: &[f64; 2], arm_vel: &[f64; 7], finger_vel: &[f64; 2]) {
+        let state = JointState { q: Self::coords(arm, fingers), qd: Self::coords(arm_vel, finger_vel) };
+        self.arm.set_state(world, &state);
+    }
+
+    /// Current joint positions and velocities.
+    pub fn joints(&self, world: &World) -> JointState<9> {
+        self.arm.state(world)
+    }
+
+    /// World pose of the grip site (robosuite's `robot0_eef_pos` and the OSC's frame).
+    pub fn grip_site_pose(&self, world: &World) -> Pose {
+        let poses = self.arm.body_poses(world);
+        self.arm.dynamics().frame_pose(&poses, self.grip_site.body, &self.grip_site.local)
+    }
+
+    /// World pose of the hand body (robosuite reports its orientation as `robot0_eef_quat`).
+    pub fn hand_pose(&self, world: &World) -> Pose {
+        self.arm.body_poses(world).poses[self.hand]
+    }
+
+    /// Sets the actuator efforts for the next physics substep: OSC torques (goal refreshed when
+    /// `policy_step`), clipped to the motor limits, and the gripper servos.
+    pub fn apply(&self, world: &mut World, control: &mut PandaControl, action: &Action, policy_step: bool) {
+        let live = self.arm.state(world);
+        let dynamics = self.arm.dynamics();
+        let live_poses = dynamics.forward(self.arm.base(), &live.q);
+        let bias = dynamics.bias_forces(&live_poses, &live.qd);
+        let (state, poses) = if std::mem::take(&mut control.stale_cache) {
+            let q = Self::coords(&control.nullspace_target, &[0.0; 2]);
+            (JointState { q, qd: Coords::<9>::zeros() }, dynamics.forward(self.arm.base(), &q))
+        } else {
+            (live, live_poses.clone())
+        };
+        let site = dynamics.frame_pose(&poses, self.grip_site.body, &self.grip_site.local);
+        if policy_step {
+            control.goal = control.goal.updated(&self.params, &site.pos, &site.rot, action.translation(), action.rotation());
+        }
+        let jac: Jacobian<9> = dynamics.point_jacobian(&poses, self.grip_site.body, &site.pos);
+        let mass = dynamics.mass_matrix(&poses);
+        let arm_q = state.q.fixed_rows::<7>(0).into_owned();
+        let arm_qd = state.qd.fixed_rows::<7>(0).into_owned();
+        let q0 = nalgebra::SVector::<f64, 7>::from(control.nullspace_target);
+        let input = OscInput {
+            q: &arm_q,
+            qd: &arm_qd,
+            mass: &mass.fixed_view::<7, 7>(0, 0).into_owned(),
+            bias: &bias.fixed_rows::<7>(0).into_owned(),
+            jacobian: &jac.fixed_columns::<7>(0).into_owned(),
+            ee_pos: &site.pos,
+            ee_ori: &site.rot,
+            q0: &q0,
+        };
+        let arm_tau = osc::torques(&self.params, &control.goal, &input);
+        let ctrl = control.gripper.step(action.gripper());
+        let finger = finger_forces(ctrl, [live.q[7], live.q[8]]);
+        let mut tau = Coords::<9>::zeros();
+        for i in 0..7 {
+            tau[i] = arm_tau[i].clamp(-TORQUE_LIMITS[i], TORQUE_LIMITS[i]);
+        }
+        tau[7] = finger[0];
+        tau[8] = finger[1];
+        tau += dynamics.fluid_forces(&Fluid::ROBOSUITE_AIR, &live_poses, &live.qd);
+        self.arm.apply_generalized_forces(world, &live_poses, &tau);
+    }
+
+    /// One 20 Hz control step: the world's substeps, the goal set on the first.
+    pub fn control_step(&self, world: &mut World, control: &mut PandaControl, action: &Action) {
+        for substep in 0..world.params().substeps {
+            self.apply(world, control, action, substep == 0);
+            world.step();
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -336,6 +482,47 @@ mod tests {
             let dw = crate::spatial::rotation_vector(&(p1.rot * p0.rot.transpose())) / h;
             assert!((dv - jac.fixed_view::<3, 1>(0, i)).norm() < 1e-5, "linear column {i}");
             assert!((dw - jac.fixed_view::<3, 1>(3, i)).norm() < 1e-5, "angular column {i}");
+        }
+    }
+}
+
+#[cfg(test)]
+mod step_response {
+    use super::*;
+    use vifo_physics::SimParams;
+
+    /// Holds `action` from LIBERO's init configuration for `steps` control steps and returns the
+    /// grip site's base-frame position after each step, and the rotation about world z.
+    fn hold(action: [f64; 7], steps: usize) -> Vec<(Vec3, f64)> {
+        let mut world = World::new(SimParams::LIBERO);
+        let robot = Panda::insert(&mut world, Mount::Ground, Pose::IDENTITY);
+        robot.set_joints(&mut world, &LIBERO_INIT_QPOS, &GRIPPER_INIT_QPOS, &[0.0; 7], &[0.0; 2]);
+        let mut control = robot.reset_control();
+        let start = robot.grip_site_pose(&world).rot;
+        let action = Action::new(&action).unwrap();
+        (0..steps)
+            .map(|_| {
+                robot.control_step(&mut world, &mut control, &action);
+                let site = robot.grip_site_pose(&world);
+                let turned = crate::spatial::rotation_vector(&(site.rot * start.transpose()));
+                (site.pos, turned.z)
+            })
+            .collect()
+    }
+
+    /// Step responses measured with MuJoCo on robosuite's model (research notes, robots §1.4):
+    /// holding +x, the grip site's x after each of 10 control steps; holding +z rotation, the
+    /// cumulative rotation about world z. The rotation rate is limited by MuJoCo's air drag on the
+    /// placeholder inertias, so this also checks the fluid model.
+    #[test]
+    fn matches_mujoco_step_responses() {
+        let x = [0.4563, 0.4653, 0.4751, 0.4853, 0.4960, 0.5071, 0.5185, 0.5303, 0.5423, 0.5545];
+        for (k, (p, _)) in hold([1.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0], 10).into_iter().enumerate() {
+            assert!((p.x - x[k]).abs() < 1e-3, "step {k}: x = {:.4}, MuJoCo {:.4}", p.x, x[k]);
+        }
+        let rz = [0.026, 0.080, 0.141, 0.204, 0.268, 0.333, 0.399, 0.465, 0.531, 0.597];
+        for (k, (_, r)) in hold([0.0, 0.0, 0.0, 0.0, 0.0, 1.0, -1.0], 10).into_iter().enumerate() {
+            assert!((r - rz[k]).abs() < 3e-3, "step {k}: rotation {r:.3}, MuJoCo {:.3}", rz[k]);
         }
     }
 }

@@ -15,17 +15,14 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Print the build's version and the crates it is made of.
-    About,
+    /// Cross-validate against MuJoCo reference recordings.
+    Xval(cmd::xval::XvalArgs),
 }
 
 fn main() {
     let cli = Cli::parse();
     let result: anyhow::Result<()> = match cli.command {
-        Command::About => {
-            println!("vifo {} (LIBERO-VIFO in pure Rust)", env!("CARGO_PKG_VERSION"));
-            Ok(())
-        }
+        Command::Xval(args) => cmd::xval::run(&args),
     };
     if let Err(err) = result {
         eprintln!("error: {err:#}");

@@ -1,0 +1,47 @@
+//! `vifo xval <dir>`: cross-validation against MuJoCo reference recordings.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+use vifo::xval::{self, Recording};
+
+#[derive(Args)]
+pub struct XvalArgs {
+    /// Directory laid out like LIBERO-VIFO's reference set (`*_init0.json` recordings).
+    pub dir: PathBuf,
+    /// Print one JSON object instead of tables.
+    #[arg(long)]
+    pub json: bool,
+}
+
+pub fn run(args: &XvalArgs) -> Result<()> {
+    let mut reports = Vec::new();
+    for path in xval::recordings_in(&args.dir)? {
+        let rec = Recording::load(&path)?;
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        reports.push(xval::replay(&name, &rec)?);
+    }
+    let summary = xval::summarize(&reports);
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "tasks": reports, "summary": summary }))?);
+        return Ok(());
+    }
+    println!("Cross-validation against MuJoCo (arm in free space; end-effector from joint states)");
+    println!("{:<34} {:<9} {:>11} {:>11} {:>10} {:>11} {:>11}", "file", "phase", "eef max mm", "eef rms mm", "rot max °", "joint max r", "finger mm");
+    for r in &reports {
+        for p in r.phases.iter().map(|p| (p.phase, &p.stats)).chain([("all", &r.all)]) {
+            let s = p.1;
+            println!(
+                "{:<34} {:<9} {:>11.3} {:>11.3} {:>10.3} {:>11.5} {:>11.3}",
+                r.file, p.0, s.eef_pos_max_m * 1e3, s.eef_pos_rms_m * 1e3, s.eef_rot_max_deg, s.joint_max_rad, s.finger_max_m * 1e3
+            );
+        }
+    }
+    let s = &summary.stats;
+    println!(
+        "summary over {} tasks: eef_pos_max {:.3} mm, eef_pos_rms {:.3} mm, eef_rot_max {:.3}°, joint_max {:.5} rad, finger_max {:.3} mm",
+        summary.tasks, s.eef_pos_max_m * 1e3, s.eef_pos_rms_m * 1e3, s.eef_rot_max_deg, s.joint_max_rad, s.finger_max_m * 1e3
+    );
+    Ok(())
+}

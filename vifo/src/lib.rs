@@ -1,0 +1,3 @@
+//! The work behind the `vifo` subcommands, as a library so tests can drive it directly.
+
+pub mod xval;

@@ -1,0 +1,8 @@
+//! Cross-validation against the original MuJoCo LIBERO: replay recorded actions from recorded
+//! initial states and measure how far our motion is from the reference.
+
+mod reference;
+mod replay;
+
+pub use reference::{Recording, recordings_in};
+pub use replay::{ErrorStats, PhaseReport, TaskReport, Summary, replay, summarize};

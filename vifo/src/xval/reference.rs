@@ -1,0 +1,64 @@
+//! Reading the MuJoCo reference recordings (`<suite>_task0_init0.json`).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use serde::Deserialize;
+
+/// One recording: the task it ran and one record per control step (t = 0 is the initial state).
+#[derive(Debug, Deserialize)]
+pub struct Recording {
+    pub meta: Meta,
+    pub steps: Vec<Record>,
+}
+
+#[derive(Debug, Deserialize)]
+pub struct Meta {
+    pub suite: String,
+    pub task_id: usize,
+    pub task_name: String,
+    pub problem_class: String,
+}
+
+#[derive(Debug, Deserialize)]
+pub struct Record {
+    pub t: usize,
+    pub action_applied_before: Option<Vec<f64>>,
+    pub joint_qpos: [f64; 7],
+    pub joint_qvel: [f64; 7],
+    pub gripper_qpos: [f64; 2],
+}
+
+impl Recording {
+    pub fn load(path: &Path) -> Result<Recording> {
+        let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+        let rec: Recording =
+            serde_json::from_str(&text).with_context(|| format!("{}: not a LIBERO reference recording", path.display()))?;
+        if rec.steps.is_empty() {
+            bail!("{}: the recording has no steps", path.display());
+        }
+        for (i, step) in rec.steps.iter().enumerate() {
+            if step.t != i {
+                bail!("{}: record {i} has t = {}; records must be consecutive from t = 0", path.display(), step.t);
+            }
+            if i > 0 && step.action_applied_before.is_none() {
+                bail!("{}: record {i} has no action_applied_before", path.display());
+            }
+        }
+        Ok(rec)
+    }
+}
+
+/// Every `*_init0.json` recording in `dir`, sorted by name.
+pub fn recordings_in(dir: &Path) -> Result<Vec<PathBuf>> {
+    let entries = std::fs::read_dir(dir).with_context(|| format!("reading directory {}", dir.display()))?;
+    let mut files: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.ends_with("_init0.json")))
+        .collect();
+    files.sort();
+    if files.is_empty() {
+        bail!("no *_init0.json recordings in {}", dir.display());
+    }
+    Ok(files)
+}

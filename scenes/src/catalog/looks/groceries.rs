@@ -54,10 +54,11 @@ fn carton(x: f64, side: [f32; 4], roof: [f32; 4], band: [f32; 4]) -> Vec<VisualP
     vec![
         part(ROOT, cuboid([h, 0.05475, h]), [x, -0.015, 0.0], side),
         // A square prism turned 45° about x: its upper half is the roof, the ridge at y = 0.0614.
+        // Roof and ridge are a little narrower in x than the box so their ends do not z-fight.
         part(
             ROOT,
             cuboid([
-                h,
+                h - 0.0004,
                 h / core::f64::consts::SQRT_2,
                 h / core::f64::consts::SQRT_2,
             ]),
@@ -67,7 +68,7 @@ fn carton(x: f64, side: [f32; 4], roof: [f32; 4], band: [f32; 4]) -> Vec<VisualP
         .turned(roof_quat),
         part(
             ROOT,
-            cuboid([h - 0.0003, 0.0023, 0.0012]),
+            cuboid([h - 0.0008, 0.0023, 0.0012]),
             [x, 0.0602, 0.0],
             roof,
         ),

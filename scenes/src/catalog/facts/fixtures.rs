@@ -108,7 +108,7 @@ const CABINET_SITES: &[SiteDef] = &[
     region("bottom_region", 3, [0.00328, 0.01128, 0.04701], [0.70711, 0.0, 0.70711, 0.0], [0.02993, 0.07561, 0.10224]),
 ];
 
-/// `wooden_cabinet`: Three drawers sliding along body y (negative = pulled out towards -y).
+/// `wooden_cabinet`: three drawers sliding along body y (negative = pulled out towards -y).
 /// `top_side` is the `On` region on its lid; `*_region` sites ride in the drawers.
 pub(crate) const WOODEN_CABINET: ObjectDef = ObjectDef {
     category: "wooden_cabinet",
@@ -120,7 +120,7 @@ pub(crate) const WOODEN_CABINET: ObjectDef = ObjectDef {
     horizontal_radius: 0.045,
 };
 
-/// `white_cabinet`: Same geometry as the wooden cabinet, white wood.
+/// `white_cabinet`: same geometry as the wooden cabinet, white wood.
 pub(crate) const WHITE_CABINET: ObjectDef = ObjectDef {
     category: "white_cabinet",
     kind: ObjectKind::Fixture,
@@ -131,7 +131,7 @@ pub(crate) const WHITE_CABINET: ObjectDef = ObjectDef {
     horizontal_radius: 0.045,
 };
 
-/// `flat_stove`: Burner plate at x = 0.15 (the XML's `burner` body, fused into the root) and the knob
+/// `flat_stove`: burner plate at x = 0.15 (the XML's `burner` body, fused into the root) and the knob
 /// body `button` turning about z; `burner` is the red on-indicator site.
 pub(crate) const FLAT_STOVE: ObjectDef = ObjectDef {
     category: "flat_stove",
@@ -187,7 +187,7 @@ pub(crate) const FLAT_STOVE: ObjectDef = ObjectDef {
     horizontal_radius: 0.045,
 };
 
-/// `microwave`: Box shell plus a door hinged about z at its left front edge; the door handle is three
+/// `microwave`: box shell plus a door hinged about z at its left front edge; the door handle is three
 /// capsules. Collision geoms have an explicit mass and MuJoCo's margin 0.001.
 pub(crate) const MICROWAVE: ObjectDef = ObjectDef {
     category: "microwave",
@@ -233,7 +233,7 @@ pub(crate) const MICROWAVE: ObjectDef = ObjectDef {
     horizontal_radius: 0.015,
 };
 
-/// `wine_rack`: Tilted planks on a stand; `top_region` (tilted about x) is where the bottle goes.
+/// `wine_rack`: tilted planks on a stand; `top_region` (tilted about x) is where the bottle goes.
 pub(crate) const WINE_RACK: ObjectDef = ObjectDef {
     category: "wine_rack",
     kind: ObjectKind::Fixture,
@@ -266,7 +266,7 @@ pub(crate) const WINE_RACK: ObjectDef = ObjectDef {
     horizontal_radius: 0.025,
 };
 
-/// `desk_caddy`: Four compartments; `back_contain_region` is the `In` goal region of STUDY_SCENE1.
+/// `desk_caddy`: four compartments; `back_contain_region` is the `In` goal region of STUDY_SCENE1.
 pub(crate) const DESK_CADDY: ObjectDef = ObjectDef {
     category: "desk_caddy",
     kind: ObjectKind::Fixture,

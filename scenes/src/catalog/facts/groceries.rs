@@ -5,7 +5,7 @@
 use crate::catalog::model::ObjectKind;
 use crate::catalog::spec::{BodyDef, ObjectDef, IDENTITY, ORIGIN, bx};
 
-/// `cookies`: A single box.
+/// `cookies`: a single box.
 pub(crate) const COOKIES: ObjectDef = ObjectDef {
     category: "cookies",
     kind: ObjectKind::Movable,
@@ -28,7 +28,7 @@ pub(crate) const COOKIES: ObjectDef = ObjectDef {
     horizontal_radius: 0.025,
 };
 
-/// `alphabet_soup`: A can lying along y, approximated by a polygon of boxes.
+/// `alphabet_soup`: a can lying along y, approximated by a polygon of boxes.
 pub(crate) const ALPHABET_SOUP: ObjectDef = ObjectDef {
     category: "alphabet_soup",
     kind: ObjectKind::Movable,
@@ -71,7 +71,7 @@ pub(crate) const ALPHABET_SOUP: ObjectDef = ObjectDef {
     horizontal_radius: 0.025,
 };
 
-/// `tomato_sauce`: A can lying along y, approximated by a polygon of boxes.
+/// `tomato_sauce`: a can lying along y, approximated by a polygon of boxes.
 pub(crate) const TOMATO_SAUCE: ObjectDef = ObjectDef {
     category: "tomato_sauce",
     kind: ObjectKind::Movable,
@@ -117,7 +117,7 @@ pub(crate) const TOMATO_SAUCE: ObjectDef = ObjectDef {
     horizontal_radius: 0.025,
 };
 
-/// `bbq_sauce`: A bottle standing along z (cap at +z).
+/// `bbq_sauce`: a bottle standing along z (cap at +z).
 pub(crate) const BBQ_SAUCE: ObjectDef = ObjectDef {
     category: "bbq_sauce",
     kind: ObjectKind::Movable,
@@ -142,7 +142,7 @@ pub(crate) const BBQ_SAUCE: ObjectDef = ObjectDef {
     horizontal_radius: 0.015,
 };
 
-/// `butter`: A single box.
+/// `butter`: a single box.
 pub(crate) const BUTTER: ObjectDef = ObjectDef {
     category: "butter",
     kind: ObjectKind::Movable,
@@ -165,7 +165,7 @@ pub(crate) const BUTTER: ObjectDef = ObjectDef {
     horizontal_radius: 0.02,
 };
 
-/// `chocolate_pudding`: A single box.
+/// `chocolate_pudding`: a single box.
 pub(crate) const CHOCOLATE_PUDDING: ObjectDef = ObjectDef {
     category: "chocolate_pudding",
     kind: ObjectKind::Movable,
@@ -188,7 +188,7 @@ pub(crate) const CHOCOLATE_PUDDING: ObjectDef = ObjectDef {
     horizontal_radius: 0.025,
 };
 
-/// `cream_cheese`: A single box.
+/// `cream_cheese`: a single box.
 pub(crate) const CREAM_CHEESE: ObjectDef = ObjectDef {
     category: "cream_cheese",
     kind: ObjectKind::Movable,
@@ -211,7 +211,7 @@ pub(crate) const CREAM_CHEESE: ObjectDef = ObjectDef {
     horizontal_radius: 0.03,
 };
 
-/// `ketchup`: A squeeze bottle lying along y (cap at +y).
+/// `ketchup`: a squeeze bottle lying along y (cap at +y).
 pub(crate) const KETCHUP: ObjectDef = ObjectDef {
     category: "ketchup",
     kind: ObjectKind::Movable,
@@ -245,7 +245,7 @@ pub(crate) const KETCHUP: ObjectDef = ObjectDef {
     horizontal_radius: 0.025,
 };
 
-/// `salad_dressing`: A bottle lying along y (cap at +y).
+/// `salad_dressing`: a bottle lying along y (cap at +y).
 pub(crate) const SALAD_DRESSING: ObjectDef = ObjectDef {
     category: "salad_dressing",
     kind: ObjectKind::Movable,
@@ -282,7 +282,7 @@ pub(crate) const SALAD_DRESSING: ObjectDef = ObjectDef {
     horizontal_radius: 0.025,
 };
 
-/// `milk`: A gable-top carton lying along y (top at +y).
+/// `milk`: a gable-top carton lying along y (top at +y).
 pub(crate) const MILK: ObjectDef = ObjectDef {
     category: "milk",
     kind: ObjectKind::Movable,
@@ -308,7 +308,7 @@ pub(crate) const MILK: ObjectDef = ObjectDef {
     horizontal_radius: 0.03,
 };
 
-/// `orange_juice`: A gable-top carton lying along y (top at +y); same boxes as the milk, mirrored in x.
+/// `orange_juice`: a gable-top carton lying along y (top at +y); same boxes as the milk, mirrored in x.
 pub(crate) const ORANGE_JUICE: ObjectDef = ObjectDef {
     category: "orange_juice",
     kind: ObjectKind::Movable,

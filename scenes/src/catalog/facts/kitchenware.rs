@@ -4,7 +4,7 @@
 use crate::catalog::model::ObjectKind;
 use crate::catalog::spec::{BodyDef, ObjectDef, IDENTITY, ORIGIN, bx};
 
-/// `wine_bottle`: Standing along z, neck up.
+/// `wine_bottle`: standing along z, neck up.
 pub(crate) const WINE_BOTTLE: ObjectDef = ObjectDef {
     category: "wine_bottle",
     kind: ObjectKind::Movable,
@@ -47,7 +47,7 @@ pub(crate) const WINE_BOTTLE: ObjectDef = ObjectDef {
     horizontal_radius: 0.025,
 };
 
-/// `moka_pot`: Standing along z; spout towards -y, handle towards +y.
+/// `moka_pot`: standing along z; spout towards -y, handle towards +y.
 pub(crate) const MOKA_POT: ObjectDef = ObjectDef {
     category: "moka_pot",
     kind: ObjectKind::Movable,
@@ -84,7 +84,7 @@ pub(crate) const MOKA_POT: ObjectDef = ObjectDef {
     horizontal_radius: 0.025,
 };
 
-/// `porcelain_mug`: The "white mug"; cup around (0.012, 0) with the handle towards -x.
+/// `porcelain_mug`: the "white mug"; cup around (0.012, 0) with the handle towards -x.
 pub(crate) const PORCELAIN_MUG: ObjectDef = ObjectDef {
     category: "porcelain_mug",
     kind: ObjectKind::Movable,
@@ -128,7 +128,7 @@ pub(crate) const PORCELAIN_MUG: ObjectDef = ObjectDef {
     horizontal_radius: 0.025,
 };
 
-/// `red_coffee_mug`: Cup around (-0.016, 0) with the handle towards +x.
+/// `red_coffee_mug`: cup around (-0.016, 0) with the handle towards +x.
 pub(crate) const RED_COFFEE_MUG: ObjectDef = ObjectDef {
     category: "red_coffee_mug",
     kind: ObjectKind::Movable,
@@ -161,7 +161,7 @@ pub(crate) const RED_COFFEE_MUG: ObjectDef = ObjectDef {
     horizontal_radius: 0.025,
 };
 
-/// `white_yellow_mug`: Cup around (-0.018, 0) with the handle towards +x.
+/// `white_yellow_mug`: cup around (-0.018, 0) with the handle towards +x.
 pub(crate) const WHITE_YELLOW_MUG: ObjectDef = ObjectDef {
     category: "white_yellow_mug",
     kind: ObjectKind::Movable,
@@ -222,7 +222,7 @@ pub(crate) const WHITE_YELLOW_MUG: ObjectDef = ObjectDef {
     horizontal_radius: 0.025,
 };
 
-/// `black_book`: A single box: the book standing on its bottom edge, spine along y.
+/// `black_book`: a single box: the book standing on its bottom edge, 11 cm wide along y and 2.9 cm thick along x.
 pub(crate) const BLACK_BOOK: ObjectDef = ObjectDef {
     category: "black_book",
     kind: ObjectKind::Movable,

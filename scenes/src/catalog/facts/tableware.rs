@@ -4,7 +4,7 @@
 use crate::catalog::model::ObjectKind;
 use crate::catalog::spec::{BodyDef, ObjectDef, IDENTITY, ORIGIN, bx, region};
 
-/// `akita_black_bowl`: The XML's `object` body sits at (0, -0.1, 0) inside its wrapper; robosuite makes that body
+/// `akita_black_bowl`: the XML's `object` body sits at (0, -0.1, 0) inside its wrapper; robosuite makes that body
 /// the free root and overwrites its position, so the offset never shows: the frame here is the
 /// `object` body's own.
 pub(crate) const AKITA_BLACK_BOWL: ObjectDef = ObjectDef {
@@ -68,7 +68,7 @@ pub(crate) const AKITA_BLACK_BOWL: ObjectDef = ObjectDef {
     horizontal_radius: 0.025,
 };
 
-/// `plate`: A shallow dish; a base box and a ring of nine rim boxes (one listed twice, as in the XML).
+/// `plate`: a shallow dish; a base box and a ring of nine rim boxes (one listed twice, as in the XML).
 pub(crate) const PLATE: ObjectDef = ObjectDef {
     category: "plate",
     kind: ObjectKind::Movable,
@@ -100,7 +100,7 @@ pub(crate) const PLATE: ObjectDef = ObjectDef {
     horizontal_radius: 0.025,
 };
 
-/// `glazed_rim_porcelain_ramekin`: Small round dish: base boxes and a ring of wall boxes.
+/// `glazed_rim_porcelain_ramekin`: small round dish: base boxes and a ring of wall boxes.
 pub(crate) const GLAZED_RIM_PORCELAIN_RAMEKIN: ObjectDef = ObjectDef {
     category: "glazed_rim_porcelain_ramekin",
     kind: ObjectKind::Movable,
@@ -147,7 +147,7 @@ pub(crate) const GLAZED_RIM_PORCELAIN_RAMEKIN: ObjectDef = ObjectDef {
     horizontal_radius: 0.025,
 };
 
-/// `basket`: Open box: floor and four walls. `contain_region` is the `In` goal region.
+/// `basket`: open box: floor and four walls. `contain_region` is the `In` goal region.
 pub(crate) const BASKET: ObjectDef = ObjectDef {
     category: "basket",
     kind: ObjectKind::Movable,
@@ -176,7 +176,7 @@ pub(crate) const BASKET: ObjectDef = ObjectDef {
     horizontal_radius: 0.025,
 };
 
-/// `chefmate_8_frypan`: Used only by KITCHEN_SCENE3 (as a distractor). Handle along +x.
+/// `chefmate_8_frypan`: used only by KITCHEN_SCENE3 (as a distractor). Handle along +x.
 pub(crate) const CHEFMATE_8_FRYPAN: ObjectDef = ObjectDef {
     category: "chefmate_8_frypan",
     kind: ObjectKind::Movable,

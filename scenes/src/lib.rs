@@ -1,1 +1,3 @@
-//! placeholder
+//! LIBERO-VIFO scenes: task definitions, objects and fixtures, predicates.
+
+pub mod catalog;

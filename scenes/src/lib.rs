@@ -1,1 +1,11 @@
-//! placeholder
+//! LIBERO-VIFO scenes: task definitions, BDDL import, scene classes and initial states.
+//!
+//! - [`task`]: the [`Task`] data model and the 40 built-in tasks of the four VLA suites.
+//! - [`bddl`]: reads LIBERO's BDDL files into a [`Task`].
+//!
+//! This crate is data and parsing only; it depends on no physics or robot code.
+
+pub mod bddl;
+pub mod task;
+
+pub use task::{Suite, Task, all_tasks, suite, suite_names, suites, task};

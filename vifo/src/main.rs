@@ -17,6 +17,8 @@ struct Cli {
 enum Command {
     /// Print the build's version and the crates it is made of.
     About,
+    /// Parse LIBERO BDDL files and print their tasks (text or --json).
+    Bddl(cmd::bddl::Args),
 }
 
 fn main() {
@@ -26,6 +28,7 @@ fn main() {
             println!("vifo {} (LIBERO-VIFO in pure Rust)", env!("CARGO_PKG_VERSION"));
             Ok(())
         }
+        Command::Bddl(args) => cmd::bddl::run(args),
     };
     if let Err(err) = result {
         eprintln!("error: {err:#}");

@@ -172,4 +172,20 @@ mod tests {
             assert!(shown.contains(part), "missing {part:?} in\n{shown}");
         }
     }
+
+    #[test]
+    fn reports_every_file_and_fails_if_any_did_not_parse() {
+        let dir = std::env::temp_dir().join(format!("vifo-bddl-cmd-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let good = dir.join("lift_the_box.bddl");
+        std::fs::write(&good, "(define (problem LIBERO_Floor_Manipulation) (:fixtures floor - floor) (:objects box_1 - box) (:goal (Up box_1)))").unwrap();
+        let bad = dir.join("broken.bddl");
+        std::fs::write(&bad, "(define (problem LIBERO_Floor_Manipulation)").unwrap();
+        let missing = dir.join("missing.bddl");
+        let run_on = |files: Vec<PathBuf>, json: bool| run(Args { files, json });
+        assert!(run_on(vec![good.clone()], false).is_ok());
+        let err = run_on(vec![bad.clone(), good.clone(), missing.clone()], true).unwrap_err();
+        assert_eq!(err.to_string(), "2 of 3 files did not parse");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

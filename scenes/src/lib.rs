@@ -2,10 +2,12 @@
 //!
 //! - [`task`]: the [`Task`] data model and the 40 built-in tasks of the four VLA suites.
 //! - [`bddl`]: reads LIBERO's BDDL files into a [`Task`].
+//! - [`scene_class`]: per problem class, the arena facts (table, robot base, camera, lights).
 //!
 //! This crate is data and parsing only; it depends on no physics or robot code.
 
 pub mod bddl;
+pub mod scene_class;
 pub mod task;
 
 pub use task::{Suite, Task, all_tasks, suite, suite_names, suites, task};

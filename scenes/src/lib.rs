@@ -3,10 +3,12 @@
 //! - [`task`]: the [`Task`] data model and the 40 built-in tasks of the four VLA suites.
 //! - [`bddl`]: reads LIBERO's BDDL files into a [`Task`].
 //! - [`scene_class`]: per problem class, the arena facts (table, robot base, camera, lights).
+//! - [`init_file`]: reads LIBERO's `.pruned_init` files and names the parts of a state row.
 //!
 //! This crate is data and parsing only; it depends on no physics or robot code.
 
 pub mod bddl;
+pub mod init_file;
 pub mod scene_class;
 pub mod task;
 

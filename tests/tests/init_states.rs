@@ -55,7 +55,7 @@ fn pruned_init_files_match_their_csv_copies_and_the_task_layouts() {
         }
 
         let layout = StateLayout::for_task(task);
-        assert_eq!((layout.len(), layout.nq(), layout.nv()), (entry.cols, entry.nq, entry.nv), "{}", task.label());
+        assert_eq!((layout.row_len(), layout.nq(), layout.nv()), (entry.cols, entry.nq, entry.nv), "{}", task.label());
         assert_eq!(layout.column_names(), header, "{}", task.label());
         for row in states.iter() {
             let state = layout.decode(row).unwrap();

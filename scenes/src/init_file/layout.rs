@@ -149,7 +149,7 @@ impl StateLayout {
     }
 
     /// Numbers per state row: 1 + nq + nv.
-    pub fn len(&self) -> usize {
+    pub fn row_len(&self) -> usize {
         1 + self.nq() + self.nv()
     }
 
@@ -247,7 +247,7 @@ mod tests {
         ];
         for (suite, index, len, nq, nv) in expected {
             let layout = StateLayout::for_task(task(suite, index).unwrap());
-            assert_eq!((layout.len(), layout.nq(), layout.nv()), (len, nq, nv), "{suite}[{index}]");
+            assert_eq!((layout.row_len(), layout.nq(), layout.nv()), (len, nq, nv), "{suite}[{index}]");
             assert_eq!(layout.column_names().len(), len);
         }
     }
@@ -256,7 +256,7 @@ mod tests {
     fn decodes_a_row_into_named_parts() {
         // libero_10 task 9: two mugs, then the microwave door.
         let layout = StateLayout::for_task(task("libero_10", 9).unwrap());
-        let row: Vec<f64> = (0..layout.len()).map(|i| i as f64).collect();
+        let row: Vec<f64> = (0..layout.row_len()).map(|i| i as f64).collect();
         let state = layout.decode(&row).unwrap();
         assert_eq!(state.time, 0.0);
         assert_eq!(state.arm_qpos, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);

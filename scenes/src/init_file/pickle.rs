@@ -309,7 +309,7 @@ fn reduce(callable: Value, args: Value) -> Result<Value, String> {
         (Global::Dtype, [Value::Str(descr), ..]) => Err(format!("expected a float64 ('f8') array, found dtype '{descr}'")),
         (Global::Encode, [Value::Str(text), Value::Str(codec)]) if matches!(&**codec, "latin1" | "latin-1") => {
             // Protocol 2 stores bytes as the latin-1 string with the same code points.
-            let bytes: Result<Vec<u8>, _> = text.chars().map(|c| u8::try_from(c)).collect();
+            let bytes: Result<Vec<u8>, _> = text.chars().map(u8::try_from).collect();
             let bytes = bytes.map_err(|_| "latin-1 text holds a character above U+00FF".to_string())?;
             Ok(Value::Bytes(Rc::from(bytes)))
         }
@@ -408,11 +408,11 @@ pub(super) mod tests {
             p.extend_from_slice(b"latin1");
             p.extend_from_slice(&[0x86, b'R']);
         }
-        p.extend_from_slice(&[b't', b'b', b'.']);
+        p.extend_from_slice(b"tb.");
         p
     }
 
-    const VALUES: [f64; 6] = [0.0, -0.17673447526998573, 0.97, 0.7071067811865476, f64::MIN_POSITIVE, -2.5e300];
+    const VALUES: [f64; 6] = [0.0, -0.17673447526998573, 0.97, std::f64::consts::FRAC_1_SQRT_2, f64::MIN_POSITIVE, -2.5e300];
 
     #[test]
     fn reads_protocol_2_and_protocol_4_arrays_bit_for_bit() {

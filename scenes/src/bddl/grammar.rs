@@ -122,7 +122,7 @@ pub fn read<'a>(text: &'a str, file: &'a str) -> Result<RawProblem<'a>, BddlErro
     })
 }
 
-/// Sections read so far; `None` until seen, so a repeat can be reported.
+/// Sections read so far; `seen` keeps each head and where it was, to report repeats.
 #[derive(Default)]
 struct Sections<'a> {
     seen: Vec<(String, Pos)>,

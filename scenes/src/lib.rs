@@ -1,3 +1,18 @@
-//! LIBERO-VIFO scenes: task definitions, objects and fixtures, predicates.
+//! LIBERO-VIFO scenes: task definitions, BDDL import, scene classes and initial states.
+//!
+//! - [`task`]: the [`Task`] data model and the 40 built-in tasks of the four VLA suites.
+//! - [`bddl`]: reads LIBERO's BDDL files into a [`Task`].
+//! - [`scene_class`]: per problem class, the arena facts (table, robot base, camera, lights).
+//! - [`init_file`]: reads LIBERO's `.pruned_init` files and names the parts of a state row.
+//! - [`catalog`]: every object and fixture category the 40 tasks use (collision, mass, sites,
+//!   procedural looks).
+//!
+//! This crate is data and parsing only; it depends on no physics or robot code.
 
+pub mod bddl;
 pub mod catalog;
+pub mod init_file;
+pub mod scene_class;
+pub mod task;
+
+pub use task::{Suite, Task, all_tasks, suite, suite_names, suites, task};

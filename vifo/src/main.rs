@@ -17,12 +17,15 @@ struct Cli {
 enum Command {
     /// Cross-validate against MuJoCo reference recordings.
     Xval(cmd::xval::XvalArgs),
+    /// Parse LIBERO BDDL files and print their tasks (text or --json).
+    Bddl(cmd::bddl::Args),
 }
 
 fn main() {
     let cli = Cli::parse();
     let result: anyhow::Result<()> = match cli.command {
         Command::Xval(args) => cmd::xval::run(&args),
+        Command::Bddl(args) => cmd::bddl::run(args),
     };
     if let Err(err) = result {
         eprintln!("error: {err:#}");

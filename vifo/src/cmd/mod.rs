@@ -1,3 +1,4 @@
 //! Subcommands of `vifo`, one module each.
 
 pub mod xval;
+pub mod bddl;

@@ -15,4 +15,5 @@ pub mod gripper;
 pub mod model;
 pub mod osc;
 pub mod panda;
+pub mod piper;
 pub mod spatial;

@@ -50,6 +50,11 @@ impl Inertial {
         Inertial { mass, com: Vec3::from(com), inertia: r * d * r.transpose() }
     }
 
+    /// URDF's `<inertia ixx iyy izz ixy ixz iyz>` about the COM, body axes.
+    pub fn full(mass: f64, com: [f64; 3], [ixx, iyy, izz, ixy, ixz, iyz]: [f64; 6]) -> Self {
+        Inertial { mass, com: Vec3::from(com), inertia: Mat3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz) }
+    }
+
     pub fn diag(mass: f64, com: [f64; 3], diag: [f64; 3]) -> Self {
         Self::new(mass, com, diag, [1.0, 0.0, 0.0, 0.0])
     }

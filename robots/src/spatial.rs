@@ -27,6 +27,12 @@ impl Pose {
         Pose { pos: Vec3::from(pos), rot: quat_wxyz(wxyz).to_rotation_matrix().into_inner() }
     }
 
+    /// From a URDF origin: `xyz` and fixed-axis roll-pitch-yaw, R = Rz(yaw)·Ry(pitch)·Rx(roll).
+    pub fn from_urdf(xyz: [f64; 3], rpy: [f64; 3]) -> Self {
+        let r = axis_angle(&Vec3::z(), rpy[2]) * axis_angle(&Vec3::y(), rpy[1]) * axis_angle(&Vec3::x(), rpy[0]);
+        Pose { pos: Vec3::from(xyz), rot: r }
+    }
+
     /// `self * other`: `other` expressed in `self`'s frame, composed.
     pub fn mul(&self, other: &Pose) -> Pose {
         Pose { pos: self.rot * other.pos + self.pos, rot: self.rot * other.rot }

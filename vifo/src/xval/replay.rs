@@ -5,13 +5,15 @@
 //! kinematics (which matches MuJoCo's to micrometres) from the joint states at the end of each
 //! control step: ours, and the recorded one.
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result};
 use serde::Serialize;
 use vifo_physics::{SimParams, World};
 use vifo_robots::action::Action;
 use vifo_robots::dynamics::Coords;
 use vifo_robots::panda::{self, Mount, Panda};
 use vifo_robots::spatial::{Pose, angle_between};
+use vifo_scenes::scene_class::scene_class;
+use vifo_scenes::task::ProblemClass;
 
 use super::reference::Recording;
 
@@ -77,22 +79,20 @@ pub struct Summary {
     pub tasks: usize,
 }
 
-/// Robot placement of a LIBERO problem class.
-fn robot_placement(problem_class: &str) -> Result<(Mount, [f64; 3])> {
-    Ok(match problem_class.to_ascii_lowercase().as_str() {
-        "libero_tabletop_manipulation" | "libero_kitchen_tabletop_manipulation" => (Mount::Pedestal, [-0.66, 0.0, 0.0]),
-        "libero_study_tabletop_manipulation" => (Mount::Pedestal, [-0.75, 0.0, 0.0]),
-        "libero_floor_manipulation" => (Mount::Ground, [-0.6, 0.0, 0.0]),
-        "libero_living_room_tabletop_manipulation" => (Mount::Ground, [-0.51, 0.0, 0.42]),
-        other => bail!("problem class {other} is not one of the five LIBERO-VIFO scene classes"),
-    })
+/// The robot mount and base pose of a recording's scene class.
+fn robot_placement(problem_class: &str) -> Result<(Mount, Pose)> {
+    let class = ProblemClass::from_name(problem_class)
+        .and_then(scene_class)
+        .with_context(|| format!("problem class {problem_class} is not one of the LIBERO-VIFO scene classes"))?;
+    let mount = if class.robot_on_mount { Mount::Pedestal } else { Mount::Ground };
+    Ok((mount, Pose::from_wxyz(class.robot_base.pos, class.robot_base.quat_wxyz)))
 }
 
 /// Replays one recording in free space (no objects) and compares every record.
 pub fn replay(file: &str, rec: &Recording) -> Result<TaskReport> {
-    let (mount, xpos) = robot_placement(&rec.meta.problem_class)?;
+    let (mount, base) = robot_placement(&rec.meta.problem_class)?;
     let mut world = World::new(SimParams::LIBERO);
-    let robot = Panda::insert(&mut world, mount, panda::base_pose(mount, xpos));
+    let robot = Panda::insert(&mut world, mount, base);
     let first = &rec.steps[0];
     robot.set_joints(&mut world, &first.joint_qpos, &first.gripper_qpos, &first.joint_qvel, &[0.0; 2]);
     let mut control = robot.reset_control();

@@ -13,10 +13,11 @@ use vifo_physics::World;
 use vifo_physics::rapier::prelude::*;
 
 use crate::contact;
-use crate::convert::{rapier_pose, vector};
+use crate::convert::{dmat3, rapier_pose, vector};
+use crate::joint;
 use crate::dynamics::{ArmDynamics, BodyPoses, Coords};
 use crate::model::{ArmModel, ContactRole, Inertial, JointKind, Shape};
-use crate::spatial::{Mat3, Pose, Vec3};
+use crate::spatial::{Mat3, Pose};
 
 /// A collider the arm put into the world.
 #[derive(Clone, Debug)]
@@ -73,14 +74,6 @@ fn shape_frame(s: &Shape, local: &Pose) -> Pose {
     }
 }
 
-/// Unit vector `axis` as the image of +x under a rotation (rapier joints move along/about x).
-fn x_to(axis: &Vec3) -> Mat3 {
-    nalgebra::UnitQuaternion::rotation_between(&Vec3::x(), axis)
-        .unwrap_or_else(|| nalgebra::UnitQuaternion::from_axis_angle(&Vec3::z_axis(), std::f64::consts::PI))
-        .to_rotation_matrix()
-        .into_inner()
-}
-
 impl<const N: usize> ArmInstance<N> {
     /// Inserts the arm with its base at `base` (world frame), every joint at zero.
     pub fn insert(world: &mut World, model: Arc<ArmModel>, base: Pose) -> Self {
@@ -117,29 +110,14 @@ impl<const N: usize> ArmInstance<N> {
             let world_pose = base.mul(&zero.poses[b]);
             let builder = if bodies[b].parent.is_none() { RigidBodyBuilder::fixed() } else { RigidBodyBuilder::dynamic() };
             let m = &mass[b];
-            let i = &m.inertia;
-            let inertia = vifo_physics::rapier::glamx::DMat3::from_cols(
-                Vector::new(i[(0, 0)], i[(1, 0)], i[(2, 0)]),
-                Vector::new(i[(0, 1)], i[(1, 1)], i[(2, 1)]),
-                Vector::new(i[(0, 2)], i[(1, 2)], i[(2, 2)]),
-            );
-            let mprops = MassProperties::with_inertia_matrix(vector(&m.com), m.mass, inertia);
+            let mprops = MassProperties::with_inertia_matrix(vector(&m.com), m.mass, dmat3(&m.inertia));
             let handle = r.bodies.insert(
                 builder.pose(rapier_pose(&world_pose)).additional_mass_properties(mprops).can_sleep(false),
             );
             rigid_body[b] = handle;
             if let (Some(joint), Some(parent)) = (&bodies[b].joint, bodies[b].parent) {
-                let align = Pose::new(Vec3::zeros(), x_to(&joint.axis));
-                let frame1 = in_owner(parent).mul(&bodies[b].local).mul(&align);
-                let (free, axis) = match joint.kind {
-                    JointKind::Hinge => (JointAxesMask::LOCKED_REVOLUTE_AXES, JointAxis::AngX),
-                    JointKind::Slide => (JointAxesMask::LOCKED_PRISMATIC_AXES, JointAxis::LinX),
-                };
-                let generic = GenericJointBuilder::new(free)
-                    .local_frame1(rapier_pose(&frame1))
-                    .local_frame2(rapier_pose(&align))
-                    .limits(axis, joint.range)
-                    .contacts_enabled(false);
+                let child_in_parent = in_owner(parent).mul(&bodies[b].local);
+                let generic = joint::one_dof(joint.kind, &child_in_parent, &joint.axis, joint.range);
                 let handle = r
                     .multibody_joints
                     .insert(rigid_body[owner[parent]], handle, generic, true)
@@ -215,10 +193,7 @@ impl<const N: usize> ArmInstance<N> {
         for (i, &jh) in self.joints.iter().enumerate() {
             let (mb, link_id) = world.rapier().multibody_joints.get(jh).expect("arm joint");
             let coords = mb.link(link_id).expect("link").joint().coords();
-            q[i] = match self.model().joint(i).kind {
-                JointKind::Hinge => coords[3],
-                JointKind::Slide => coords[0],
-            };
+            q[i] = joint::coordinate(self.model().joint(i).kind, &coords);
             qd[i] = velocity[self.assembly[i]];
         }
         JointState { q, qd }

@@ -8,10 +8,11 @@
 pub mod action;
 pub mod arm;
 pub mod contact;
-mod convert;
+pub mod convert;
 pub mod dynamics;
 pub mod fluid;
 pub mod gripper;
+pub mod joint;
 pub mod model;
 pub mod osc;
 pub mod panda;

@@ -1,3 +1,4 @@
 //! The work behind the `vifo` subcommands, as a library so tests can drive it directly.
 
+pub mod bench;
 pub mod xval;

@@ -15,6 +15,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Measure speed (physics, ...).
+    Bench(cmd::bench::BenchArgs),
     /// Cross-validate against MuJoCo reference recordings.
     Xval(cmd::xval::XvalArgs),
     /// Parse LIBERO BDDL files and print their tasks (text or --json).
@@ -24,6 +26,7 @@ enum Command {
 fn main() {
     let cli = Cli::parse();
     let result: anyhow::Result<()> = match cli.command {
+        Command::Bench(args) => cmd::bench::run(&args),
         Command::Xval(args) => cmd::xval::run(&args),
         Command::Bddl(args) => cmd::bddl::run(args),
     };

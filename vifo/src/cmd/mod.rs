@@ -2,3 +2,4 @@
 
 pub mod xval;
 pub mod bddl;
+pub mod bench;

@@ -1,0 +1,41 @@
+//! One-degree-of-freedom multibody joints (hinges and slides) in MuJoCo's convention: the joint
+//! sits at the child body's origin, its axis given in the child frame.
+
+use vifo_physics::rapier::prelude::{GenericJoint, GenericJointBuilder, JointAxesMask, JointAxis};
+
+use crate::convert::rapier_pose;
+use crate::model::JointKind;
+use crate::spatial::{Mat3, Pose, Vec3};
+
+/// A rotation taking +x onto `axis` (rapier's revolute and prismatic joints move about/along x).
+fn x_to(axis: &Vec3) -> Mat3 {
+    nalgebra::UnitQuaternion::rotation_between(&Vec3::x(), axis)
+        .unwrap_or_else(|| nalgebra::UnitQuaternion::from_axis_angle(&Vec3::z_axis(), std::f64::consts::PI))
+        .to_rotation_matrix()
+        .into_inner()
+}
+
+/// The rapier joint placing a child body at `child_in_parent` (its zero-position pose in the
+/// parent's frame) and letting it turn about / slide along `axis` (child frame) within `range`.
+/// Contacts between the two bodies are disabled, as MuJoCo excludes parent–child pairs.
+pub fn one_dof(kind: JointKind, child_in_parent: &Pose, axis: &Vec3, range: [f64; 2]) -> GenericJoint {
+    let align = Pose::new(Vec3::zeros(), x_to(axis));
+    let (locked, coordinate) = match kind {
+        JointKind::Hinge => (JointAxesMask::LOCKED_REVOLUTE_AXES, JointAxis::AngX),
+        JointKind::Slide => (JointAxesMask::LOCKED_PRISMATIC_AXES, JointAxis::LinX),
+    };
+    GenericJointBuilder::new(locked)
+        .local_frame1(rapier_pose(&child_in_parent.mul(&align)))
+        .local_frame2(rapier_pose(&align))
+        .limits(coordinate, range)
+        .contacts_enabled(false)
+        .build()
+}
+
+/// The joint coordinate rapier stores for a one-dof joint of this kind.
+pub fn coordinate(kind: JointKind, coords: &[f64; 6]) -> f64 {
+    match kind {
+        JointKind::Hinge => coords[3],
+        JointKind::Slide => coords[0],
+    }
+}

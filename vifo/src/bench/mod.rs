@@ -1,0 +1,3 @@
+//! Speed measurements printed by `vifo bench`. Benches measure; tests never assert timings.
+
+pub mod physics;

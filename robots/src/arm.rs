@@ -17,7 +17,7 @@ use crate::convert::{dmat3, rapier_pose, vector};
 use crate::joint;
 use crate::dynamics::{ArmDynamics, BodyPoses, Coords};
 use crate::model::{ArmModel, ContactRole, Inertial, JointKind, Shape};
-use crate::spatial::{Mat3, Pose};
+use crate::spatial::{Mat3, Pose, Vec3};
 
 /// A collider the arm put into the world.
 #[derive(Clone, Debug)]
@@ -117,7 +117,7 @@ impl<const N: usize> ArmInstance<N> {
             rigid_body[b] = handle;
             if let (Some(joint), Some(parent)) = (&bodies[b].joint, bodies[b].parent) {
                 let child_in_parent = in_owner(parent).mul(&bodies[b].local);
-                let generic = joint::one_dof(joint.kind, &child_in_parent, &joint.axis, joint.range);
+                let generic = joint::one_dof(joint.kind, &child_in_parent, &Vec3::zeros(), &joint.axis, joint.range);
                 let handle = r
                     .multibody_joints
                     .insert(rigid_body[owner[parent]], handle, generic, true)

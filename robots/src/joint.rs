@@ -16,10 +16,11 @@ fn x_to(axis: &Vec3) -> Mat3 {
 }
 
 /// The rapier joint placing a child body at `child_in_parent` (its zero-position pose in the
-/// parent's frame) and letting it turn about / slide along `axis` (child frame) within `range`.
-/// Contacts between the two bodies are disabled, as MuJoCo excludes parent–child pairs.
-pub fn one_dof(kind: JointKind, child_in_parent: &Pose, axis: &Vec3, range: [f64; 2]) -> GenericJoint {
-    let align = Pose::new(Vec3::zeros(), x_to(axis));
+/// parent's frame) and letting it turn about / slide along `axis` through `anchor` (both in the
+/// child frame) within `range`. Contacts between the two bodies are disabled, as MuJoCo excludes
+/// parent–child pairs.
+pub fn one_dof(kind: JointKind, child_in_parent: &Pose, anchor: &Vec3, axis: &Vec3, range: [f64; 2]) -> GenericJoint {
+    let align = Pose::new(*anchor, x_to(axis));
     let (locked, coordinate) = match kind {
         JointKind::Hinge => (JointAxesMask::LOCKED_REVOLUTE_AXES, JointAxis::AngX),
         JointKind::Slide => (JointAxesMask::LOCKED_PRISMATIC_AXES, JointAxis::LinX),

@@ -13,6 +13,7 @@ pub mod bddl;
 pub mod catalog;
 pub mod init_file;
 pub mod scene_class;
+pub mod sim;
 pub mod task;
 
 pub use task::{Suite, Task, all_tasks, suite, suite_names, suites, task};

@@ -27,7 +27,7 @@ pub fn run(args: &XvalArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "tasks": reports, "summary": summary }))?);
         return Ok(());
     }
-    println!("Cross-validation against MuJoCo (arm in free space; end-effector from joint states)");
+    println!("Cross-validation against MuJoCo (full scene; end-effector from joint states)");
     println!("{:<34} {:<9} {:>11} {:>11} {:>10} {:>11} {:>11}", "file", "phase", "eef max mm", "eef rms mm", "rot max °", "joint max r", "finger mm");
     for r in &reports {
         for p in r.phases.iter().map(|p| (p.phase, &p.stats)).chain([("all", &r.all)]) {
@@ -38,6 +38,17 @@ pub fn run(args: &XvalArgs) -> Result<()> {
             );
         }
     }
+    println!();
+    println!("{:<34} {:<28} {:<7} {:>9} {:>9}", "file", "object", "at", "pos mm", "rot °");
+    for r in &reports {
+        for o in &r.objects {
+            println!("{:<34} {:<28} {:<7} {:>9.2} {:>9.2}", r.file, o.object, o.at, o.pos_m * 1e3, o.rot_deg);
+        }
+    }
+    println!(
+        "objects: settled position error median {:.2} mm, max {:.2} mm; at the end max {:.2} mm, {:.2}°",
+        summary.obj_settle_pos_median_m * 1e3, summary.obj_settle_pos_max_m * 1e3, summary.obj_end_pos_max_m * 1e3, summary.obj_end_rot_max_deg
+    );
     let s = &summary.stats;
     println!(
         "summary over {} tasks: eef_pos_max {:.3} mm, eef_pos_rms {:.3} mm, eef_rot_max {:.3}°, joint_max {:.5} rad, finger_max {:.3} mm",

@@ -5,4 +5,4 @@ mod reference;
 mod replay;
 
 pub use reference::{Recording, recordings_in};
-pub use replay::{ErrorStats, PhaseReport, TaskReport, Summary, replay, summarize};
+pub use replay::{ErrorStats, ObjectError, PhaseReport, Summary, TaskReport, replay, start, summarize};

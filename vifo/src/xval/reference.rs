@@ -18,6 +18,17 @@ pub struct Meta {
     pub task_id: usize,
     pub task_name: String,
     pub problem_class: String,
+    /// `[time, qpos, qvel]` of the initial state, in LIBERO's layout.
+    pub init_state_flat: Vec<f64>,
+}
+
+/// Pose of an object's or fixture's root body.
+#[derive(Debug, Deserialize)]
+pub struct BodyPose {
+    /// `object` (free joint) or `fixture`.
+    pub kind: String,
+    pub pos: [f64; 3],
+    pub quat_wxyz: [f64; 4],
 }
 
 #[derive(Debug, Deserialize)]
@@ -27,6 +38,7 @@ pub struct Record {
     pub joint_qpos: [f64; 7],
     pub joint_qvel: [f64; 7],
     pub gripper_qpos: [f64; 2],
+    pub objects: std::collections::BTreeMap<String, BodyPose>,
 }
 
 impl Recording {

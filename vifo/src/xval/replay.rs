@@ -1,26 +1,30 @@
-//! Replaying a recording and comparing joint-level motion.
+//! Replaying a recording in the full scene and comparing motion.
+//!
+//! The scene is built from our task definition, fixtures are put where the recording's reset
+//! put them (fixture placement is not part of LIBERO's state vector), and the recorded initial
+//! state is loaded. Then the recorded actions are applied.
 //!
 //! MuJoCo logs end-effector poses 4 ms before the joint state of the same record (see the
 //! reference README). To compare like with like, both end-effector poses are computed with our
 //! kinematics (which matches MuJoCo's to micrometres) from the joint states at the end of each
-//! control step: ours, and the recorded one.
+//! control step: ours, and the recorded one. Objects are compared by root-body pose.
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, anyhow};
 use serde::Serialize;
-use vifo_physics::{SimParams, World};
 use vifo_robots::action::Action;
 use vifo_robots::dynamics::Coords;
-use vifo_robots::panda::{self, Mount, Panda};
+use vifo_robots::panda;
 use vifo_robots::spatial::{Pose, angle_between};
-use vifo_scenes::scene_class::scene_class;
-use vifo_scenes::task::ProblemClass;
+use vifo_scenes::sim::{SceneModel, Sim};
 
-use super::reference::Recording;
+use super::reference::{Record, Recording};
 
 /// Phases of the reference action sequence, by record index range (inclusive).
 pub const PHASES: [(&str, usize, usize); 4] = [("settle", 1, 10), ("sinusoid", 11, 50), ("close", 51, 70), ("open", 71, 90)];
+/// Records at which object poses are compared: after settling, and at the end.
+pub const OBJECT_CHECKS: [(&str, usize); 2] = [("settle", 10), ("end", 90)];
 
-/// Error statistics over a set of records.
+/// Arm error statistics over a set of records.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct ErrorStats {
     pub eef_pos_max_m: f64,
@@ -62,6 +66,16 @@ pub struct PhaseReport {
     pub stats: ErrorStats,
 }
 
+/// One movable object's pose error at one check point.
+#[derive(Clone, Debug, Serialize)]
+pub struct ObjectError {
+    pub object: String,
+    pub at: &'static str,
+    pub t: usize,
+    pub pos_m: f64,
+    pub rot_deg: f64,
+}
+
 #[derive(Clone, Debug, Serialize)]
 pub struct TaskReport {
     pub file: String,
@@ -70,67 +84,119 @@ pub struct TaskReport {
     pub task_name: String,
     pub phases: Vec<PhaseReport>,
     pub all: ErrorStats,
+    pub objects: Vec<ObjectError>,
 }
 
 #[derive(Clone, Debug, Serialize)]
 pub struct Summary {
     #[serde(flatten)]
     pub stats: ErrorStats,
+    /// Largest and median object position error after settling (record 10).
+    pub obj_settle_pos_max_m: f64,
+    pub obj_settle_pos_median_m: f64,
+    /// Largest object position and orientation error at the end of the recording.
+    pub obj_end_pos_max_m: f64,
+    pub obj_end_rot_max_deg: f64,
     pub tasks: usize,
 }
 
-/// The robot mount and base pose of a recording's scene class.
-fn robot_placement(problem_class: &str) -> Result<(Mount, Pose)> {
-    let class = ProblemClass::from_name(problem_class)
-        .and_then(scene_class)
-        .with_context(|| format!("problem class {problem_class} is not one of the LIBERO-VIFO scene classes"))?;
-    let mount = if class.robot_on_mount { Mount::Pedestal } else { Mount::Ground };
-    Ok((mount, Pose::from_wxyz(class.robot_base.pos, class.robot_base.quat_wxyz)))
+/// The episode a recording starts from: our scene with the recording's fixture placement and
+/// initial state.
+pub fn start(rec: &Recording) -> Result<Sim> {
+    let task = vifo_scenes::task(&rec.meta.suite, rec.meta.task_id)
+        .ok_or_else(|| anyhow!("no built-in task {}[{}]", rec.meta.suite, rec.meta.task_id))?;
+    if task.name != rec.meta.task_name {
+        return Err(anyhow!("{}[{}] is {}, but the recording is of {}", rec.meta.suite, rec.meta.task_id, task.name, rec.meta.task_name));
+    }
+    let model = SceneModel::build(task)?;
+    let mut sim = Sim::new(model.clone());
+    for (name, body) in rec.steps[0].objects.iter().filter(|(_, b)| b.kind == "fixture") {
+        if let Some((i, _)) = model.entity(name) {
+            sim.place_fixture(i, &Pose::from_wxyz(body.pos, body.quat_wxyz));
+        }
+    }
+    let state = model.layout.decode(&rec.meta.init_state_flat)?;
+    sim.load_state(&state).context("loading the recorded initial state")?;
+    Ok(sim)
 }
 
-/// Replays one recording in free space (no objects) and compares every record.
-pub fn replay(file: &str, rec: &Recording) -> Result<TaskReport> {
-    let (mount, base) = robot_placement(&rec.meta.problem_class)?;
-    let mut world = World::new(SimParams::LIBERO);
-    let robot = Panda::insert(&mut world, mount, base);
-    let first = &rec.steps[0];
-    robot.set_joints(&mut world, &first.joint_qpos, &first.gripper_qpos, &first.joint_qvel, &[0.0; 2]);
-    let mut control = robot.reset_control();
+fn grip_site(sim: &Sim, q: &Coords<9>) -> Pose {
+    let robot = &sim.model().robot;
+    let dynamics = robot.arm().dynamics();
+    let s = dynamics.model().site(panda::GRIP_SITE).expect("grip site");
+    dynamics.frame_pose(&dynamics.forward(robot.arm().base(), q), s.body, &s.local)
+}
 
-    let site = |q: &Coords<9>| -> Pose {
-        let dynamics = robot.arm().dynamics();
-        let s = dynamics.model().site(panda::GRIP_SITE).expect("grip site");
-        dynamics.frame_pose(&dynamics.forward(robot.arm().base(), q), s.body, &s.local)
-    };
+fn object_errors(sim: &Sim, record: &Record, at: &'static str) -> Vec<ObjectError> {
+    record
+        .objects
+        .iter()
+        .filter(|(_, b)| b.kind == "object")
+        .filter_map(|(name, body)| {
+            let (i, _) = sim.model().entity(name)?;
+            let ours = sim.entity_pose(i);
+            let theirs = Pose::from_wxyz(body.pos, body.quat_wxyz);
+            Some(ObjectError {
+                object: name.clone(),
+                at,
+                t: record.t,
+                pos_m: (ours.pos - theirs.pos).norm(),
+                rot_deg: angle_between(&ours.rot, &theirs.rot).to_degrees(),
+            })
+        })
+        .collect()
+}
+
+/// Replays one recording and compares every record.
+pub fn replay(file: &str, rec: &Recording) -> Result<TaskReport> {
+    let mut sim = start(rec)?;
     let mut phases: Vec<PhaseReport> = PHASES.iter().map(|&(phase, ..)| PhaseReport { phase, stats: ErrorStats::default() }).collect();
+    let mut objects = Vec::new();
     for record in &rec.steps[1..] {
         let action = Action::new(record.action_applied_before.as_deref().unwrap_or(&[]))?;
-        robot.control_step(&mut world, &mut control, &action);
-        let ours = robot.joints(&world).q;
+        sim.step(&action);
+        let ours = sim.model().robot.joints(sim.world()).q;
         let mut theirs = Coords::<9>::zeros();
         theirs.fixed_rows_mut::<7>(0).copy_from_slice(&record.joint_qpos);
         theirs[7] = record.gripper_qpos[0];
         theirs[8] = record.gripper_qpos[1];
-        let (a, b) = (site(&ours), site(&theirs));
+        let (a, b) = (grip_site(&sim, &ours), grip_site(&sim, &theirs));
         let joint = (0..7).map(|i| (ours[i] - theirs[i]).abs()).fold(0.0, f64::max);
         let finger = (7..9).map(|i| (ours[i] - theirs[i]).abs()).fold(0.0, f64::max);
         if let Some(p) = PHASES.iter().position(|&(_, lo, hi)| (lo..=hi).contains(&record.t)) {
             phases[p].stats.add((a.pos - b.pos).norm(), angle_between(&a.rot, &b.rot).to_degrees(), joint, finger);
+        }
+        if let Some(&(at, _)) = OBJECT_CHECKS.iter().find(|&&(_, t)| t == record.t) {
+            objects.extend(object_errors(&sim, record, at));
         }
     }
     let mut all = ErrorStats::default();
     for p in &phases {
         all.merge(&p.stats);
     }
-    Ok(TaskReport { file: file.to_string(), suite: rec.meta.suite.clone(), task_id: rec.meta.task_id, task_name: rec.meta.task_name.clone(), phases, all })
+    Ok(TaskReport { file: file.to_string(), suite: rec.meta.suite.clone(), task_id: rec.meta.task_id, task_name: rec.meta.task_name.clone(), phases, all, objects })
 }
 
-/// Maxima and overall RMS over every task and record.
+/// Maxima, overall RMS and object statistics over every task and record.
 pub fn summarize(tasks: &[TaskReport]) -> Summary {
     let mut stats = ErrorStats::default();
     for t in tasks {
         stats.merge(&t.all);
     }
-    Summary { stats, tasks: tasks.len() }
+    let mut settle: Vec<f64> = tasks.iter().flat_map(|t| &t.objects).filter(|o| o.at == "settle").map(|o| o.pos_m).collect();
+    settle.sort_by(f64::total_cmp);
+    let median = match settle.len() {
+        0 => 0.0,
+        n if n % 2 == 1 => settle[n / 2],
+        n => 0.5 * (settle[n / 2 - 1] + settle[n / 2]),
+    };
+    let end = tasks.iter().flat_map(|t| &t.objects).filter(|o| o.at == "end");
+    Summary {
+        stats,
+        obj_settle_pos_max_m: settle.last().copied().unwrap_or(0.0),
+        obj_settle_pos_median_m: median,
+        obj_end_pos_max_m: end.clone().map(|o| o.pos_m).fold(0.0, f64::max),
+        obj_end_rot_max_deg: end.map(|o| o.rot_deg).fold(0.0, f64::max),
+        tasks: tasks.len(),
+    }
 }
-

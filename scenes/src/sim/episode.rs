@@ -1,0 +1,235 @@
+//! One episode's mutable state: the world, the controller state and the step count.
+
+use std::sync::Arc;
+
+use thiserror::Error;
+use vifo_physics::rapier::prelude::*;
+use vifo_physics::{Snapshot, World};
+use vifo_robots::action::Action;
+use vifo_robots::convert::{pose, rapier_pose};
+use vifo_robots::joint;
+use vifo_robots::model::JointKind as RobotJointKind;
+use vifo_robots::panda::PandaControl;
+use vifo_robots::spatial::{Pose, Vec3};
+
+use super::model::{RegionPlace, SceneModel};
+use crate::catalog::JointKind;
+use crate::init_file::InitState;
+
+/// A state that does not fit the scene.
+#[derive(Debug, Error, PartialEq)]
+pub enum StateError {
+    #[error("state names object {0}, which the scene does not have")]
+    UnknownObject(String),
+    #[error("state names joint {joint} of {owner}, which the scene does not have")]
+    UnknownJoint { owner: String, joint: String },
+    #[error("state value {what} is not finite")]
+    NotFinite { what: String },
+}
+
+/// Everything needed to continue an episode bit for bit from the same point.
+#[derive(Clone)]
+pub struct SimSnapshot {
+    world: Snapshot,
+    control: PandaControl,
+    steps: usize,
+}
+
+/// A running episode of a scene.
+pub struct Sim {
+    model: Arc<SceneModel>,
+    world: World,
+    control: PandaControl,
+    steps: usize,
+}
+
+/// The box of a region at the current state: world pose and half-size.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RegionBox {
+    pub pose: Pose,
+    pub half_size: Vec3,
+    /// The entity the region belongs to (fixture or object sites), if any.
+    pub owner: Option<usize>,
+}
+
+impl Sim {
+    /// A fresh episode in the scene's template state.
+    pub fn new(model: Arc<SceneModel>) -> Sim {
+        let world = World::from_snapshot(&model.template);
+        let control = model.robot.reset_control();
+        Sim { model, world, control, steps: 0 }
+    }
+
+    pub fn model(&self) -> &Arc<SceneModel> {
+        &self.model
+    }
+
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    /// Control steps since the episode started.
+    pub fn steps(&self) -> usize {
+        self.steps
+    }
+
+    pub fn control(&self) -> &PandaControl {
+        &self.control
+    }
+
+    /// Moves a fixture's root (and its articulated parts) to `pose`. Fixture placement is not
+    /// part of LIBERO's state vectors; scenes sample it (or take it from a reference) per episode.
+    pub fn place_fixture(&mut self, entity: usize, at: &Pose) {
+        let e = &self.model.entities[entity];
+        let r = self.world.rapier_mut();
+        r.bodies[e.bodies[0]].set_position(rapier_pose(at), true);
+        if let Some(jh) = e.joints.iter().flatten().next() {
+            let (mb, _) = r.multibody_joints.get_mut(*jh).expect("fixture joint");
+            mb.forward_kinematics(&r.bodies, true);
+            mb.update_rigid_bodies(&mut r.bodies, true);
+        }
+    }
+
+    /// Loads a LIBERO state (arm, gripper, object poses, articulation joints) and resets the
+    /// controller as LIBERO's `reset()` + `set_init_state()` leave it.
+    pub fn load_state(&mut self, state: &InitState) -> Result<(), StateError> {
+        check_finite(state)?;
+        let model = self.model.clone();
+        for object in &state.objects {
+            let (i, _) = model.entity(&object.name).ok_or_else(|| StateError::UnknownObject(object.name.clone()))?;
+            let at = Pose::from_wxyz(object.pos, object.quat_wxyz);
+            let body = &mut self.world.rapier_mut().bodies[model.entities[i].bodies[0]];
+            body.set_position(rapier_pose(&at), true);
+            body.set_linvel(Vector::from(object.lin_vel), true);
+            body.set_angvel(Vector::from(object.ang_vel), true);
+        }
+        for j in &state.joints {
+            let unknown = || StateError::UnknownJoint { owner: j.owner.clone(), joint: j.joint.clone() };
+            let (i, entity) = model.entity(&j.owner).ok_or_else(unknown)?;
+            let (_, _) = entity.joint(&j.joint).ok_or_else(unknown)?;
+            self.set_joint(i, &j.joint, j.qpos);
+        }
+        model.robot.set_joints(&mut self.world, &state.arm_qpos, &state.gripper_qpos, &state.arm_qvel, &state.gripper_qvel);
+        self.control = model.robot.reset_control();
+        self.steps = 0;
+        self.world.refresh_contacts();
+        Ok(())
+    }
+
+    /// Sets an articulation joint of an entity (drawer, door, knob) to `value`, at rest.
+    pub fn set_joint(&mut self, entity: usize, name: &str, value: f64) {
+        let Some((_, jh)) = self.model.entities[entity].joint(name) else { return };
+        let current = self.joint_position(entity, name).unwrap_or(value);
+        let r = self.world.rapier_mut();
+        let (mb, link) = r.multibody_joints.get_mut(jh).expect("fixture joint");
+        let dof = mb.link(link).expect("link").assembly_id();
+        let mut disp = vec![0.0; mb.ndofs()];
+        disp[dof] = value - current;
+        mb.apply_displacements(&disp);
+        mb.generalized_velocity_mut()[dof] = 0.0;
+        mb.forward_kinematics(&r.bodies, true);
+        mb.update_rigid_bodies(&mut r.bodies, true);
+    }
+
+    /// Position of an entity's articulation joint (m or rad).
+    pub fn joint_position(&self, entity: usize, name: &str) -> Option<f64> {
+        let e = &self.model.entities[entity];
+        let (body, jh) = e.joint(name)?;
+        let (mb, link) = self.world.rapier().multibody_joints.get(jh)?;
+        let kind = match e.model.bodies[body].joint.as_ref()?.kind {
+            JointKind::Hinge => RobotJointKind::Hinge,
+            JointKind::Slide => RobotJointKind::Slide,
+        };
+        Some(joint::coordinate(kind, &mb.link(link)?.joint().coords()))
+    }
+
+    /// One 20 Hz control step.
+    pub fn step(&mut self, action: &Action) {
+        self.model.robot.control_step(&mut self.world, &mut self.control, action);
+        self.steps += 1;
+    }
+
+    /// World pose of an entity's root (LIBERO's `<name>_main` body: the pose predicates read).
+    pub fn entity_pose(&self, entity: usize) -> Pose {
+        self.body_pose(entity, 0)
+    }
+
+    /// World pose of one of an entity's bodies.
+    pub fn body_pose(&self, entity: usize, body: usize) -> Pose {
+        pose(self.world.rapier().bodies[self.model.entities[entity].bodies[body]].position())
+    }
+
+    /// The box of a region key at the current state.
+    pub fn region_box(&self, key: &str) -> Option<RegionBox> {
+        let region = self.model.region(key)?;
+        Some(match &region.place {
+            RegionPlace::Workspace { center, half_size } => RegionBox {
+                pose: Pose::from_wxyz(*center, [1.0, 0.0, 0.0, 0.0]),
+                half_size: Vec3::from(*half_size),
+                owner: None,
+            },
+            RegionPlace::Site { entity, site } => {
+                let s = &self.model.entities[*entity].model.sites[*site];
+                let at = self.body_pose(*entity, s.body).mul(&Pose::from_wxyz(s.pos, s.quat_wxyz));
+                RegionBox { pose: at, half_size: Vec3::from(s.half_size), owner: Some(*entity) }
+            }
+        })
+    }
+
+    /// Colliders of a name: an entity's shapes, or the arena's for the table/floor.
+    pub fn colliders_of(&self, name: &str) -> Option<&[ColliderHandle]> {
+        if self.model.is_arena(name) {
+            return Some(&self.model.arena);
+        }
+        self.model.entity(name).map(|(_, e)| e.colliders.as_slice())
+    }
+
+    /// MuJoCo-style contact test between two named things (any collider pair touching).
+    pub fn touching(&self, a: &str, b: &str) -> bool {
+        match (self.colliders_of(a), self.colliders_of(b)) {
+            (Some(ca), Some(cb)) => self.world.in_contact(ca, cb),
+            _ => false,
+        }
+    }
+
+    /// Whether any robot shape touches the named entity.
+    pub fn robot_touching(&self, name: &str) -> bool {
+        let robot: Vec<ColliderHandle> = self.model.robot.arm().colliders().iter().map(|c| c.handle).collect();
+        self.colliders_of(name).is_some_and(|c| self.world.in_contact(&robot, c))
+    }
+
+    pub fn snapshot(&self) -> SimSnapshot {
+        SimSnapshot { world: self.world.snapshot(), control: self.control, steps: self.steps }
+    }
+
+    pub fn restore(&mut self, snapshot: &SimSnapshot) {
+        self.world.restore(&snapshot.world);
+        self.control = snapshot.control;
+        self.steps = snapshot.steps;
+    }
+
+    /// A copy of this episode that can be run forward without touching it (simulated futures).
+    pub fn fork(&self) -> Sim {
+        let mut copy = Sim::new(self.model.clone());
+        copy.restore(&self.snapshot());
+        copy
+    }
+}
+
+fn check_finite(state: &InitState) -> Result<(), StateError> {
+    let bad = |what: &str| Err(StateError::NotFinite { what: what.to_string() });
+    if state.arm_qpos.iter().chain(&state.arm_qvel).chain(&state.gripper_qpos).chain(&state.gripper_qvel).any(|v| !v.is_finite()) {
+        return bad("of the robot");
+    }
+    for o in &state.objects {
+        if o.pos.iter().chain(&o.quat_wxyz).chain(&o.lin_vel).chain(&o.ang_vel).any(|v| !v.is_finite()) {
+            return bad(&format!("of object {}", o.name));
+        }
+    }
+    for j in &state.joints {
+        if !j.qpos.is_finite() || !j.qvel.is_finite() {
+            return bad(&format!("of joint {} of {}", j.joint, j.owner));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,14 @@
+//! Tasks running in the physics world.
+//!
+//! - [`SceneModel`]: a task built into a template world (arena, Panda, objects, fixtures) with
+//!   resolved regions; immutable and shared.
+//! - [`Sim`]: one episode's state (world, controller state, step count), with LIBERO's state
+//!   loading, predicates and success check, and bit-exact snapshots/forks.
+
+mod episode;
+mod model;
+mod predicates;
+
+pub use episode::{RegionBox, Sim, SimSnapshot, StateError};
+pub use model::{ARENA_CATEGORIES, BuildError, RegionPlace, SceneEntity, SceneModel, SceneRegion};
+pub use predicates::{ON_OBJECT_XY, PredicateError};

@@ -1,1 +1,2 @@
-//! placeholder
+//! Visual cue library of LIBERO-VIFO.
+pub mod parse;

@@ -17,6 +17,8 @@ struct Cli {
 enum Command {
     /// Print the build's version and the crates it is made of.
     About,
+    /// Visual cues: task parser, variant catalogue, instance set, quick rendering.
+    Cues(cmd::cues::Args),
 }
 
 fn main() {
@@ -26,6 +28,7 @@ fn main() {
             println!("vifo {} (LIBERO-VIFO in pure Rust)", env!("CARGO_PKG_VERSION"));
             Ok(())
         }
+        Command::Cues(args) => cmd::cues::run(args),
     };
     if let Err(err) = result {
         eprintln!("error: {err:#}");

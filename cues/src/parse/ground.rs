@@ -140,3 +140,23 @@ pub fn ground(steps: Vec<Step>, goals: &[GoalAtom]) -> Vec<Step> {
     }
     out
 }
+
+/// Without goal atoms: links each step's source and target to the scene name (object or
+/// fixture, e.g. `akita_black_bowl_1`) sharing the most words with it; ties go to the name
+/// listed first. Names sharing no word leave the id empty.
+pub fn ground_to_names(steps: &mut [Step], names: &[&str]) {
+    let best = |phrase: &str| -> Option<String> {
+        let mut best: Option<(usize, &str)> = None;
+        for n in names {
+            let score = overlap(phrase, n);
+            if score > 0 && best.is_none_or(|(b, _)| score > b) {
+                best = Some((score, n));
+            }
+        }
+        best.map(|(_, n)| n.to_string())
+    };
+    for step in steps {
+        step.source_id = best(&step.source);
+        step.target_id = step.target.as_deref().and_then(best);
+    }
+}

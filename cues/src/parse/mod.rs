@@ -19,7 +19,7 @@ mod relation;
 mod steps;
 mod text;
 
-pub use ground::GoalAtom;
+pub use ground::{GoalAtom, ground_to_names};
 pub use relation::Relation;
 pub use text::instruction_from_task_name;
 

@@ -1,1 +1,3 @@
 //! Subcommands of `vifo`, one module each.
+
+pub mod cues;

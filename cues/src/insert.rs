@@ -144,11 +144,14 @@ impl Inserter {
             clamped: Vec::new(),
         };
         let result = (variant.draw)(&mut ctx);
-        let Ctx { mut layer, layer_dirty, report, clamped, .. } = ctx;
-        if result.is_ok() && layer_dirty {
+        let Ctx { mut layer, mut layer_dirty, report, clamped, .. } = ctx;
+        if result.is_ok() && report.drawn {
             for (at, toward, color) in clamped {
                 draw_offscreen_indicator(&mut layer, at, toward, color, frame.width.min(frame.height) as f32 / 256.0);
+                layer_dirty = true;
             }
+        }
+        if result.is_ok() && layer_dirty {
             draw::composite(frame, &layer, 0, 0, 1.0);
         }
         if layer_dirty {

@@ -92,21 +92,55 @@ pub fn composite(frame: &mut RgbImage, layer: &Pixmap, x: i32, y: i32, opacity: 
     let y0 = y.max(0);
     let x1 = (x + lw).min(fw);
     let y1 = (y + lh).min(fh);
+    if x0 >= x1 || y0 >= y1 {
+        return;
+    }
     let src = layer.data();
+    let span = (x1 - x0) as usize;
     for fy in y0..y1 {
-        let ly = fy - y;
-        let src_row = &src[(ly * lw * 4) as usize..((ly + 1) * lw * 4) as usize];
-        let dst_row = &mut frame.data[(fy * fw * 3) as usize..((fy + 1) * fw * 3) as usize];
-        for fx in x0..x1 {
-            let s = &src_row[((fx - x) * 4) as usize..((fx - x) * 4 + 4) as usize];
+        let ly = (fy - y) as usize;
+        let s0 = (ly * lw as usize + (x0 - x) as usize) * 4;
+        let d0 = (fy as usize * fw as usize + x0 as usize) * 3;
+        let src_row = &src[s0..s0 + span * 4];
+        let dst_row = &mut frame.data[d0..d0 + span * 3];
+        for (s, d) in src_row.chunks_exact(4).zip(dst_row.chunks_exact_mut(3)) {
             if s[3] == 0 {
                 continue;
             }
             let a = mul255(s[3] as u32, op);
-            let d = &mut dst_row[(fx * 3) as usize..(fx * 3 + 3) as usize];
             for c in 0..3 {
                 let sc = mul255(s[c] as u32, op);
                 d[c] = (sc + mul255(d[c] as u32, 255 - a)).min(255) as u8;
+            }
+        }
+    }
+}
+
+/// Draws a premultiplied sprite onto a premultiplied layer at integer position (x, y),
+/// source-over, in integer arithmetic. Cheaper than tiny-skia's general `draw_pixmap` (no
+/// shader pipeline) for the unscaled, unrotated sprites cues place every frame.
+pub fn blit_over(layer: &mut Pixmap, sprite: &Pixmap, x: i32, y: i32) {
+    let (lw, lh) = (layer.width() as i32, layer.height() as i32);
+    let (sw, sh) = (sprite.width() as i32, sprite.height() as i32);
+    let (x0, y0, x1, y1) = (x.max(0), y.max(0), (x + sw).min(lw), (y + sh).min(lh));
+    if x0 >= x1 || y0 >= y1 {
+        return;
+    }
+    let span = (x1 - x0) as usize;
+    let src = sprite.data();
+    let dst = layer.data_mut();
+    for ly in y0..y1 {
+        let s0 = ((ly - y) as usize * sw as usize + (x0 - x) as usize) * 4;
+        let d0 = (ly as usize * lw as usize + x0 as usize) * 4;
+        for (s, d) in src[s0..s0 + span * 4].chunks_exact(4).zip(dst[d0..d0 + span * 4].chunks_exact_mut(4)) {
+            match s[3] {
+                0 => {}
+                255 => d.copy_from_slice(s),
+                a => {
+                    for c in 0..4 {
+                        d[c] = (s[c] as u32 + mul255(d[c] as u32, 255 - a as u32)).min(255) as u8;
+                    }
+                }
             }
         }
     }

@@ -2,7 +2,6 @@
 //! on one object. Arrows start at the source anchor and end with their tip on the target
 //! anchor.
 
-use tiny_skia::Pixmap;
 
 use super::tag;
 use crate::draw::geom::{self, V2, v2};
@@ -197,7 +196,7 @@ fn boxed(ctx: &mut Ctx<'_>, which: Which, color: Rgba, dashed: bool) -> Result<(
         }
     }
     let (lx, ly) = ((a.at.x - h - 1.0 * s).round() as i32, (a.at.y - h - label.height() as f32).round() as i32);
-    pm.draw_pixmap(lx, ly, Pixmap::as_ref(&label), &tiny_skia::PixmapPaint::default(), ID, None);
+    draw::blit_over(pm, &label, lx, ly);
     Ok(())
 }
 

@@ -2,7 +2,7 @@
 //! anchored object. The sign image is composed once per spec and frame size (cached); per
 //! frame only the post and the placement are drawn.
 
-use tiny_skia::{Pixmap, PixmapPaint, Transform};
+use tiny_skia::Transform;
 
 use crate::draw::geom::{self, v2};
 use crate::draw::{self, Rgba};
@@ -40,7 +40,7 @@ fn sign_at(ctx: &mut Ctx<'_>, category: Category, which: Which) -> Result<(), Cu
     if let Some(p) = geom::circle(a.at, 2.8 * s) {
         draw::fill_outlined(pm, &p, POST, draw::WHITE, 1.0 * s, Transform::identity());
     }
-    pm.draw_pixmap(left.round() as i32, top.round() as i32, Pixmap::as_ref(&sign), &PixmapPaint::default(), Transform::identity(), None);
+    draw::blit_over(pm, &sign, left.round() as i32, top.round() as i32);
     Ok(())
 }
 

@@ -8,7 +8,9 @@
 
 use std::time::Instant;
 
-use vifo_cues::{Anchor, Anchors, CueSpec, Family, FrameInputs, Inserter, RgbImage, RgbaImage, VARIANTS, instances, parse};
+use vifo_cues::{
+    Anchor, Anchors, CueSpec, Family, FrameInputs, Inserter, RgbImage, RgbaImage, VARIANTS, instances, parse,
+};
 
 const SIZE: u32 = 256;
 

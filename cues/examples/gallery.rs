@@ -46,7 +46,14 @@ fn label(pm: &mut Pixmap, text: &str, x: f32, y: f32, w: f32) {
     }
 }
 
-fn sheet(out: &std::path::Path, name: &str, instruction: &str, anchors: Anchors, bowl: Option<(f32, f32)>, plate: (f32, f32)) {
+fn sheet(
+    out: &std::path::Path,
+    name: &str,
+    instruction: &str,
+    anchors: Anchors,
+    bowl: Option<(f32, f32)>,
+    plate: (f32, f32),
+) {
     let parsed = parse(instruction).unwrap();
     let base = rgb(&scene(bowl, plate));
     // Ghost layers: the bowl along an arc from its place to the plate; pictures: start, goal.
@@ -54,7 +61,8 @@ fn sheet(out: &std::path::Path, name: &str, instruction: &str, anchors: Anchors,
     let ghosts: Vec<RgbaImage> = (1..=4)
         .map(|i| {
             let t = i as f32 / 4.0;
-            let p = (from.0 + (plate.0 - from.0) * t, from.1 + (plate.1 - 6.0 - from.1) * t - 40.0 * t * (1.0 - t) * 4.0);
+            let p =
+                (from.0 + (plate.0 - from.0) * t, from.1 + (plate.1 - 6.0 - from.1) * t - 40.0 * t * (1.0 - t) * 4.0);
             let mut l = Pixmap::new(SIZE, SIZE).unwrap();
             bowl_shape(&mut l, p, 255);
             to_rgba_image(&l)
@@ -77,12 +85,21 @@ fn sheet(out: &std::path::Path, name: &str, instruction: &str, anchors: Anchors,
         let spec = CueSpec::new(name, &parsed, step, v).unwrap();
         let mut frame = base.clone();
         let text = match inserter.insert(&mut frame, &spec, &inputs) {
-            Ok(r) => format!("{} {:?}/{:?}", v.name, r.source, r.target).replace("InView", "in").replace("NotUsed", "-"),
+            Ok(r) => {
+                format!("{} {:?}/{:?}", v.name, r.source, r.target).replace("InView", "in").replace("NotUsed", "-")
+            }
             Err(e) => format!("{}: {e}", v.name),
         };
         let single = out.join(name);
         std::fs::create_dir_all(&single).unwrap();
-        image::save_buffer(single.join(format!("{}.png", v.name)), &frame.data, SIZE, SIZE, image::ExtendedColorType::Rgb8).unwrap();
+        image::save_buffer(
+            single.join(format!("{}.png", v.name)),
+            &frame.data,
+            SIZE,
+            SIZE,
+            image::ExtendedColorType::Rgb8,
+        )
+        .unwrap();
         let (x, y) = ((i % cols) as u32 * cell + 4, (i / cols) as u32 * (cell + 18) + 24);
         let pm = from_rgb_image(&frame).unwrap();
         sheet.draw_pixmap(x as i32, y as i32 + 16, pm.as_ref(), &PixmapPaint::default(), Transform::identity(), None);
@@ -99,11 +116,31 @@ fn main() {
     std::fs::create_dir_all(&out).unwrap();
     let bowl = (70.0, 160.0);
     let plate = (185.0, 120.0);
-    let anchors = Anchors { source: Some(Anchor::at(70.0, 160.0).with_radius(18.0)), target: Some(Anchor::at(185.0, 120.0).with_radius(26.0)) };
-    sheet(&out, "spatial0", "pick up the black bowl between the plate and the ramekin and place it on the plate", anchors, Some(bowl), plate);
-    let off = Anchors { source: Some(Anchor::at(-40.0, 200.0).with_radius(18.0)), target: Some(Anchor { in_front: false, ..Anchor::at(185.0, 120.0) }) };
+    let anchors = Anchors {
+        source: Some(Anchor::at(70.0, 160.0).with_radius(18.0)),
+        target: Some(Anchor::at(185.0, 120.0).with_radius(26.0)),
+    };
+    sheet(
+        &out,
+        "spatial0",
+        "pick up the black bowl between the plate and the ramekin and place it on the plate",
+        anchors,
+        Some(bowl),
+        plate,
+    );
+    let off = Anchors {
+        source: Some(Anchor::at(-40.0, 200.0).with_radius(18.0)),
+        target: Some(Anchor { in_front: false, ..Anchor::at(185.0, 120.0) }),
+    };
     sheet(&out, "offscreen", "put the bowl on the plate", off, Some(bowl), plate);
     let drawer = Anchors { source: Some(Anchor::at(43.0, 60.0).with_radius(20.0)), target: None };
     sheet(&out, "goal0", "open the middle drawer of the cabinet", drawer, None, plate);
-    sheet(&out, "libero10_3", "put the black bowl in the bottom drawer of the cabinet and close it", anchors, Some(bowl), plate);
+    sheet(
+        &out,
+        "libero10_3",
+        "put the black bowl in the bottom drawer of the cabinet and close it",
+        anchors,
+        Some(bowl),
+        plate,
+    );
 }

@@ -77,7 +77,11 @@ impl Anchor {
             let mut hi = [f64::NEG_INFINITY; 2];
             for i in 0..8 {
                 let sign = |bit: usize| if i >> bit & 1 == 1 { 1.0 } else { -1.0 };
-                let corner = [world.center[0] + sign(0) * h[0], world.center[1] + sign(1) * h[1], world.center[2] + sign(2) * h[2]];
+                let corner = [
+                    world.center[0] + sign(0) * h[0],
+                    world.center[1] + sign(1) * h[1],
+                    world.center[2] + sign(2) * h[2],
+                ];
                 if let Some([cu, cv, cd]) = projector.project(corner)
                     && cd > 0.0
                     && cu.is_finite()
@@ -95,7 +99,11 @@ impl Anchor {
 
 impl Anchors {
     /// Projects the source and target world anchors with `projector`.
-    pub fn from_world(projector: &dyn Projector, source: Option<&WorldAnchor>, target: Option<&WorldAnchor>) -> Anchors {
+    pub fn from_world(
+        projector: &dyn Projector,
+        source: Option<&WorldAnchor>,
+        target: Option<&WorldAnchor>,
+    ) -> Anchors {
         Anchors {
             source: source.map(|w| Anchor::from_world(projector, w)),
             target: target.map(|w| Anchor::from_world(projector, w)),
@@ -142,7 +150,13 @@ mod tests {
 
     /// A camera at the origin looking along world −z (identity rotation), 90° fov, 101² px.
     fn camera() -> PinholeCamera {
-        PinholeCamera { position: [0.0; 3], rotation: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], fovy_deg: 90.0, width: 101, height: 101 }
+        PinholeCamera {
+            position: [0.0; 3],
+            rotation: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            fovy_deg: 90.0,
+            width: 101,
+            height: 101,
+        }
     }
 
     #[test]
@@ -160,7 +174,8 @@ mod tests {
         let cam = camera();
         let behind = Anchor::from_world(&cam, &WorldAnchor { center: [0.0, 0.0, 1.0], half_extents: None });
         assert!(!behind.in_front && !behind.usable());
-        let boxed = Anchor::from_world(&cam, &WorldAnchor { center: [0.0, 0.0, -2.0], half_extents: Some([0.1, 0.1, 0.1]) });
+        let boxed =
+            Anchor::from_world(&cam, &WorldAnchor { center: [0.0, 0.0, -2.0], half_extents: Some([0.1, 0.1, 0.1]) });
         let r = boxed.radius.unwrap();
         // Half-size 0.1 m at 1.9–2.1 m with f = 50.5 px: about 2.66 px.
         assert!(boxed.inside(101, 101) && (r - 50.5 * 0.1 / 1.9).abs() < 1e-6, "{r}");

@@ -109,7 +109,12 @@ impl Inserter {
     }
 
     /// Draws the cue described by `spec` into `frame`. On error the frame is unchanged.
-    pub fn insert(&mut self, frame: &mut RgbImage, spec: &CueSpec, inputs: &FrameInputs<'_>) -> Result<InsertReport, CueError> {
+    pub fn insert(
+        &mut self,
+        frame: &mut RgbImage,
+        spec: &CueSpec,
+        inputs: &FrameInputs<'_>,
+    ) -> Result<InsertReport, CueError> {
         frame.validate()?;
         let variant = spec.check()?;
         for (i, l) in inputs.ghost_layers.iter().enumerate() {
@@ -131,7 +136,13 @@ impl Inserter {
             Some(l) if (l.width(), l.height()) == (frame.width, frame.height) => l,
             _ => Pixmap::new(frame.width, frame.height).ok_or(CueError::BadParam("frame too large".into()))?,
         };
-        let key_prefix = format!("{}|{}|{}x{}", spec.id(), serde_json::to_string(&spec.params).unwrap_or_default(), frame.width, frame.height);
+        let key_prefix = format!(
+            "{}|{}|{}x{}",
+            spec.id(),
+            serde_json::to_string(&spec.params).unwrap_or_default(),
+            frame.width,
+            frame.height
+        );
         let mut ctx = Ctx {
             frame,
             spec,
@@ -246,7 +257,11 @@ impl Ctx<'_> {
 
     /// A static asset for this spec and frame size, built on first use. `part` distinguishes
     /// several assets of one cue.
-    pub fn cached(&mut self, part: &str, build: impl FnOnce() -> Result<Pixmap, CueError>) -> Result<Arc<Pixmap>, CueError> {
+    pub fn cached(
+        &mut self,
+        part: &str,
+        build: impl FnOnce() -> Result<Pixmap, CueError>,
+    ) -> Result<Arc<Pixmap>, CueError> {
         let key = format!("{}|{part}", self.key_prefix);
         if let Some(p) = self.cache.get(&key) {
             return Ok(Arc::clone(p));

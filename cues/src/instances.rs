@@ -118,7 +118,14 @@ impl InstanceSet {
                 let mut tasks: Vec<&str> = of_family.iter().map(|s| s.task.as_str()).collect();
                 tasks.sort_unstable();
                 tasks.dedup();
-                (f, FamilyCount { instances: of_family.len(), tasks: tasks.len(), share: of_family.len() as f64 / total })
+                (
+                    f,
+                    FamilyCount {
+                        instances: of_family.len(),
+                        tasks: tasks.len(),
+                        share: of_family.len() as f64 / total,
+                    },
+                )
             })
             .collect()
     }

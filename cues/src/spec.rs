@@ -28,7 +28,8 @@ pub enum Family {
 }
 
 impl Family {
-    pub const ALL: [Family; 8] = [Family::F1, Family::F2, Family::F3, Family::F4, Family::F5, Family::F6, Family::F7, Family::F8];
+    pub const ALL: [Family; 8] =
+        [Family::F1, Family::F2, Family::F3, Family::F4, Family::F5, Family::F6, Family::F7, Family::F8];
 
     /// Descriptive name.
     pub fn name(self) -> &'static str {
@@ -95,7 +96,11 @@ impl NormBox {
             && self.h > 0.0
             && self.x + self.w <= 1.0 + 1e-4
             && self.y + self.h <= 1.0 + 1e-4;
-        if ok { Ok(()) } else { Err(CueError::BadParam(format!("region {self:?} must be a non-empty box inside [0,1]²"))) }
+        if ok {
+            Ok(())
+        } else {
+            Err(CueError::BadParam(format!("region {self:?} must be a non-empty box inside [0,1]²")))
+        }
     }
 
     /// The box in whole pixels of a `width` × `height` frame (at least 1 px each way).
@@ -161,10 +166,9 @@ pub struct CueSpec {
 impl CueSpec {
     /// The spec for `variant` showing step `step` of a parsed task.
     pub fn new(task: &str, parsed: &ParsedTask, step: usize, variant: &Variant) -> Result<CueSpec, CueError> {
-        let s = parsed
-            .steps
-            .get(step)
-            .ok_or_else(|| CueError::BadSpec(format!("task {task} has {} steps, no step {step}", parsed.steps.len())))?;
+        let s = parsed.steps.get(step).ok_or_else(|| {
+            CueError::BadSpec(format!("task {task} has {} steps, no step {step}", parsed.steps.len()))
+        })?;
         Ok(CueSpec {
             task: task.to_string(),
             instruction: parsed.instruction.clone(),

@@ -6,8 +6,8 @@ use vifo_cues::draw::fiducial;
 use vifo_cues::families::code::{action_code, fiducial_id};
 use vifo_cues::variants::{self, Needs};
 use vifo_cues::{
-    Anchor, AnchorUse, Anchors, CueError, CueParams, CueSpec, Family, FrameInputs, InsertMode, Inserter, NormBox, RgbImage, RgbaImage,
-    VARIANTS, Variant, parse,
+    Anchor, AnchorUse, Anchors, CueError, CueParams, CueSpec, Family, FrameInputs, InsertMode, Inserter, NormBox,
+    RgbImage, RgbaImage, VARIANTS, Variant, parse,
 };
 
 const W: u32 = 256;
@@ -27,7 +27,10 @@ fn base(w: u32, h: u32) -> RgbImage {
 }
 
 fn anchors() -> Anchors {
-    Anchors { source: Some(Anchor::at(SRC.0, SRC.1).with_radius(16.0)), target: Some(Anchor::at(TGT.0, TGT.1).with_radius(22.0)) }
+    Anchors {
+        source: Some(Anchor::at(SRC.0, SRC.1).with_radius(16.0)),
+        target: Some(Anchor::at(TGT.0, TGT.1).with_radius(22.0)),
+    }
 }
 
 /// A disc layer of the frame size (a "rendered future pose").
@@ -45,10 +48,18 @@ fn disc(w: u32, h: u32, cx: f32, cy: f32, r: f32) -> RgbaImage {
 }
 
 fn ghosts(w: u32, h: u32) -> Vec<RgbaImage> {
-    (1..=4).map(|i| {
-        let t = i as f32 / 4.0;
-        disc(w, h, (SRC.0 as f32 + (TGT.0 - SRC.0) as f32 * t) * w as f32 / 256.0, (SRC.1 as f32 + (TGT.1 - SRC.1) as f32 * t) * h as f32 / 256.0, 12.0)
-    }).collect()
+    (1..=4)
+        .map(|i| {
+            let t = i as f32 / 4.0;
+            disc(
+                w,
+                h,
+                (SRC.0 as f32 + (TGT.0 - SRC.0) as f32 * t) * w as f32 / 256.0,
+                (SRC.1 as f32 + (TGT.1 - SRC.1) as f32 * t) * h as f32 / 256.0,
+                12.0,
+            )
+        })
+        .collect()
 }
 
 fn pictures() -> Vec<RgbaImage> {
@@ -125,13 +136,21 @@ fn scene_anchored_cues_sit_on_their_anchors() {
         assert!(near > 0, "{} draws nothing near its anchors", v.name);
         // Most of the drawing is around the objects or between them (signs stand on posts,
         // hands reach in from the side, so allow a generous band).
-        let local = diff.iter().filter(|(x, y)| {
-            let (x, y) = (*x as f64, *y as f64);
-            let d_line = segment_distance((x, y), SRC, TGT);
-            d_line < 90.0
-        }).count();
+        let local = diff
+            .iter()
+            .filter(|(x, y)| {
+                let (x, y) = (*x as f64, *y as f64);
+                let d_line = segment_distance((x, y), SRC, TGT);
+                d_line < 90.0
+            })
+            .count();
         if v.name != "dim_surround" && v.name != "spotlight_cone" {
-            assert!(local * 10 >= diff.len() * 8, "{}: only {local} of {} changed pixels near the objects", v.name, diff.len());
+            assert!(
+                local * 10 >= diff.len() * 8,
+                "{}: only {local} of {} changed pixels near the objects",
+                v.name,
+                diff.len()
+            );
         }
     }
 }
@@ -214,7 +233,11 @@ fn anchors_outside_the_image_are_clamped_with_an_indicator() {
     // Everything drawn hugs the left border (6 % inset = 15 px, plus the glow).
     assert!(!diff.is_empty() && diff.iter().all(|(x, _)| *x < 60), "{:?}", diff.iter().max());
     // The indicator: a white-rimmed triangle right at the clamped point, pointing left.
-    let white = diff.iter().filter(|(x, y)| *x < 30 && (118..138).contains(y)).filter(|(x, y)| frame.pixel(*x, *y).unwrap().iter().all(|&c| c > 230)).count();
+    let white = diff
+        .iter()
+        .filter(|(x, y)| *x < 30 && (118..138).contains(y))
+        .filter(|(x, y)| frame.pixel(*x, *y).unwrap().iter().all(|&c| c > 230))
+        .count();
     assert!(white > 3, "no indicator rim near the clamped point");
 }
 
@@ -292,7 +315,11 @@ fn decode_qr(img: &RgbImage) -> Vec<String> {
 
 #[test]
 fn qr_payloads_round_trip() {
-    let instructions = [TASK, "put the white mug on the left plate and put the yellow and white mug on the right plate", "turn on the stove"];
+    let instructions = [
+        TASK,
+        "put the white mug on the left plate and put the yellow and white mug on the right plate",
+        "turn on the stove",
+    ];
     for instruction in instructions {
         let mut frame = base(W, W);
         let spec = spec_for(instruction, variants::find("qr_instruction").unwrap());
@@ -353,9 +380,15 @@ fn ghost_layers_are_composited_with_their_alphas() {
     assert!(pixel(&frame, TGT)[1] < pixel(&frame, mid)[1] && pixel(&frame, mid)[1] < pixel(&frame, first)[1]);
     // Wrong number of alphas or a wrong layer size are errors.
     custom.params.alphas = Some(vec![0.5]);
-    assert!(matches!(insert(&custom, &mut frame.clone(), &FrameInputs { ghost_layers: &g, ..FrameInputs::default() }), Err(CueError::BadParam(_))));
+    assert!(matches!(
+        insert(&custom, &mut frame.clone(), &FrameInputs { ghost_layers: &g, ..FrameInputs::default() }),
+        Err(CueError::BadParam(_))
+    ));
     let small = ghosts(64, 64);
-    assert!(matches!(insert(&spec, &mut frame.clone(), &FrameInputs { ghost_layers: &small, ..FrameInputs::default() }), Err(CueError::BadParam(_))));
+    assert!(matches!(
+        insert(&spec, &mut frame.clone(), &FrameInputs { ghost_layers: &small, ..FrameInputs::default() }),
+        Err(CueError::BadParam(_))
+    ));
 }
 
 #[test]
@@ -366,9 +399,15 @@ fn bad_input_is_an_error_and_leaves_the_frame_alone() {
         (CueSpec { variant: "no_such_cue".into(), ..good.clone() }, FrameInputs::anchored(anchors())),
         (CueSpec { family: Family::F1, ..good.clone() }, FrameInputs::anchored(anchors())),
         (CueSpec { insert_mode: InsertMode::FixedRegion, ..good.clone() }, FrameInputs::anchored(anchors())),
-        (CueSpec { params: CueParams { scale: Some(f32::NAN), ..CueParams::default() }, ..good.clone() }, FrameInputs::anchored(anchors())),
         (
-            CueSpec { params: CueParams { region: Some(NormBox::new(0.8, 0.8, 0.5, 0.5)), ..CueParams::default() }, ..spec_for(TASK, variants::find("caption_bar").unwrap()) },
+            CueSpec { params: CueParams { scale: Some(f32::NAN), ..CueParams::default() }, ..good.clone() },
+            FrameInputs::anchored(anchors()),
+        ),
+        (
+            CueSpec {
+                params: CueParams { region: Some(NormBox::new(0.8, 0.8, 0.5, 0.5)), ..CueParams::default() },
+                ..spec_for(TASK, variants::find("caption_bar").unwrap())
+            },
             FrameInputs::default(),
         ),
         (spec_for(TASK, variants::find("ghost_outline").unwrap()), FrameInputs::default()),
@@ -396,7 +435,8 @@ fn bad_input_is_an_error_and_leaves_the_frame_alone() {
 
 #[test]
 fn spec_json_round_trips_and_ids_are_stable() {
-    let mut spec = spec_for("open the top drawer and put the bowl inside", variants::find("curved_arrow_yellow").unwrap());
+    let mut spec =
+        spec_for("open the top drawer and put the bowl inside", variants::find("curved_arrow_yellow").unwrap());
     spec.task = "libero_goal/3".into();
     spec.params.color = Some([255, 0, 0]);
     assert_eq!(spec.id(), "libero_goal/3/F2/curved_arrow_yellow");

@@ -17,7 +17,13 @@ fn composition_is_close_to_the_paper() {
     assert!((1212..=1482).contains(&total), "{total} instances, paper 1,347 ± 10 %");
     let c = set.composition();
     for (family, count) in &c {
-        println!("{family} {:<24} {:>4} instances {:>5.1} % on {:>2} tasks", family.name(), count.instances, count.share * 100.0, count.tasks);
+        println!(
+            "{family} {:<24} {:>4} instances {:>5.1} % on {:>2} tasks",
+            family.name(),
+            count.instances,
+            count.share * 100.0,
+            count.tasks
+        );
     }
     // Seven families on all 40 tasks, ghosts on the 38 that move an object.
     for family in Family::ALL {
@@ -26,7 +32,7 @@ fn composition_is_close_to_the_paper() {
     }
     // The three largest families are geometric, highlight and pictorial (paper: 23.8, 20.8, 20.0 %).
     let mut by_size: Vec<_> = c.iter().collect();
-    by_size.sort_by(|a, b| b.1.instances.cmp(&a.1.instances));
+    by_size.sort_by_key(|(_, c)| std::cmp::Reverse(c.instances));
     let top: Vec<Family> = by_size[..3].iter().map(|(f, _)| **f).collect();
     assert_eq!(top, [Family::F2, Family::F4, Family::F7]);
     for (family, paper) in [(Family::F2, 0.238), (Family::F7, 0.208), (Family::F4, 0.200)] {
@@ -37,11 +43,21 @@ fn composition_is_close_to_the_paper() {
 #[test]
 fn compatibility_follows_the_task_semantics() {
     let set = set();
-    let of_task = |key: &str| -> Vec<&str> { set.instances.iter().filter(|s| s.task == key).map(|s| s.variant.as_str()).collect() };
+    let of_task = |key: &str| -> Vec<&str> {
+        set.instances.iter().filter(|s| s.task == key).map(|s| s.variant.as_str()).collect()
+    };
     // "open the middle drawer of the cabinet": no moving object, no target.
     let drawer = of_task("libero_goal/0");
-    assert!(!drawer.contains(&"ghost_fade") && !drawer.contains(&"straight_arrow_red") && !drawer.contains(&"hand_grasp_source"));
-    assert!(drawer.contains(&"caption_bar") && drawer.contains(&"target_crosshair_magenta") && drawer.contains(&"glow_halo"));
+    assert!(
+        !drawer.contains(&"ghost_fade")
+            && !drawer.contains(&"straight_arrow_red")
+            && !drawer.contains(&"hand_grasp_source")
+    );
+    assert!(
+        drawer.contains(&"caption_bar")
+            && drawer.contains(&"target_crosshair_magenta")
+            && drawer.contains(&"glow_halo")
+    );
     // A long instruction gets no sticky note; a short one does.
     assert!(!of_task("libero_spatial/0").contains(&"sticky_note"));
     assert!(of_task("libero_goal/8").contains(&"sticky_note"));
@@ -63,7 +79,8 @@ fn the_set_is_deterministic_and_round_trips_through_json() {
     let json = serde_json::to_string(&a).unwrap();
     let back: InstanceSet = serde_json::from_str(&json).unwrap();
     assert_eq!(back, a);
-    let tasks: Vec<TaskDescription> = serde_json::from_str(&serde_json::to_string(&common::descriptions()).unwrap()).unwrap();
+    let tasks: Vec<TaskDescription> =
+        serde_json::from_str(&serde_json::to_string(&common::descriptions()).unwrap()).unwrap();
     assert_eq!(tasks, common::descriptions());
 }
 

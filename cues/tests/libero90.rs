@@ -4,7 +4,7 @@
 //! `Lifelong-Robot-Learning/LIBERO` repository; LIBERO's instruction is the name after
 //! `SCENE<k>_` with underscores as spaces.
 
-use vifo_cues::parse::{instruction_from_task_name, parse, Relation};
+use vifo_cues::parse::{Relation, instruction_from_task_name, parse};
 
 const LIBERO_90: [&str; 90] = [
     "KITCHEN_SCENE10_close_the_top_drawer_of_the_cabinet",
@@ -117,9 +117,15 @@ fn every_libero_90_instruction_parses_to_a_source_and_a_known_relation() {
 fn libero_90_spot_checks() {
     let steps = |name: &str| parse(&instruction_from_task_name(name)).unwrap().steps;
     let s = steps("KITCHEN_SCENE10_close_the_top_drawer_of_the_cabinet_and_put_the_black_bowl_on_top_of_it");
-    assert_eq!((s[0].relation, s[1].relation, s[1].target.as_deref()), (Relation::Close, Relation::On, Some("top drawer of the cabinet")));
+    assert_eq!(
+        (s[0].relation, s[1].relation, s[1].target.as_deref()),
+        (Relation::Close, Relation::On, Some("top drawer of the cabinet"))
+    );
     let s = steps("KITCHEN_SCENE6_put_the_yellow_and_white_mug_to_the_front_of_the_white_mug");
-    assert_eq!((s[0].source.as_str(), s[0].relation, s[0].target.as_deref()), ("yellow and white mug", Relation::FrontOf, Some("white mug")));
+    assert_eq!(
+        (s[0].source.as_str(), s[0].relation, s[0].target.as_deref()),
+        ("yellow and white mug", Relation::FrontOf, Some("white mug"))
+    );
     let s = steps("STUDY_SCENE4_pick_up_the_book_in_the_middle_and_place_it_on_the_cabinet_shelf");
     assert_eq!((s[0].source.as_str(), s[0].source_qualifier.as_deref()), ("book", Some("in the middle")));
     let s = steps("KITCHEN_SCENE4_close_the_bottom_drawer_of_the_cabinet_and_open_the_top_drawer");

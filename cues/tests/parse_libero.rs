@@ -11,15 +11,23 @@ fn the_forty_libero_instructions_parse_as_expected() {
     for task in &FORTY {
         let (instruction, _, expected) = task.row;
         let parsed = parse(instruction).unwrap_or_else(|e| panic!("{e}"));
-        let got: Vec<_> = parsed.steps.iter().map(|s| (s.source.as_str(), s.source_qualifier.as_deref(), s.relation, s.target.as_deref())).collect();
+        let got: Vec<_> = parsed
+            .steps
+            .iter()
+            .map(|s| (s.source.as_str(), s.source_qualifier.as_deref(), s.relation, s.target.as_deref()))
+            .collect();
         assert_eq!(got, expected, "{}/{}: {instruction}", task.suite, task.index);
-        assert_eq!((parsed.source.as_str(), parsed.relation, parsed.target.as_deref()), (expected[0].0, expected[0].2, expected[0].3));
+        assert_eq!(
+            (parsed.source.as_str(), parsed.relation, parsed.target.as_deref()),
+            (expected[0].0, expected[0].2, expected[0].3)
+        );
     }
 }
 
 #[test]
 fn exactly_two_of_the_forty_move_no_object() {
-    let static_tasks: Vec<&str> = FORTY.iter().map(|t| t.row.0).filter(|i| !parse(i).unwrap().moves_an_object()).collect();
+    let static_tasks: Vec<&str> =
+        FORTY.iter().map(|t| t.row.0).filter(|i| !parse(i).unwrap().moves_an_object()).collect();
     assert_eq!(static_tasks, ["open the middle drawer of the cabinet", "turn on the stove"]);
 }
 

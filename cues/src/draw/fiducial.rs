@@ -127,7 +127,9 @@ pub fn render(id: usize, side: u32) -> Option<Pixmap> {
             let border = r == 0 || c == 0 || r == BITS + 1 || c == BITS + 1;
             if border || !bit(code, r - 1, c - 1) {
                 // Border cells and 0-bits are dark; 1-bits are light.
-                if let Some(rect) = Rect::from_xywh(offset + (c + 1) as f32 * cell, offset + (r + 1) as f32 * cell, cell, cell) {
+                if let Some(rect) =
+                    Rect::from_xywh(offset + (c + 1) as f32 * cell, offset + (r + 1) as f32 * cell, cell, cell)
+                {
                     pb.push_rect(rect);
                 }
             }

@@ -19,6 +19,9 @@ pub const fn v2(x: f32, y: f32) -> V2 {
     V2 { x, y }
 }
 
+// Named methods rather than operator traits: geometry reads as chains such as
+// `tip.sub(dir.scale(len)).add(n)`.
+#[allow(clippy::should_implement_trait)]
 impl V2 {
     pub fn add(self, o: V2) -> V2 {
         v2(self.x + o.x, self.y + o.y)
@@ -137,11 +140,6 @@ pub fn quad(a: V2, c: V2, b: V2) -> Option<Path> {
     pb.move_to(a.x, a.y);
     pb.quad_to(c.x, c.y, b.x, b.y);
     pb.finish()
-}
-
-/// Point on the quadratic Bézier at parameter t.
-pub fn quad_point(a: V2, c: V2, b: V2, t: f32) -> V2 {
-    a.lerp(c, t).lerp(c.lerp(b, t), t)
 }
 
 /// Circular arc around `c` from angle `a0` to `a1` (radians), as a polyline.

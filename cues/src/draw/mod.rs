@@ -23,11 +23,6 @@ pub const fn rgb(c: [u8; 3]) -> Rgba {
     [c[0], c[1], c[2], 255]
 }
 
-/// `c` with alpha `a`.
-pub const fn with_alpha(c: [u8; 3], a: u8) -> Rgba {
-    [c[0], c[1], c[2], a]
-}
-
 pub const WHITE: Rgba = [255, 255, 255, 255];
 pub const BLACK: Rgba = [0, 0, 0, 255];
 
@@ -51,7 +46,12 @@ pub fn fill_shader(pm: &mut Pixmap, path: &Path, shader: Shader<'_>, ts: Transfo
 
 /// Strokes `path` with round joins and caps; `width` is in path units.
 pub fn stroke(pm: &mut Pixmap, path: &Path, color: Rgba, width: f32, ts: Transform) {
-    let stroke = Stroke { width, line_cap: tiny_skia::LineCap::Round, line_join: tiny_skia::LineJoin::Round, ..Stroke::default() };
+    let stroke = Stroke {
+        width,
+        line_cap: tiny_skia::LineCap::Round,
+        line_join: tiny_skia::LineJoin::Round,
+        ..Stroke::default()
+    };
     pm.stroke_path(path, &paint(color), &stroke, ts, None);
 }
 
@@ -72,11 +72,6 @@ pub fn stroke_dashed(pm: &mut Pixmap, path: &Path, color: Rgba, width: f32, on: 
 pub fn fill_outlined(pm: &mut Pixmap, path: &Path, color: Rgba, outline: Rgba, outline_width: f32, ts: Transform) {
     stroke(pm, path, outline, outline_width * 2.0, ts);
     fill(pm, path, color, ts);
-}
-
-/// A transparent layer; `None` for a zero or absurd size.
-pub fn layer(width: u32, height: u32) -> Option<Pixmap> {
-    Pixmap::new(width, height)
 }
 
 /// Blends a premultiplied layer onto an RGB frame with its top-left corner at (x, y) and an
@@ -174,14 +169,10 @@ pub fn to_rgba_image(pm: &Pixmap) -> RgbaImage {
     let mut data = Vec::with_capacity(pm.data().len());
     for px in pm.data().chunks_exact(4) {
         let a = px[3] as u32;
-        if a == 0 {
-            data.extend_from_slice(&[0, 0, 0, 0]);
-        } else {
-            for &c in &px[..3] {
-                data.push(((c as u32 * 255 + a / 2) / a).min(255) as u8);
-            }
-            data.push(px[3]);
+        for &c in &px[..3] {
+            data.push((c as u32 * 255 + a / 2).checked_div(a).unwrap_or(0).min(255) as u8);
         }
+        data.push(px[3]);
     }
     RgbaImage { width: pm.width(), height: pm.height(), data }
 }

@@ -40,7 +40,8 @@ pub fn render(payload: &str, ec: EcLevel, side: u32) -> Result<Pixmap, QrError> 
     for y in 0..n {
         for x in 0..n {
             if dark[y * n + x] {
-                let r = tiny_skia::Rect::from_xywh(offset + x as f32 * module, offset + y as f32 * module, module, module);
+                let r =
+                    tiny_skia::Rect::from_xywh(offset + x as f32 * module, offset + y as f32 * module, module, module);
                 if let Some(r) = r {
                     pb.push_rect(r);
                 }

@@ -16,7 +16,6 @@ pub enum Face {
     SansBold,
     /// Condensed bold oblique: the "hand-written note" look.
     Note,
-    Mono,
     MonoBold,
 }
 
@@ -30,13 +29,11 @@ pub fn font(face: Face) -> &'static FontRef<'static> {
     static SANS: OnceLock<FontRef<'static>> = OnceLock::new();
     static BOLD: OnceLock<FontRef<'static>> = OnceLock::new();
     static NOTE: OnceLock<FontRef<'static>> = OnceLock::new();
-    static MONO: OnceLock<FontRef<'static>> = OnceLock::new();
     static MONO_BOLD: OnceLock<FontRef<'static>> = OnceLock::new();
     match face {
         Face::Sans => load(&SANS, dejavu::sans::regular),
         Face::SansBold => load(&BOLD, dejavu::sans::bold),
         Face::Note => load(&NOTE, dejavu::sans_condensed::bold_oblique),
-        Face::Mono => load(&MONO, dejavu::sans_mono::regular),
         Face::MonoBold => load(&MONO_BOLD, dejavu::sans_mono::bold),
     }
 }
@@ -190,6 +187,12 @@ pub fn block_path(b: &Block, x: f32, y: f32, box_w: f32, align: Align) -> Option
 
 /// One line of text as a path, centred on `center`.
 pub fn centered_line(face: Face, size: f32, text: &str, center: V2) -> Option<Path> {
-    let b = Block { face, size, lines: vec![text.to_string()], width: line_width(face, size, text), height: metrics(face, size).1 };
+    let b = Block {
+        face,
+        size,
+        lines: vec![text.to_string()],
+        width: line_width(face, size, text),
+        height: metrics(face, size).1,
+    };
     block_path(&b, center.x - b.width / 2.0, center.y - b.height / 2.0, b.width, Align::Left)
 }

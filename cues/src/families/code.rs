@@ -110,7 +110,13 @@ pub fn fiducial(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
             draw::fill(&mut pm, &p, draw::WHITE, ID);
         }
         let b = fit(Face::MonoBold, &format!("VIFO36 #{id}"), side as f32 * 0.9, caption_h * 0.9, 4.0, caption_h * 0.7);
-        if let Some(p) = block_path(&b, left as f32 + side as f32 * 0.05, side as f32 + (caption_h - b.height) / 2.0, side as f32 * 0.9, Align::Center) {
+        if let Some(p) = block_path(
+            &b,
+            left as f32 + side as f32 * 0.05,
+            side as f32 + (caption_h - b.height) / 2.0,
+            side as f32 * 0.9,
+            Align::Center,
+        ) {
             draw::fill(&mut pm, &p, draw::BLACK, ID);
         }
         Ok(pm)

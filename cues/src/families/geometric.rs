@@ -2,7 +2,6 @@
 //! on one object. Arrows start at the source anchor and end with their tip on the target
 //! anchor.
 
-
 use super::tag;
 use crate::draw::geom::{self, V2, v2};
 use crate::draw::text::{Face, centered_line};
@@ -44,8 +43,9 @@ pub fn straight_arrow(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     Ok(())
 }
 
-/// An arc with an outline and an arrowhead whose tip sits on `b`.
-fn arc_arrow(pm: &mut tiny_skia::Pixmap, a: V2, b: V2, bend: f32, color: Rgba, outline: Rgba, width: f32, s: f32) {
+/// An arc with a dark outline and an arrowhead whose tip sits on `b`.
+fn arc_arrow(pm: &mut tiny_skia::Pixmap, a: V2, b: V2, bend: f32, color: Rgba, width: f32, s: f32) {
+    let outline = DARK;
     let c = bulge(a, b, bend);
     let head = 16.0 * s;
     let dir = b.sub(c).unit();
@@ -63,7 +63,7 @@ pub fn curved_arrow(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     let color = ctx.color([255, 208, 0]);
     let s = ctx.scale();
     let Some((src, tgt)) = ends(ctx, color) else { return Ok(()) };
-    arc_arrow(ctx.layer(), src.at, tgt.at, 0.35, color, DARK, 5.0 * s, s);
+    arc_arrow(ctx.layer(), src.at, tgt.at, 0.35, color, 5.0 * s, s);
     Ok(())
 }
 

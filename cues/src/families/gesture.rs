@@ -1,8 +1,6 @@
 //! F5 hand gestures (scene-anchored): a drawn human hand pointing at, grasping, or showing
 //! where to put an object.
 
-
-
 use super::canvas;
 use crate::draw::geom::{self, ID, V2, v2};
 use crate::draw::text::{Face, centered_line};
@@ -10,7 +8,6 @@ use crate::draw::{self, Rgba, WHITE};
 use crate::error::CueError;
 use crate::glyphs::hand::{self, DEFAULT_COLORS, HandColors, Pose};
 use crate::insert::{Ctx, Placed, Which};
-
 
 fn colors(ctx: &Ctx<'_>) -> HandColors {
     HandColors { sleeve: ctx.color([46, 98, 170]), ..DEFAULT_COLORS }
@@ -108,7 +105,9 @@ pub fn point_then_place(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
             draw::fill_outlined(pm, &p, WHITE, [20, 20, 20, 255], 1.2 * s, ID);
         }
     }
-    for (placed, pose, n, badge) in [(src, Pose::Point, "1", [30, 170, 70, 255]), (tgt, Pose::Flat, "2", [30, 110, 235, 255])] {
+    for (placed, pose, n, badge) in
+        [(src, Pose::Point, "1", [30, 170, 70, 255]), (tgt, Pose::Flat, "2", [30, 110, 235, 255])]
+    {
         if let Some(p) = placed {
             let dir = approach(p.at, ctx.size(), length);
             let tip = p.at.sub(dir.scale(p.radius * 0.8 + 2.0));

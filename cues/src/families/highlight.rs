@@ -40,7 +40,12 @@ pub fn spotlight_cone(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     let top = v2(src.at.x, -4.0 * s);
     let half_top = 5.0 * s;
     if let (Some(path), Some(shader)) = (
-        geom::polygon(&[v2(top.x - half_top, top.y), v2(top.x + half_top, top.y), v2(src.at.x + r, src.at.y), v2(src.at.x - r, src.at.y)]),
+        geom::polygon(&[
+            v2(top.x - half_top, top.y),
+            v2(top.x + half_top, top.y),
+            v2(src.at.x + r, src.at.y),
+            v2(src.at.x - r, src.at.y),
+        ]),
         LinearGradient::new(
             Point::from_xy(top.x, top.y),
             Point::from_xy(src.at.x, src.at.y),
@@ -56,9 +61,21 @@ pub fn spotlight_cone(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     }
     // The lit pool on the object: an ellipse (a scaled circle gradient).
     let squash = Transform::from_row(1.0, 0.0, 0.0, ry / r, 0.0, src.at.y * (1.0 - ry / r));
-    let stops = vec![GradientStop::new(0.0, rgba(color, 150)), GradientStop::new(0.7, rgba(color, 110)), GradientStop::new(1.0, rgba(color, 0))];
+    let stops = vec![
+        GradientStop::new(0.0, rgba(color, 150)),
+        GradientStop::new(0.7, rgba(color, 110)),
+        GradientStop::new(1.0, rgba(color, 0)),
+    ];
     if let (Some(shader), Some(path)) = (
-        RadialGradient::new(Point::from_xy(src.at.x, src.at.y), 0.0, Point::from_xy(src.at.x, src.at.y), r * 1.15, stops, SpreadMode::Pad, ID),
+        RadialGradient::new(
+            Point::from_xy(src.at.x, src.at.y),
+            0.0,
+            Point::from_xy(src.at.x, src.at.y),
+            r * 1.15,
+            stops,
+            SpreadMode::Pad,
+            ID,
+        ),
         geom::circle(src.at, r * 1.15),
     ) {
         let paint = Paint { shader, anti_alias: true, ..Paint::default() };

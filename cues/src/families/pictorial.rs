@@ -15,9 +15,9 @@ use crate::draw::geom::{self, v2};
 use crate::draw::text::{Align, Face, block_path, centered_line, fit};
 use crate::draw::{self, Rgba, WHITE};
 use crate::error::CueError;
+use crate::glyphs::Pen;
 use crate::glyphs::object::{self, ObjectShape};
 use crate::glyphs::predicate::{self, Predicate};
-use crate::glyphs::Pen;
 use crate::image::RgbaImage;
 use crate::insert::Ctx;
 use crate::spec::NormBox;
@@ -54,7 +54,8 @@ fn draw_picture(pm: &mut Pixmap, pic: &RgbaImage, x: f32, y: f32, w: f32, h: f32
     let (sw, sh) = (pic.width as f32 * k, pic.height as f32 * k);
     let ts = Transform::from_row(k, 0.0, 0.0, k, x + (w - sw) / 2.0, y + (h - sh) / 2.0);
     let clip = geom::rect(x, y, w, h).ok_or_else(|| CueError::BadParam("empty picture slot".into()))?;
-    let mut mask = tiny_skia::Mask::new(pm.width(), pm.height()).ok_or_else(|| CueError::BadParam("empty panel".into()))?;
+    let mut mask =
+        tiny_skia::Mask::new(pm.width(), pm.height()).ok_or_else(|| CueError::BadParam("empty panel".into()))?;
     mask.fill_path(&clip, tiny_skia::FillRule::Winding, false, ID);
     let paint = PixmapPaint { quality: FilterQuality::Bilinear, ..PixmapPaint::default() };
     pm.draw_pixmap(0, 0, src.as_ref(), &paint, ts, Some(&mask));
@@ -118,11 +119,14 @@ pub fn goal_polaroid(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
         draw_picture(&mut card, goal, (cw - photo) / 2.0, m, photo, photo)?;
         let caption_top = m + photo;
         let b = fit(Face::Note, "goal", cw * 0.8, ch - caption_top - m * 0.3, 5.0, (ch - caption_top) * 0.7);
-        if let Some(p) = block_path(&b, cw * 0.1, caption_top + (ch - caption_top - b.height) / 2.0, cw * 0.8, Align::Center) {
+        if let Some(p) =
+            block_path(&b, cw * 0.1, caption_top + (ch - caption_top - b.height) / 2.0, cw * 0.8, Align::Center)
+        {
             draw::fill(&mut card, &p, ink, ID);
         }
         let mut out = canvas(w, h)?;
-        let place = geom::rotate_translate(5f32.to_radians(), v2(wf / 2.0, hf / 2.0)).pre_translate(-cw / 2.0, -ch / 2.0);
+        let place =
+            geom::rotate_translate(5f32.to_radians(), v2(wf / 2.0, hf / 2.0)).pre_translate(-cw / 2.0, -ch / 2.0);
         if let Some(shape) = geom::rect(0.0, 0.0, cw, ch) {
             draw::fill(&mut out, &shape, [0, 0, 0, 70], place.post_translate(2.0, 3.0));
         }
@@ -171,7 +175,8 @@ fn strip(w: u32, h: u32) -> Result<Pixmap, CueError> {
 
 /// A right-pointing arrow between panels, centred on (cx, cy).
 fn small_arrow(pm: &mut Pixmap, cx: f32, cy: f32, len: f32, color: Rgba) {
-    if let Some(p) = geom::block_arrow(v2(cx - len / 2.0, cy), v2(cx + len / 2.0, cy), len * 0.22, len * 0.5, len * 0.6) {
+    if let Some(p) = geom::block_arrow(v2(cx - len / 2.0, cy), v2(cx + len / 2.0, cy), len * 0.22, len * 0.5, len * 0.6)
+    {
         draw::fill(pm, &p, color, ID);
     }
 }
@@ -186,7 +191,9 @@ pub fn before_after(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
         let m = hf * 0.08;
         let side = hf - 2.0 * m;
         let label = hf * 0.16;
-        for (i, (pic, text, color)) in [(start, "start", [90, 90, 90, 255]), (goal, "goal", accent)].into_iter().enumerate() {
+        for (i, (pic, text, color)) in
+            [(start, "start", [90, 90, 90, 255]), (goal, "goal", accent)].into_iter().enumerate()
+        {
             let px = if i == 0 { wf * 0.27 - side / 2.0 } else { wf * 0.73 - side / 2.0 };
             draw_picture(&mut pm, pic, px, m, side, side)?;
             if let Some(p) = geom::rect(px, m, side, side) {
@@ -208,7 +215,8 @@ pub fn storyboard(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     let pm = panel(ctx, "storyboard", (1, "at least one keyframe (FrameInputs::pictures)"), |pictures| {
         // Up to four keyframes, evenly spaced, always including the first and the last.
         let n = pictures.len().min(4);
-        let picks: Vec<&RgbaImage> = (0..n).map(|i| &pictures[if n == 1 { 0 } else { i * (pictures.len() - 1) / (n - 1) }]).collect();
+        let picks: Vec<&RgbaImage> =
+            (0..n).map(|i| &pictures[if n == 1 { 0 } else { i * (pictures.len() - 1) / (n - 1) }]).collect();
         let mut pm = strip(w, h)?;
         let (wf, hf) = (w as f32, h as f32);
         let m = hf * 0.08;
@@ -292,8 +300,18 @@ pub fn step_cards(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
             }
             let icon = card_h * 0.5;
             let pen = Pen { ink: accent, paper: WHITE };
-            predicate::draw(&mut pm, Predicate::for_relation(s.relation), pen, geom::unit_box(r * 2.8, top + card_h * 0.06, icon, icon));
-            object::draw(&mut pm, ObjectShape::for_name(&s.source), Pen { ink: [30, 30, 30, 255], ..pen }, geom::unit_box(r * 2.8 + icon * 1.1, top + card_h * 0.06, icon, icon));
+            predicate::draw(
+                &mut pm,
+                Predicate::for_relation(s.relation),
+                pen,
+                geom::unit_box(r * 2.8, top + card_h * 0.06, icon, icon),
+            );
+            object::draw(
+                &mut pm,
+                ObjectShape::for_name(&s.source),
+                Pen { ink: [30, 30, 30, 255], ..pen },
+                geom::unit_box(r * 2.8 + icon * 1.1, top + card_h * 0.06, icon, icon),
+            );
             let text = match &s.target {
                 Some(t) => format!("{} \u{2192} {}", s.source, t),
                 None => format!("{} {}", s.relation.verb(), s.source),

@@ -15,7 +15,15 @@ use crate::draw::geom::ID;
 
 /// Rasterises `text` centred in a `w` × `h` box with padding, optional background and an
 /// optional outline around the letters.
-fn text_box(text: &str, w: u32, h: u32, face: Face, fg: Rgba, bg: Option<Rgba>, outline: Option<Rgba>) -> Result<Pixmap, CueError> {
+fn text_box(
+    text: &str,
+    w: u32,
+    h: u32,
+    face: Face,
+    fg: Rgba,
+    bg: Option<Rgba>,
+    outline: Option<Rgba>,
+) -> Result<Pixmap, CueError> {
     let mut pm = canvas(w, h)?;
     let (wf, hf) = (w as f32, h as f32);
     if let Some(bg) = bg
@@ -69,7 +77,8 @@ pub fn sticky_note(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
         let mut note = canvas(nw, nh)?;
         let (fw, fh) = (nw as f32, nh as f32);
         let fold = fw.min(fh) * 0.16;
-        if let Some(p) = geom::polygon(&[v2(0.0, 0.0), v2(fw, 0.0), v2(fw, fh - fold), v2(fw - fold, fh), v2(0.0, fh)]) {
+        if let Some(p) = geom::polygon(&[v2(0.0, 0.0), v2(fw, 0.0), v2(fw, fh - fold), v2(fw - fold, fh), v2(0.0, fh)])
+        {
             draw::fill(&mut note, &p, paper, ID);
         }
         if let Some(p) = geom::polygon(&[v2(fw, fh - fold), v2(fw - fold, fh - fold), v2(fw - fold, fh)]) {

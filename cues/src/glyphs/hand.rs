@@ -29,7 +29,8 @@ pub struct HandColors {
     pub sleeve: Rgba,
 }
 
-pub const DEFAULT_COLORS: HandColors = HandColors { skin: [241, 196, 160, 255], outline: [84, 52, 32, 255], sleeve: [46, 98, 170, 255] };
+pub const DEFAULT_COLORS: HandColors =
+    HandColors { skin: [241, 196, 160, 255], outline: [84, 52, 32, 255], sleeve: [46, 98, 170, 255] };
 
 /// Outline width in hand lengths.
 const OUTLINE: f32 = 0.022;

@@ -116,7 +116,11 @@ pub fn draw(pm: &mut Pixmap, shape: ObjectShape, pen: Pen, ts: Transform) {
             pen.cut(pm, rect(0.36, 0.56, 0.28, 0.2), w, ts);
         }
         ObjectShape::Carton => {
-            pen.fill(pm, polygon(&[v2(0.12, 0.34), v2(0.34, 0.16), v2(0.9, 0.16), v2(0.9, 0.7), v2(0.68, 0.9), v2(0.12, 0.9)]), ts);
+            pen.fill(
+                pm,
+                polygon(&[v2(0.12, 0.34), v2(0.34, 0.16), v2(0.9, 0.16), v2(0.9, 0.7), v2(0.68, 0.9), v2(0.12, 0.9)]),
+                ts,
+            );
             pen.cut(pm, polyline(&[v2(0.12, 0.34), v2(0.68, 0.34), v2(0.9, 0.16)]), w, ts);
             pen.cut(pm, line(v2(0.68, 0.34), v2(0.68, 0.9)), w, ts);
         }
@@ -192,10 +196,25 @@ pub fn draw(pm: &mut Pixmap, shape: ObjectShape, pen: Pen, ts: Transform) {
         }
         ObjectShape::Station => {
             pen.fill(pm, rounded_rect(0.22, 0.12, 0.56, 0.8, 0.06), ts);
-            pen.hole(pm, polygon(&[v2(0.56, 0.22), v2(0.36, 0.54), v2(0.5, 0.54), v2(0.44, 0.82), v2(0.64, 0.46), v2(0.5, 0.46)]), ts);
+            pen.hole(
+                pm,
+                polygon(&[
+                    v2(0.56, 0.22),
+                    v2(0.36, 0.54),
+                    v2(0.5, 0.54),
+                    v2(0.44, 0.82),
+                    v2(0.64, 0.46),
+                    v2(0.5, 0.46),
+                ]),
+                ts,
+            );
         }
         ObjectShape::Generic => {
-            pen.fill(pm, polygon(&[v2(0.5, 0.1), v2(0.88, 0.3), v2(0.88, 0.72), v2(0.5, 0.92), v2(0.12, 0.72), v2(0.12, 0.3)]), ts);
+            pen.fill(
+                pm,
+                polygon(&[v2(0.5, 0.1), v2(0.88, 0.3), v2(0.88, 0.72), v2(0.5, 0.92), v2(0.12, 0.72), v2(0.12, 0.3)]),
+                ts,
+            );
             pen.cut(pm, polyline(&[v2(0.12, 0.3), v2(0.5, 0.5), v2(0.88, 0.3)]), w, ts);
             pen.cut(pm, line(v2(0.5, 0.5), v2(0.5, 0.92)), w, ts);
         }

@@ -145,7 +145,12 @@ pub fn draw(pm: &mut Pixmap, predicate: Predicate, pen: Pen, ts: Transform) {
         }
         Predicate::Avoid => {
             pen.fill(pm, rect(0.4, 0.5, 0.2, 0.3), ts);
-            pen.line(pm, polyline(&[v2(0.08, 0.66), v2(0.22, 0.66), v2(0.36, 0.28), v2(0.64, 0.28), v2(0.76, 0.6)]), 0.07, ts);
+            pen.line(
+                pm,
+                polyline(&[v2(0.08, 0.66), v2(0.22, 0.66), v2(0.36, 0.28), v2(0.64, 0.28), v2(0.76, 0.6)]),
+                0.07,
+                ts,
+            );
             pen.fill(pm, arrow_head(v2(0.86, 0.8), v2(0.3, 0.6), 0.2, 0.24), ts);
         }
         Predicate::HandOver => {
@@ -164,11 +169,20 @@ pub fn draw(pm: &mut Pixmap, predicate: Predicate, pen: Pen, ts: Transform) {
         Predicate::Charge => {
             pen.line(pm, rounded_rect(0.1, 0.28, 0.72, 0.44, 0.06), 0.06, ts);
             pen.fill(pm, rect(0.82, 0.42, 0.08, 0.16), ts);
-            pen.fill(pm, polygon(&[v2(0.5, 0.3), v2(0.3, 0.52), v2(0.44, 0.52), v2(0.38, 0.7), v2(0.6, 0.46), v2(0.46, 0.46)]), ts);
+            pen.fill(
+                pm,
+                polygon(&[v2(0.5, 0.3), v2(0.3, 0.52), v2(0.44, 0.52), v2(0.38, 0.7), v2(0.6, 0.46), v2(0.46, 0.46)]),
+                ts,
+            );
         }
         Predicate::Calibrate => {
             pen.line(pm, circle(v2(0.5, 0.5), 0.3), 0.06, ts);
-            for (a, b) in [((0.5, 0.04), (0.5, 0.32)), ((0.5, 0.68), (0.5, 0.96)), ((0.04, 0.5), (0.32, 0.5)), ((0.68, 0.5), (0.96, 0.5))] {
+            for (a, b) in [
+                ((0.5, 0.04), (0.5, 0.32)),
+                ((0.5, 0.68), (0.5, 0.96)),
+                ((0.04, 0.5), (0.32, 0.5)),
+                ((0.68, 0.5), (0.96, 0.5)),
+            ] {
                 pen.line(pm, line(v2(a.0, a.1), v2(b.0, b.1)), 0.06, ts);
             }
             pen.fill(pm, circle(v2(0.5, 0.5), 0.06), ts);

@@ -4,9 +4,9 @@
 //! "yellow and white mug", "between the plate and the ramekin" and "both X and Y" stay inside
 //! their noun phrase.
 
+use super::ParseError;
 use super::relation::Relation;
 use super::text::Token;
-use super::ParseError;
 
 /// A noun phrase: a named entity or a pronoun to be resolved against earlier clauses.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -38,7 +38,8 @@ pub enum Action {
 }
 
 /// Words that start a clause.
-const VERBS: &[&str] = &["put", "place", "pick", "lift", "open", "close", "turn", "switch", "push", "stack", "move", "set"];
+const VERBS: &[&str] =
+    &["put", "place", "pick", "lift", "open", "close", "turn", "switch", "push", "stack", "move", "set"];
 
 /// Multi-word placement prepositions, longest first so "on top of" wins over "on".
 const PLACEMENT_PREPOSITIONS: &[(&[&str], Relation)] = &[
@@ -77,7 +78,8 @@ const POSITION_QUALIFIERS: &[&[&str]] = &[
 ];
 
 /// Words that begin a locating phrase inside a noun phrase ("black bowl next to the plate").
-const LOCATING_WORDS: &[&str] = &["between", "next", "on", "in", "from", "at", "near", "beside", "behind", "under", "inside"];
+const LOCATING_WORDS: &[&str] =
+    &["between", "next", "on", "in", "from", "at", "near", "beside", "behind", "under", "inside"];
 
 const ARTICLES: &[&str] = &["the", "a", "an"];
 
@@ -93,8 +95,8 @@ pub fn split_and_parse(instruction: &str, tokens: &[Token<'_>]) -> Result<Vec<Cl
     let mut clauses = Vec::new();
     let mut begin = 0;
     for i in 0..=tokens.len() {
-        let boundary = i == tokens.len()
-            || (tokens[i].word == "and" && tokens.get(i + 1).is_none_or(|t| VERBS.contains(&t.word)));
+        let boundary =
+            i == tokens.len() || (tokens[i].word == "and" && tokens.get(i + 1).is_none_or(|t| VERBS.contains(&t.word)));
         if boundary {
             clauses.push(parse_clause(instruction, &tokens[begin..i])?);
             begin = i + 1;
@@ -104,7 +106,12 @@ pub fn split_and_parse(instruction: &str, tokens: &[Token<'_>]) -> Result<Vec<Cl
 }
 
 fn error(instruction: &str, position: usize, expected: &str, found: &str) -> ParseError {
-    ParseError { instruction: instruction.to_string(), position, expected: expected.to_string(), found: found.to_string() }
+    ParseError {
+        instruction: instruction.to_string(),
+        position,
+        expected: expected.to_string(),
+        found: found.to_string(),
+    }
 }
 
 fn found_at(tokens: &[Token<'_>], i: usize) -> String {
@@ -125,8 +132,12 @@ fn parse_clause(instruction: &str, tokens: &[Token<'_>]) -> Result<Clause, Parse
             let skip = if first.word == "pick" { expect_word(instruction, tokens, 1, "up")? } else { 1 };
             Action::Grasp(noun_phrase(instruction, tokens, skip, tokens.len())?)
         }
-        "open" => Action::State { relation: Relation::Open, object: noun_phrase(instruction, tokens, 1, tokens.len())? },
-        "close" => Action::State { relation: Relation::Close, object: noun_phrase(instruction, tokens, 1, tokens.len())? },
+        "open" => {
+            Action::State { relation: Relation::Open, object: noun_phrase(instruction, tokens, 1, tokens.len())? }
+        }
+        "close" => {
+            Action::State { relation: Relation::Close, object: noun_phrase(instruction, tokens, 1, tokens.len())? }
+        }
         "turn" | "switch" => parse_turn(instruction, tokens)?,
         "push" => parse_place(instruction, tokens, Some(Relation::PushTo))?,
         "put" | "place" | "stack" | "move" | "set" => parse_place(instruction, tokens, None)?,
@@ -165,7 +176,12 @@ fn parse_turn(instruction: &str, tokens: &[Token<'_>]) -> Result<Action, ParseEr
         Some(relation) if tokens.len() > 2 => {
             Ok(Action::State { relation, object: noun_phrase(instruction, tokens, 1, tokens.len() - 1)? })
         }
-        _ => Err(error(instruction, position_at(instruction, tokens, 1), "'on' or 'off' after 'turn'", &found_at(tokens, 1))),
+        _ => Err(error(
+            instruction,
+            position_at(instruction, tokens, 1),
+            "'on' or 'off' after 'turn'",
+            &found_at(tokens, 1),
+        )),
     }
 }
 
@@ -175,7 +191,10 @@ fn matches_at(tokens: &[Token<'_>], at: usize, phrase: &[&str]) -> bool {
 }
 
 fn placement_preposition_at(tokens: &[Token<'_>], at: usize) -> Option<(usize, Relation)> {
-    PLACEMENT_PREPOSITIONS.iter().find(|(phrase, _)| matches_at(tokens, at, phrase)).map(|(phrase, r)| (phrase.len(), *r))
+    PLACEMENT_PREPOSITIONS
+        .iter()
+        .find(|(phrase, _)| matches_at(tokens, at, phrase))
+        .map(|(phrase, r)| (phrase.len(), *r))
 }
 
 /// Length of a position qualifier at `at` that ends its noun phrase (followed by the end, by
@@ -186,9 +205,8 @@ fn position_qualifier_at(tokens: &[Token<'_>], at: usize) -> Option<usize> {
             return None;
         }
         let end = at + phrase.len();
-        let ends_phrase = end == tokens.len()
-            || tokens[end].word == "and"
-            || placement_preposition_at(tokens, end).is_some();
+        let ends_phrase =
+            end == tokens.len() || tokens[end].word == "and" || placement_preposition_at(tokens, end).is_some();
         ends_phrase.then_some(phrase.len())
     })
 }
@@ -228,7 +246,12 @@ fn parse_place(instruction: &str, tokens: &[Token<'_>], forced: Option<Relation>
         return Err(error(instruction, instruction.len(), &expected, "the end of the clause"));
     };
     if prep_at <= begin {
-        return Err(error(instruction, position_at(instruction, tokens, begin), &format!("an object after '{verb}'"), &found_at(tokens, begin)));
+        return Err(error(
+            instruction,
+            position_at(instruction, tokens, begin),
+            &format!("an object after '{verb}'"),
+            &found_at(tokens, begin),
+        ));
     }
     let objects = if both {
         split_conjunction(instruction, tokens, begin, prep_at)?
@@ -254,7 +277,9 @@ fn split_conjunction(instruction: &str, tokens: &[Token<'_>], begin: usize, end:
         .find(|&i| tokens.get(i + 1).is_some_and(|t| ARTICLES.contains(&t.word)))
         .or_else(|| ands.last().copied());
     match at {
-        Some(at) => Ok(vec![noun_phrase(instruction, tokens, begin, at)?, noun_phrase(instruction, tokens, at + 1, end)?]),
+        Some(at) => {
+            Ok(vec![noun_phrase(instruction, tokens, begin, at)?, noun_phrase(instruction, tokens, at + 1, end)?])
+        }
         None => Ok(vec![noun_phrase(instruction, tokens, begin, end)?]),
     }
 }
@@ -279,7 +304,8 @@ fn noun_phrase(instruction: &str, tokens: &[Token<'_>], begin: usize, end: usize
         ["them"] => return Ok(Np::Them),
         _ => {}
     }
-    let cut = (1..words.len()).find(|&i| LOCATING_WORDS.contains(&words[i]) && !(words[i] == "next" && words.get(i + 1) != Some(&"to")));
+    let cut = (1..words.len())
+        .find(|&i| LOCATING_WORDS.contains(&words[i]) && !(words[i] == "next" && words.get(i + 1) != Some(&"to")));
     let (name, qualifier) = match cut {
         Some(i) => (words[..i].join(" "), Some(words[i..].join(" "))),
         None => (words.join(" "), None),

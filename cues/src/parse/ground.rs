@@ -33,7 +33,8 @@ impl FromStr for GoalAtom {
     fn from_str(s: &str) -> Result<GoalAtom, String> {
         let inner = s.trim().trim_start_matches('(').trim_end_matches(')');
         let mut words = inner.split_whitespace();
-        let predicate = words.next().ok_or_else(|| format!("goal atom {s:?}: expected a predicate name, found nothing"))?;
+        let predicate =
+            words.next().ok_or_else(|| format!("goal atom {s:?}: expected a predicate name, found nothing"))?;
         let args: Vec<String> = words.map(str::to_string).collect();
         if args.is_empty() {
             return Err(format!("goal atom {s:?}: expected at least one argument after {predicate:?}"));

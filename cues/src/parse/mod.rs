@@ -48,29 +48,6 @@ pub struct Step {
     pub target_id: Option<String>,
 }
 
-impl Step {
-    /// A step without goal grounding.
-    pub fn new(source: &str, relation: Relation, target: Option<&str>) -> Step {
-        Step {
-            source: source.to_string(),
-            source_qualifier: None,
-            relation,
-            target: target.map(str::to_string),
-            source_id: None,
-            target_id: None,
-        }
-    }
-
-    /// The step as a short imperative phrase ("put black bowl on plate"), used by text
-    /// cues that must not copy the original wording (Part II conflict cues, code payloads).
-    pub fn phrase(&self) -> String {
-        match &self.target {
-            Some(t) => format!("{} {} {} {}", self.relation.verb(), self.source, self.relation.preposition(), t),
-            None => format!("{} {}", self.relation.verb(), self.source),
-        }
-    }
-}
-
 /// The parse of one instruction. `source`, `target` and `relation` repeat the primary (first)
 /// step so a consumer that only needs the main intent does not have to index `steps`.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]

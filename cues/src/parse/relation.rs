@@ -81,7 +81,7 @@ impl Relation {
         !self.is_state_change() && self != Relation::PickUp
     }
 
-    /// The imperative verb for generated phrases.
+    /// The imperative verb, for captions.
     pub fn verb(self) -> &'static str {
         match self {
             Relation::PushTo => "push",
@@ -91,22 +91,6 @@ impl Relation {
             Relation::TurnOn => "turn on",
             Relation::TurnOff => "turn off",
             _ => "put",
-        }
-    }
-
-    /// The preposition joining source and target in generated phrases ("" when none).
-    pub fn preposition(self) -> &'static str {
-        match self {
-            Relation::On => "on",
-            Relation::In => "in",
-            Relation::Under => "under",
-            Relation::LeftOf => "left of",
-            Relation::RightOf => "right of",
-            Relation::FrontOf => "in front of",
-            Relation::Behind => "behind",
-            Relation::NextTo => "next to",
-            Relation::PushTo => "to",
-            _ => "",
         }
     }
 }

@@ -35,7 +35,9 @@ fn resolve_one(instruction: &str, clause: &Clause, history: &History, np: &Np) -
     match np {
         Np::Named(e) => Ok(vec![e.clone()]),
         Np::It => history.last().cloned().map(|e| vec![e]).ok_or_else(|| unresolved(instruction, clause, "it")),
-        Np::Them => history.previous_clause().map(<[Entity]>::to_vec).ok_or_else(|| unresolved(instruction, clause, "them")),
+        Np::Them => {
+            history.previous_clause().map(<[Entity]>::to_vec).ok_or_else(|| unresolved(instruction, clause, "them"))
+        }
     }
 }
 

@@ -3,13 +3,9 @@
 
 use super::*;
 
-
 fn atoms(strings: &[&str]) -> Vec<GoalAtom> {
     strings.iter().map(|s| s.parse().unwrap()).collect()
 }
-
-
-
 
 #[test]
 fn names_ground_steps_without_goal_atoms() {
@@ -33,7 +29,11 @@ fn grounding_picks_the_right_mug_and_splits_plural_sources() {
 
     let pots = parse_with_goals(
         "put both moka pots on the stove",
-        &atoms(&["(On moka_pot_1 flat_stove_1_cook_region)", "(On moka_pot_2 flat_stove_1_cook_region)", "(Turnon flat_stove_1)"]),
+        &atoms(&[
+            "(On moka_pot_1 flat_stove_1_cook_region)",
+            "(On moka_pot_2 flat_stove_1_cook_region)",
+            "(Turnon flat_stove_1)",
+        ]),
     )
     .unwrap();
     let ids: Vec<_> = pots.steps.iter().map(|s| s.source_id.as_deref().unwrap()).collect();
@@ -69,7 +69,11 @@ fn other_phrasings_of_the_closed_relation_set() {
         ("put the mug next to the plate", Relation::NextTo, Some("plate")),
         ("put the mug behind the plate", Relation::Behind, Some("plate")),
         ("pick up the book", Relation::PickUp, None),
-        ("stack the black bowl at the front on the black bowl in the middle", Relation::On, Some("black bowl in the middle")),
+        (
+            "stack the black bowl at the front on the black bowl in the middle",
+            Relation::On,
+            Some("black bowl in the middle"),
+        ),
     ];
     for (instruction, relation, target) in cases {
         let parsed = parse(instruction).unwrap_or_else(|e| panic!("{e}"));
@@ -79,7 +83,11 @@ fn other_phrasings_of_the_closed_relation_set() {
     let got: Vec<_> = stacked.steps.iter().map(|s| (s.source.as_str(), s.relation, s.target.as_deref())).collect();
     assert_eq!(
         got,
-        [("left bowl", Relation::On, Some("right bowl")), ("left bowl", Relation::In, Some("tray")), ("right bowl", Relation::In, Some("tray"))]
+        [
+            ("left bowl", Relation::On, Some("right bowl")),
+            ("left bowl", Relation::In, Some("tray")),
+            ("right bowl", Relation::In, Some("tray"))
+        ]
     );
     let qualified = parse("put the butter at the back in the top drawer of the cabinet and close it").unwrap();
     assert_eq!(qualified.steps[0].source_qualifier.as_deref(), Some("at the back"));

@@ -108,7 +108,8 @@ pub fn draw(pm: &mut Pixmap, category: Category, s: f32) -> Style {
                 draw::stroke(pm, &p, PURPLE, 0.02, ts);
             }
             let (a, b, l) = (0.06, 0.94, 0.24);
-            for (corner, dx, dy) in [((a, a), 1.0, 1.0), ((b, a), -1.0, 1.0), ((a, b), 1.0, -1.0), ((b, b), -1.0, -1.0)] {
+            for (corner, dx, dy) in [((a, a), 1.0, 1.0), ((b, a), -1.0, 1.0), ((a, b), 1.0, -1.0), ((b, b), -1.0, -1.0)]
+            {
                 let c = v2(corner.0, corner.1);
                 if let Some(p) = polyline(&[v2(c.x, c.y + dy * l), c, v2(c.x + dx * l, c.y)]) {
                     draw::stroke(pm, &p, PURPLE, 0.07, ts);

@@ -15,10 +15,10 @@ use tiny_skia::Pixmap;
 use crate::draw::geom::unit_box;
 use crate::draw::text::{self, Align, Face};
 use crate::draw::{self, geom};
+use crate::glyphs::Pen;
 use crate::glyphs::actor::{self, Actor};
 use crate::glyphs::object::{self, ObjectShape};
 use crate::glyphs::predicate::{self, Predicate};
-use crate::glyphs::Pen;
 use crate::image::RgbaImage;
 use crate::parse::Step;
 
@@ -59,7 +59,11 @@ impl SignSpec {
     /// relations ("to the right of") get a direction arrow.
     pub fn for_step(category: Category, step: &Step, on_source: bool) -> SignSpec {
         let name = if on_source { &step.source } else { step.target.as_ref().unwrap_or(&step.source) };
-        let predicate = if on_source && step.relation.moves_source() { Predicate::Grasp } else { Predicate::for_relation(step.relation) };
+        let predicate = if on_source && step.relation.moves_source() {
+            Predicate::Grasp
+        } else {
+            Predicate::for_relation(step.relation)
+        };
         let modifier = match (category, step.relation) {
             (Category::Permission, _) => Some(Modifier::Authorized),
             (Category::Prohibition, _) => Some(Modifier::Negation),
@@ -87,7 +91,8 @@ pub fn compose_pixmap(spec: &SignSpec, size: u32) -> Pixmap {
     let size = size.max(16);
     let s = size as f32;
     let plate_h = spec.target.label.as_ref().map_or(0.0, |_| (s * PLATE).round());
-    let mut pm = Pixmap::new(size, size + plate_h as u32 + if plate_h > 0.0 { 2 } else { 0 }).expect("non-zero sign size");
+    let mut pm =
+        Pixmap::new(size, size + plate_h as u32 + if plate_h > 0.0 { 2 } else { 0 }).expect("non-zero sign size");
     let style = frame::draw(&mut pm, spec.category, s);
     let pen = Pen { ink: style.ink, paper: style.fill };
     let (bx, by, bw, bh) = style.content;
@@ -116,7 +121,14 @@ pub fn compose_pixmap(spec: &SignSpec, size: u32) -> Pixmap {
 fn draw_plate(pm: &mut Pixmap, label: &str, s: f32, h: f32) {
     let (x, y, w) = (s * 0.04, s + 2.0, s * 0.92);
     if let Some(p) = geom::rounded_rect(x, y, w, h - 1.0, h * 0.18) {
-        draw::fill_outlined(pm, &p, draw::WHITE, [30, 30, 30, 255], (s * 0.012).max(0.6), tiny_skia::Transform::identity());
+        draw::fill_outlined(
+            pm,
+            &p,
+            draw::WHITE,
+            [30, 30, 30, 255],
+            (s * 0.012).max(0.6),
+            tiny_skia::Transform::identity(),
+        );
     }
     let b = text::fit(Face::SansBold, label, w * 0.9, h * 0.86, 5.0, h * 0.62);
     if let Some(p) = text::block_path(&b, x + w * 0.05, y + (h - b.height) / 2.0, w * 0.9, Align::Center) {

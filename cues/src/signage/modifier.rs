@@ -91,7 +91,12 @@ pub fn draw(pm: &mut Pixmap, modifier: Modifier, style: &Style, s: f32) {
             if let Some(p) = circle(badge, 0.06) {
                 draw::stroke(pm, &p, style.fill, 0.02, ts);
             }
-            for (a, b) in [(v2(0.0, -0.1), v2(0.0, -0.03)), (v2(0.0, 0.03), v2(0.0, 0.1)), (v2(-0.1, 0.0), v2(-0.03, 0.0)), (v2(0.03, 0.0), v2(0.1, 0.0))] {
+            for (a, b) in [
+                (v2(0.0, -0.1), v2(0.0, -0.03)),
+                (v2(0.0, 0.03), v2(0.0, 0.1)),
+                (v2(-0.1, 0.0), v2(-0.03, 0.0)),
+                (v2(0.03, 0.0), v2(0.1, 0.0)),
+            ] {
                 if let Some(p) = line(badge.add(a), badge.add(b)) {
                     draw::stroke(pm, &p, style.fill, 0.02, ts);
                 }

@@ -47,10 +47,14 @@ fn parts_change_the_sign_and_composition_is_deterministic() {
 #[test]
 fn a_label_adds_a_plate_below() {
     let plain = compose(&spec(Category::TargetZone, Predicate::Place));
-    let labelled = compose(&SignSpec { target: SignTarget::named("plate"), ..spec(Category::TargetZone, Predicate::Place) });
+    let labelled =
+        compose(&SignSpec { target: SignTarget::named("plate"), ..spec(Category::TargetZone, Predicate::Place) });
     assert_eq!(plain.height, DEFAULT_SIZE);
     assert!(labelled.height > DEFAULT_SIZE + DEFAULT_SIZE / 4);
-    let plate_dark = labelled.data[(DEFAULT_SIZE * DEFAULT_SIZE * 4) as usize..].chunks_exact(4).filter(|p| p[3] > 0 && p[0] < 80).count();
+    let plate_dark = labelled.data[(DEFAULT_SIZE * DEFAULT_SIZE * 4) as usize..]
+        .chunks_exact(4)
+        .filter(|p| p[3] > 0 && p[0] < 80)
+        .count();
     assert!(plate_dark > 20, "the label text is drawn on the plate");
 }
 

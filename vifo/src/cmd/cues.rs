@@ -70,13 +70,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Instances { tasks, json } => instances_cmd(&tasks, json),
-        Command::Render { variant, instruction, out, size, source, target } => render_cmd(&variant, &instruction, &out, size, &source, &target),
+        Command::Render { variant, instruction, out, size, source, target } => {
+            render_cmd(&variant, &instruction, &out, size, &source, &target)
+        }
     }
 }
 
 fn parse_cmd(instruction: &str, goals: &[String], json: bool) -> anyhow::Result<()> {
     let instruction = instruction_from_task_name(instruction);
-    let goals: Vec<GoalAtom> = goals.iter().map(|g| g.parse().map_err(anyhow::Error::msg)).collect::<anyhow::Result<_>>()?;
+    let goals: Vec<GoalAtom> =
+        goals.iter().map(|g| g.parse().map_err(anyhow::Error::msg)).collect::<anyhow::Result<_>>()?;
     let parsed = if goals.is_empty() { parse(&instruction)? } else { parse_with_goals(&instruction, &goals)? };
     if json {
         println!("{}", serde_json::to_string_pretty(&parsed)?);
@@ -123,15 +126,24 @@ fn anchor(text: &str) -> anyhow::Result<Anchor> {
     }
 }
 
-fn render_cmd(variant: &str, instruction: &str, out: &PathBuf, size: u32, source: &str, target: &str) -> anyhow::Result<()> {
-    let v = variants::find(variant).with_context(|| format!("unknown variant {variant:?}; `vifo cues variants` lists them"))?;
+fn render_cmd(
+    variant: &str,
+    instruction: &str,
+    out: &PathBuf,
+    size: u32,
+    source: &str,
+    target: &str,
+) -> anyhow::Result<()> {
+    let v = variants::find(variant)
+        .with_context(|| format!("unknown variant {variant:?}; `vifo cues variants` lists them"))?;
     let parsed = parse(&instruction_from_task_name(instruction))?;
     let step = vifo_cues::instances::step_for(&parsed, v.needs).unwrap_or(0);
     let spec = CueSpec::new("cli/0", &parsed, step, v)?;
     let mut frame = RgbImage::filled(size, size, [128, 128, 128])?;
     let k = size as f64 / 256.0;
     let scaled = |a: Anchor| Anchor { u: a.u * k, v: a.v * k, radius: a.radius.map(|r| r * k), ..a };
-    let inputs = FrameInputs::anchored(Anchors { source: Some(scaled(anchor(source)?)), target: Some(scaled(anchor(target)?)) });
+    let inputs =
+        FrameInputs::anchored(Anchors { source: Some(scaled(anchor(source)?)), target: Some(scaled(anchor(target)?)) });
     let report = Inserter::new().insert(&mut frame, &spec, &inputs)?;
     let mut ppm = format!("P6\n{} {}\n255\n", frame.width, frame.height).into_bytes();
     ppm.extend_from_slice(&frame.data);

@@ -5,7 +5,7 @@
 //! moves an object, arrows, paths and zone signs need a step with a target, the sticky note
 //! needs a short instruction; everything else fits every task. A variant shows the first step
 //! that meets its needs (so "open the top drawer and put the bowl inside" gets its arrow from
-//! the bowl to the drawer). On LIBERO's 40 evaluation tasks this gives 1,467 instances, close
+//! the bowl to the drawer). On LIBERO's 40 evaluation tasks this gives 1,468 instances, close
 //! to the paper's 1,347 (see the README for the per-family comparison).
 
 use std::collections::BTreeMap;
@@ -33,7 +33,7 @@ pub struct TaskDescription {
 }
 
 impl TaskDescription {
-    /// The task key used in cue ids: "<suite>/<index>".
+    /// The task key used in cue ids: `<suite>/<index>`.
     pub fn key(&self) -> String {
         format!("{}/{}", self.suite, self.index)
     }

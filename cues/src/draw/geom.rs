@@ -59,7 +59,7 @@ pub fn rotate_translate(angle: f32, at: V2) -> Transform {
     Transform::from_row(c, s, -s, c, at.x, at.y)
 }
 
-/// Maps the unit box [0,1]² onto the pixel rectangle (x, y, w, h).
+/// Maps the unit box \[0,1\]² onto the pixel rectangle (x, y, w, h).
 pub fn unit_box(x: f32, y: f32, w: f32, h: f32) -> Transform {
     Transform::from_row(w, 0.0, 0.0, h, x, y)
 }

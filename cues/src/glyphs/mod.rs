@@ -1,7 +1,7 @@
 //! Vector pictograms shared by the cue families and the signage system: object silhouettes,
 //! robot actors, predicate pictograms and human hands.
 //!
-//! Monochrome glyphs are drawn in the unit box [0,1]² (y down) through a transform, in an
+//! Monochrome glyphs are drawn in the unit box \[0,1\]² (y down) through a transform, in an
 //! `ink` colour, with detail lines in the `paper` colour (the colour underneath), so a glyph
 //! works white-on-blue inside a sign and black-on-white in a pictogram strip.
 

@@ -7,9 +7,9 @@
 //! it", ...), so a hand-written clause parser covers all 130 LIBERO instructions without a
 //! language model, gives the same answer every time and says exactly where it got stuck.
 //!
-//! Pipeline: [`text`] normalises and tokenises, [`clause`] splits the instruction into verb
-//! clauses and parses each into an action, [`steps`] resolves pronouns and merges
-//! "pick up X" + "place it ..." into one step, [`ground`] optionally links each step to the
+//! Pipeline: `text` normalises and tokenises, `clause` splits the instruction into verb
+//! clauses and parses each into an action, `steps` resolves pronouns and merges
+//! "pick up X" + "place it ..." into one step, `ground` optionally links each step to the
 //! goal atoms (`On akita_black_bowl_1 plate_1`) so callers know which simulator bodies to
 //! anchor cues on.
 

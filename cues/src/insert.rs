@@ -20,6 +20,7 @@
 //!
 //! [`InsertReport`] says for each anchor which rule applied.
 
+use crate::draw::geom::ID;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -301,6 +302,6 @@ fn draw_offscreen_indicator(pm: &mut Pixmap, at: V2, toward: V2, color: Rgba, s:
     let size = 11.0 * s;
     let tip = at.add(dir.scale(size * 0.6));
     if let Some(p) = draw::geom::arrow_head(tip, dir, size, size) {
-        draw::fill_outlined(pm, &p, color, draw::WHITE, 1.2 * s, tiny_skia::Transform::identity());
+        draw::fill_outlined(pm, &p, color, draw::WHITE, 1.2 * s, ID);
     }
 }

@@ -355,7 +355,7 @@ fn fiducial_tag_reads_back_from_the_frame() {
             rgba.extend_from_slice(&[p[0], p[1], p[2], 255]);
         }
     }
-    let d = fiducial::decode(fiducial::read(&rgba, side)).expect("tag decodes");
+    let d = fiducial::decode(fiducial::read(&rgba, side).unwrap()).expect("tag decodes");
     assert_eq!((d.id, d.rotation, d.errors), (fiducial_id(&spec), 0, 0));
     assert_eq!(action_code(&spec), "ON:BOWL>PLATE");
 }

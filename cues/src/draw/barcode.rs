@@ -1,7 +1,8 @@
 //! Code 128 barcodes (character set B: printable ASCII).
 
+use super::geom::ID;
 use barcoders::sym::code128::Code128;
-use tiny_skia::{PathBuilder, Pixmap, Rect, Transform};
+use tiny_skia::{PathBuilder, Pixmap, Rect};
 
 /// Error from encoding a payload.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -46,6 +47,6 @@ pub fn draw(pm: &mut Pixmap, bars: &[u8], x: f32, y: f32, w: f32, h: f32) {
         }
     }
     if let Some(path) = pb.finish() {
-        super::fill(pm, &path, super::BLACK, Transform::identity());
+        super::fill(pm, &path, super::BLACK, ID);
     }
 }

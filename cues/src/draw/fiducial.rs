@@ -13,9 +13,10 @@
 //!
 //! With a minimum distance of 9 a reader corrects up to 4 wrong bits in any orientation.
 
+use super::geom::ID;
 use std::sync::OnceLock;
 
-use tiny_skia::{PathBuilder, Pixmap, Rect, Transform};
+use tiny_skia::{PathBuilder, Pixmap, Rect};
 
 /// Data bits per side.
 pub const BITS: usize = 6;
@@ -136,15 +137,18 @@ pub fn render(id: usize, side: u32) -> Option<Pixmap> {
         }
     }
     if let Some(path) = pb.finish() {
-        super::fill(&mut pm, &path, super::BLACK, Transform::identity());
+        super::fill(&mut pm, &path, super::BLACK, ID);
     }
     Some(pm)
 }
 
 /// Reads the 36 data bits of a tag rendered by [`render`] at `side` px, sampling cell centres
-/// of an RGBA buffer (dark = luminance below 128). Used by tests and by consumers checking a
-/// frame.
-pub fn read(rgba: &[u8], side: u32) -> u64 {
+/// of a `side`² RGBA buffer (dark = luminance below 128); `None` if the buffer is too small.
+/// Used by tests and by consumers checking a frame.
+pub fn read(rgba: &[u8], side: u32) -> Option<u64> {
+    if rgba.len() < side as usize * side as usize * 4 || side < CELLS as u32 {
+        return None;
+    }
     let fit = side as f32 / CELLS as f32;
     let cell = if fit >= 1.0 { fit.floor() } else { fit };
     let offset = ((side as f32 - cell * CELLS as f32) / 2.0).floor();
@@ -160,7 +164,7 @@ pub fn read(rgba: &[u8], side: u32) -> u64 {
             }
         }
     }
-    code
+    Some(code)
 }
 
 #[cfg(test)]
@@ -194,7 +198,7 @@ mod tests {
     fn rendered_tags_read_back_with_rotation_and_bit_errors() {
         for id in [0, 17, 63] {
             let pm = render(id, 80).unwrap();
-            let observed = read(pm.data(), 80);
+            let observed = read(pm.data(), 80).unwrap();
             assert_eq!(decode(observed), Some(Detection { id, rotation: 0, errors: 0 }));
             let turned = rotate(observed);
             assert_eq!(decode(turned).map(|d| (d.id, d.rotation)), Some((id, 1)));
@@ -202,5 +206,6 @@ mod tests {
             assert_eq!(decode(damaged).map(|d| (d.id, d.errors)), Some((id, 3)));
         }
         assert_eq!(decode(0), None, "an all-dark square is no tag");
+        assert_eq!(read(&[0; 16], 80), None, "a short buffer is no tag");
     }
 }

@@ -1,5 +1,6 @@
 //! QR codes drawn as crisp module squares on a white card.
 
+use super::geom::ID;
 use qrcode::{Color, EcLevel, QrCode};
 use tiny_skia::Pixmap;
 
@@ -52,11 +53,11 @@ pub fn render(payload: &str, ec: EcLevel, side: u32) -> Result<Pixmap, QrError> 
         let mut paint = tiny_skia::Paint::default();
         paint.set_color_rgba8(0, 0, 0, 255);
         paint.anti_alias = module < 1.0;
-        pm.fill_path(&path, &paint, tiny_skia::FillRule::Winding, tiny_skia::Transform::identity(), None);
+        pm.fill_path(&path, &paint, tiny_skia::FillRule::Winding, ID, None);
     }
     // A thin frame so the card reads as a printed label against bright scenes.
     if let Some(border) = geom::rect(0.5, 0.5, side as f32 - 1.0, side as f32 - 1.0) {
-        super::stroke(&mut pm, &border, [120, 120, 120, 255], 1.0, tiny_skia::Transform::identity());
+        super::stroke(&mut pm, &border, [120, 120, 120, 255], 1.0, ID);
     }
     Ok(pm)
 }

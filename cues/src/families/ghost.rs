@@ -2,7 +2,7 @@
 //! at K future poses from the current camera, one RGBA layer each, and these are composited
 //! onto the frame as Ĩ = Composite(I, {(G_i, α_i)}), earliest first.
 
-use tiny_skia::Transform;
+use crate::draw::geom::ID;
 
 use crate::draw::geom::{self, V2, v2};
 use crate::draw::{self, Rgba};
@@ -111,23 +111,22 @@ pub fn trail_path(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
         return Ok(());
     }
     let pm = ctx.layer();
-    let id = Transform::identity();
     let last = centres[centres.len() - 1];
     let dir = last.sub(centres[centres.len() - 2]);
     let neck = last.sub(dir.unit().scale(8.0 * s));
     let mut points = centres[..centres.len() - 1].to_vec();
     points.push(neck);
     if let Some(p) = geom::polyline(&points) {
-        draw::stroke(pm, &p, [20, 20, 20, 255], 5.0 * s, id);
-        draw::stroke(pm, &p, color, 2.8 * s, id);
+        draw::stroke(pm, &p, [20, 20, 20, 255], 5.0 * s, ID);
+        draw::stroke(pm, &p, color, 2.8 * s, ID);
     }
     for c in &centres[..centres.len() - 1] {
         if let Some(p) = geom::circle(*c, 3.0 * s) {
-            draw::fill_outlined(pm, &p, color, [20, 20, 20, 255], 1.0 * s, id);
+            draw::fill_outlined(pm, &p, color, [20, 20, 20, 255], 1.0 * s, ID);
         }
     }
     if let Some(p) = geom::arrow_head(last, dir, 12.0 * s, 12.0 * s) {
-        draw::fill_outlined(pm, &p, color, [20, 20, 20, 255], 1.2 * s, id);
+        draw::fill_outlined(pm, &p, color, [20, 20, 20, 255], 1.2 * s, ID);
     }
     Ok(())
 }

@@ -10,7 +10,8 @@ pub mod pictorial;
 pub mod signs;
 pub mod text;
 
-use tiny_skia::{Pixmap, Transform};
+use crate::draw::geom::ID;
+use tiny_skia::Pixmap;
 
 use crate::draw::text::{Align, Face, fit};
 use crate::draw::{self, Rgba, geom};
@@ -24,10 +25,10 @@ pub(crate) fn tag(text: &str, size: f32, fg: Rgba, bg: Rgba) -> Result<Pixmap, C
     let h = (b.height + pad).ceil() as u32 + 1;
     let mut pm = Pixmap::new(w, h).ok_or_else(|| CueError::BadParam(format!("tag {text:?} is too large")))?;
     if let Some(p) = geom::rounded_rect(0.5, 0.5, w as f32 - 1.0, h as f32 - 1.0, pad) {
-        draw::fill(&mut pm, &p, bg, Transform::identity());
+        draw::fill(&mut pm, &p, bg, ID);
     }
     if let Some(p) = draw::text::block_path(&b, pad, pad / 2.0, b.width, Align::Left) {
-        draw::fill(&mut pm, &p, fg, Transform::identity());
+        draw::fill(&mut pm, &p, fg, ID);
     }
     Ok(pm)
 }

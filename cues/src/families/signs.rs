@@ -2,7 +2,7 @@
 //! anchored object. The sign image is composed once per spec and frame size (cached); per
 //! frame only the post and the placement are drawn.
 
-use tiny_skia::Transform;
+use crate::draw::geom::ID;
 
 use crate::draw::geom::{self, v2};
 use crate::draw::{self, Rgba};
@@ -34,11 +34,11 @@ fn sign_at(ctx: &mut Ctx<'_>, category: Category, which: Which) -> Result<(), Cu
     let pm = ctx.layer();
     let post_end = if above { top + sh } else { top };
     if let Some(p) = geom::line(v2(a.at.x, a.at.y), v2(a.at.x.clamp(left + 3.0, left + sw - 3.0), post_end)) {
-        draw::stroke(pm, &p, draw::WHITE, 4.0 * s, Transform::identity());
-        draw::stroke(pm, &p, POST, 2.2 * s, Transform::identity());
+        draw::stroke(pm, &p, draw::WHITE, 4.0 * s, ID);
+        draw::stroke(pm, &p, POST, 2.2 * s, ID);
     }
     if let Some(p) = geom::circle(a.at, 2.8 * s) {
-        draw::fill_outlined(pm, &p, POST, draw::WHITE, 1.0 * s, Transform::identity());
+        draw::fill_outlined(pm, &p, POST, draw::WHITE, 1.0 * s, ID);
     }
     draw::blit_over(pm, &sign, left.round() as i32, top.round() as i32);
     Ok(())

@@ -9,6 +9,7 @@
 pub mod frame;
 pub mod modifier;
 
+use crate::draw::geom::ID;
 use serde::{Deserialize, Serialize};
 use tiny_skia::Pixmap;
 
@@ -86,13 +87,17 @@ pub fn compose(spec: &SignSpec) -> RgbaImage {
 /// Height of the label plate relative to the sign size.
 const PLATE: f32 = 0.34;
 
-/// Composes a sign `size` px wide (taller when it has a label plate).
+/// Largest sign side we draw; larger requests are clamped.
+pub const MAX_SIZE: u32 = 4096;
+
+/// Composes a sign `size` px wide, clamped to 16..=[`MAX_SIZE`] (taller when it has a label
+/// plate).
 pub fn compose_pixmap(spec: &SignSpec, size: u32) -> Pixmap {
-    let size = size.max(16);
+    let size = size.clamp(16, MAX_SIZE);
     let s = size as f32;
     let plate_h = spec.target.label.as_ref().map_or(0.0, |_| (s * PLATE).round());
-    let mut pm =
-        Pixmap::new(size, size + plate_h as u32 + if plate_h > 0.0 { 2 } else { 0 }).expect("non-zero sign size");
+    let mut pm = Pixmap::new(size, size + plate_h as u32 + if plate_h > 0.0 { 2 } else { 0 })
+        .expect("a sign of 16..=4096 px always fits in a pixmap");
     let style = frame::draw(&mut pm, spec.category, s);
     let pen = Pen { ink: style.ink, paper: style.fill };
     let (bx, by, bw, bh) = style.content;
@@ -121,18 +126,11 @@ pub fn compose_pixmap(spec: &SignSpec, size: u32) -> Pixmap {
 fn draw_plate(pm: &mut Pixmap, label: &str, s: f32, h: f32) {
     let (x, y, w) = (s * 0.04, s + 2.0, s * 0.92);
     if let Some(p) = geom::rounded_rect(x, y, w, h - 1.0, h * 0.18) {
-        draw::fill_outlined(
-            pm,
-            &p,
-            draw::WHITE,
-            [30, 30, 30, 255],
-            (s * 0.012).max(0.6),
-            tiny_skia::Transform::identity(),
-        );
+        draw::fill_outlined(pm, &p, draw::WHITE, [30, 30, 30, 255], (s * 0.012).max(0.6), ID);
     }
     let b = text::fit(Face::SansBold, label, w * 0.9, h * 0.86, 5.0, h * 0.62);
     if let Some(p) = text::block_path(&b, x + w * 0.05, y + (h - b.height) / 2.0, w * 0.9, Align::Center) {
-        draw::fill(pm, &p, [20, 20, 20, 255], tiny_skia::Transform::identity());
+        draw::fill(pm, &p, [20, 20, 20, 255], ID);
     }
 }
 

@@ -141,7 +141,7 @@ fn word_soup_never_panics() {
         "put", "pick", "up", "and", "it", "them", "the", "both", "on", "in", "to", "of", "top", "left", "right",
         "turn", "off", "open", "close", "push", "inside", "bowl", "plate", "at", "back", "front", "next", "stack",
     ];
-    let mut check = |words: &[&str]| {
+    let check = |words: &[&str]| {
         let text = words.join(" ");
         if let Ok(p) = parse(&text) {
             assert!(!p.steps.is_empty() && p.steps.iter().all(|s| !s.source.is_empty()), "{text}");

@@ -392,6 +392,25 @@ fn ghost_layers_are_composited_with_their_alphas() {
 }
 
 #[test]
+fn ghost_outlines_trace_only_the_silhouette_edges() {
+    let spec = spec_for(TASK, variants::find("ghost_outline").unwrap());
+    let g = ghosts(W, W);
+    let frame0 = base(W, W);
+    let mut frame = frame0.clone();
+    insert(&spec, &mut frame, &FrameInputs { ghost_layers: &g, ..FrameInputs::default() }).unwrap();
+    let diff = changed(&frame0, &frame);
+    assert!(diff.len() > 100);
+    // Every changed pixel lies on the rim (radius 12) of one of the four discs.
+    let centres: Vec<(f64, f64)> =
+        (1..=4).map(|i| (SRC.0 + (TGT.0 - SRC.0) * i as f64 / 4.0, SRC.1 + (TGT.1 - SRC.1) * i as f64 / 4.0)).collect();
+    for (x, y) in &diff {
+        let d = centres.iter().map(|c| (*x as f64 + 0.5 - c.0).hypot(*y as f64 + 0.5 - c.1)).fold(f64::MAX, f64::min);
+        assert!((8.5..=12.8).contains(&d), "pixel ({x}, {y}) at {d:.1} from the nearest centre");
+    }
+    assert_eq!(pixel(&frame, TGT), pixel(&frame0, TGT), "the inside of the last pose stays clear");
+}
+
+#[test]
 fn bad_input_is_an_error_and_leaves_the_frame_alone() {
     let frame0 = base(W, W);
     let good = spec_for(TASK, variants::find("straight_arrow_red").unwrap());

@@ -36,26 +36,37 @@ pub fn fade(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     Ok(())
 }
 
-/// Pixels with alpha ≥ 128 whose (2t+1)² neighbourhood leaves the silhouette.
-fn outline_mask(layer: &RgbaImage, t: usize) -> Vec<bool> {
+/// Outline pixels of a layer's silhouette (alpha ≥ 128): inside pixels whose (2t+1)²
+/// neighbourhood leaves the silhouette. Returns the pixel indices; work is limited to the
+/// silhouette's bounding box, which is small next to the frame.
+fn outline_pixels(layer: &RgbaImage, t: usize) -> Vec<usize> {
     let (w, h) = (layer.width as usize, layer.height as usize);
-    let inside: Vec<bool> = layer.data.chunks_exact(4).map(|p| p[3] >= 128).collect();
-    // Erosion by a square, separably: horizontal then vertical runs.
-    let mut horiz = vec![false; w * h];
-    for y in 0..h {
-        for x in 0..w {
-            let (x0, x1) = (x.saturating_sub(t), (x + t).min(w - 1));
-            horiz[y * w + x] = (x0..=x1).all(|xx| inside[y * w + xx]) && x >= t && x + t < w;
+    let inside = |x: usize, y: usize| layer.data[(y * w + x) * 4 + 3] >= 128;
+    let (mut x0, mut y0, mut x1, mut y1) = (w, h, 0, 0);
+    for (i, p) in layer.data.chunks_exact(4).enumerate() {
+        if p[3] >= 128 {
+            let (x, y) = (i % w, i / w);
+            (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
         }
     }
-    let mut out = vec![false; w * h];
-    for y in 0..h {
-        for x in 0..w {
-            let i = y * w + x;
-            if inside[i] {
-                let (y0, y1) = (y.saturating_sub(t), (y + t).min(h - 1));
-                let eroded = y >= t && y + t < h && (y0..=y1).all(|yy| horiz[yy * w + x]);
-                out[i] = !eroded;
+    if x0 > x1 {
+        return Vec::new();
+    }
+    // Erosion by a square, separably: a pixel survives horizontally if its whole row window
+    // is inside (pixels at the image edge never survive).
+    let bw = x1 - x0 + 1;
+    let mut horiz = vec![false; bw * (y1 - y0 + 1)];
+    for y in y0..=y1 {
+        for x in x0..=x1 {
+            horiz[(y - y0) * bw + x - x0] = x >= t && x + t < w && (x - t..=x + t).all(|xx| inside(xx, y));
+        }
+    }
+    let survives = |x: usize, y: usize| y >= y0 && y <= y1 && horiz[(y - y0) * bw + x - x0];
+    let mut out = Vec::new();
+    for y in y0..=y1 {
+        for x in x0..=x1 {
+            if inside(x, y) && !(y >= t && y + t < h && (y - t..=y + t).all(|yy| survives(x, yy))) {
+                out.push(y * w + x);
             }
         }
     }
@@ -66,16 +77,14 @@ pub fn outline(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     let layers = layers(ctx)?;
     let a = alphas(ctx, layers.len(), 0.55, 1.0)?;
     let color = ctx.color([0, 235, 255]);
-    let t = (1.2 * ctx.scale()).round().max(1.0) as usize;
+    let t = (1.6 * ctx.scale()).round().max(1.0) as usize;
     let frame = ctx.frame_mut();
     for (layer, alpha) in layers.iter().zip(a) {
-        let mask = outline_mask(layer, t);
         let op = (alpha.clamp(0.0, 1.0) * 255.0 + 0.5) as u32;
-        for (d, on) in frame.data.chunks_exact_mut(3).zip(mask) {
-            if on {
-                for c in 0..3 {
-                    d[c] = ((color[c] as u32 * op + d[c] as u32 * (255 - op) + 127) / 255) as u8;
-                }
+        for i in outline_pixels(layer, t) {
+            let d = &mut frame.data[i * 3..i * 3 + 3];
+            for c in 0..3 {
+                d[c] = ((color[c] as u32 * op + d[c] as u32 * (255 - op) + 127) / 255) as u8;
             }
         }
     }

@@ -38,7 +38,7 @@ pub struct Step {
     pub relation: Relation,
     /// The target object or region ("plate", "top drawer of the cabinet", "front of the
     /// stove"); `None` for relations without one (open, close, turn on/off, pick up).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(default)]
     pub target: Option<String>,
     /// Goal-atom argument naming the source body (only when goal atoms were given).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -55,7 +55,8 @@ pub struct ParsedTask {
     /// The normalised instruction (lower case, single spaces).
     pub instruction: String,
     pub source: String,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// `null` in JSON when the relation has no target, so the key is always present.
+    #[serde(default)]
     pub target: Option<String>,
     pub relation: Relation,
     pub steps: Vec<Step>,

@@ -1,95 +1,70 @@
-use tiny_skia::Pixmap;
+//! Draws every glyph (objects, predicates, actors, hands) and one sign per signage category
+//! at two sizes into `<folder>/glyphs.png` and `<folder>/signs.png` (default folder
+//! `/tmp/vifo-cue-gallery`). For looking at the vector art while developing.
+//!
+//! `cargo run -p vifo-cues --example glyph_sheet -- /tmp/gallery`
+
+use tiny_skia::{Color, Pixmap};
 use vifo_cues::draw::geom::{unit_box, v2};
-use vifo_cues::glyphs::{Pen, actor, hand, object, predicate};
+use vifo_cues::draw::{blit_over, to_rgba_image};
+use vifo_cues::glyphs::Pen;
+use vifo_cues::glyphs::actor::{self, Actor};
+use vifo_cues::glyphs::hand::{self, DEFAULT_COLORS, Pose};
+use vifo_cues::glyphs::object::{self, ObjectShape};
+use vifo_cues::glyphs::predicate::{self, Predicate};
+use vifo_cues::signage::{Category, Modifier, SignSpec, SignTarget, compose_pixmap, modifier::Direction};
+
+fn save(pm: &Pixmap, path: &std::path::Path) {
+    let img = to_rgba_image(pm);
+    image::save_buffer(path, &img.data, img.width, img.height, image::ExtendedColorType::Rgba8).unwrap();
+    println!("wrote {}", path.display());
+}
+
 fn main() {
+    let out = std::path::PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "/tmp/vifo-cue-gallery".into()));
+    std::fs::create_dir_all(&out).unwrap();
+
     let mut pm = Pixmap::new(800, 400).unwrap();
-    pm.fill(tiny_skia::Color::from_rgba8(230, 230, 230, 255));
+    pm.fill(Color::from_rgba8(230, 230, 230, 255));
     let pen = Pen { ink: [20, 60, 160, 255], paper: [230, 230, 230, 255] };
-    use object::ObjectShape::*;
-    for (i, s) in [
+    let cell = |i: usize, row: f32| unit_box(10.0 + (i % 10) as f32 * 70.0, row + (i / 10) as f32 * 70.0, 60.0, 60.0);
+    use ObjectShape::*;
+    let shapes = [
         Bowl, Plate, Mug, Bottle, Carton, Can, Pot, Pan, Book, Basket, Cabinet, Stove, Microwave, Rack, Human, Station,
         Generic,
-    ]
-    .iter()
-    .enumerate()
-    {
-        object::draw(
-            &mut pm,
-            *s,
-            pen,
-            unit_box(10.0 + (i % 10) as f32 * 70.0, 10.0 + (i / 10) as f32 * 70.0, 60.0, 60.0),
-        );
+    ];
+    for (i, s) in shapes.iter().enumerate() {
+        object::draw(&mut pm, *s, pen, cell(i, 10.0));
     }
-    for (i, p) in predicate::Predicate::ALL.iter().enumerate() {
-        predicate::draw(
-            &mut pm,
-            *p,
-            pen,
-            unit_box(10.0 + (i % 10) as f32 * 70.0, 160.0 + (i / 10) as f32 * 70.0, 60.0, 60.0),
-        );
+    for (i, p) in Predicate::ALL.iter().enumerate() {
+        predicate::draw(&mut pm, *p, pen, cell(i, 160.0));
     }
-    for (i, a) in [actor::Actor::Arm, actor::Actor::Gripper, actor::Actor::Mobile].iter().enumerate() {
+    for (i, a) in [Actor::Arm, Actor::Gripper, Actor::Mobile].iter().enumerate() {
         actor::draw(&mut pm, *a, pen, unit_box(500.0 + i as f32 * 70.0, 230.0, 60.0, 60.0));
     }
-    hand::draw(&mut pm, hand::Pose::Point, v2(150.0, 340.0), v2(1.0, 0.0), 80.0, hand::DEFAULT_COLORS);
-    hand::draw(&mut pm, hand::Pose::Point, v2(200.0, 340.0), v2(-1.0, 0.3), 80.0, hand::DEFAULT_COLORS);
-    hand::draw(&mut pm, hand::Pose::Grasp, v2(400.0, 340.0), v2(1.0, 0.0), 80.0, hand::DEFAULT_COLORS);
-    hand::draw(&mut pm, hand::Pose::Flat, v2(600.0, 340.0), v2(0.3, 1.0), 80.0, hand::DEFAULT_COLORS);
-    hand::draw(&mut pm, hand::Pose::Point, v2(750.0, 390.0), v2(0.0, 1.0), 60.0, hand::DEFAULT_COLORS);
-    let img = vifo_cues::draw::to_rgba_image(&pm);
-    use vifo_cues::signage::*;
+    hand::draw(&mut pm, Pose::Point, v2(150.0, 340.0), v2(1.0, 0.0), 80.0, DEFAULT_COLORS);
+    hand::draw(&mut pm, Pose::Point, v2(200.0, 340.0), v2(-1.0, 0.3), 80.0, DEFAULT_COLORS);
+    hand::draw(&mut pm, Pose::Grasp, v2(400.0, 340.0), v2(1.0, 0.0), 80.0, DEFAULT_COLORS);
+    hand::draw(&mut pm, Pose::Flat, v2(600.0, 340.0), v2(0.3, 1.0), 80.0, DEFAULT_COLORS);
+    save(&pm, &out.join("glyphs.png"));
+
     let mut sheet = Pixmap::new(8 * 140, 2 * 190).unwrap();
-    sheet.fill(tiny_skia::Color::from_rgba8(120, 140, 120, 255));
-    for (i, c) in Category::ALL.iter().enumerate() {
-        let preds = [
-            vifo_cues::glyphs::predicate::Predicate::Grasp,
-            vifo_cues::glyphs::predicate::Predicate::Place,
-            vifo_cues::glyphs::predicate::Predicate::Avoid,
-            vifo_cues::glyphs::predicate::Predicate::Place,
-            vifo_cues::glyphs::predicate::Predicate::Place,
-            vifo_cues::glyphs::predicate::Predicate::HandOver,
-            vifo_cues::glyphs::predicate::Predicate::Inspect,
-            vifo_cues::glyphs::predicate::Predicate::Charge,
-        ];
-        let mods = [
-            Some(Modifier::Negation),
-            None,
-            Some(Modifier::HazardMark),
-            Some(Modifier::Authorized),
-            Some(Modifier::Direction(modifier::Direction::Right)),
-            None,
-            None,
-            Some(Modifier::Alignment),
-        ];
-        let spec = SignSpec {
-            category: *c,
-            actor: vifo_cues::glyphs::actor::Actor::Arm,
-            predicate: preds[i],
-            target: SignTarget::named(
-                ["black bowl", "plate", "stove", "wine bottle", "basket", "human", "cabinet", "charger dock"][i],
-            ),
-            modifier: mods[i],
-        };
-        let sign = compose_pixmap(&spec, 128);
-        sheet.draw_pixmap(
-            6 + i as i32 * 140,
-            6,
-            sign.as_ref(),
-            &tiny_skia::PixmapPaint::default(),
-            tiny_skia::Transform::identity(),
-            None,
-        );
-        let small = compose_pixmap(&spec, 56);
-        sheet.draw_pixmap(
-            6 + i as i32 * 140,
-            200,
-            small.as_ref(),
-            &tiny_skia::PixmapPaint::default(),
-            tiny_skia::Transform::identity(),
-            None,
-        );
+    sheet.fill(Color::from_rgba8(120, 140, 120, 255));
+    let examples = [
+        (Predicate::Grasp, "black bowl", Some(Modifier::Negation)),
+        (Predicate::Place, "plate", None),
+        (Predicate::Avoid, "stove", Some(Modifier::HazardMark)),
+        (Predicate::Place, "wine bottle", Some(Modifier::Authorized)),
+        (Predicate::Place, "basket", Some(Modifier::Direction(Direction::Right))),
+        (Predicate::HandOver, "human", None),
+        (Predicate::Inspect, "cabinet", None),
+        (Predicate::Charge, "charger dock", Some(Modifier::Alignment)),
+    ];
+    for (i, (category, (predicate, target, modifier))) in Category::ALL.iter().zip(examples).enumerate() {
+        let spec =
+            SignSpec { category: *category, actor: Actor::Arm, predicate, target: SignTarget::named(target), modifier };
+        blit_over(&mut sheet, &compose_pixmap(&spec, 128), 6 + i as i32 * 140, 6);
+        blit_over(&mut sheet, &compose_pixmap(&spec, 56), 6 + i as i32 * 140, 200);
     }
-    let s = vifo_cues::draw::to_rgba_image(&sheet);
-    image::save_buffer("/tmp/signs.png", &s.data, s.width, s.height, image::ExtendedColorType::Rgba8).unwrap();
-    image::save_buffer("/tmp/glyphs.png", &img.data, img.width, img.height, image::ExtendedColorType::Rgba8).unwrap();
+    save(&sheet, &out.join("signs.png"));
 }

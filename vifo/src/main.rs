@@ -21,6 +21,8 @@ enum Command {
     Xval(cmd::xval::XvalArgs),
     /// Parse LIBERO BDDL files and print their tasks (text or --json).
     Bddl(cmd::bddl::Args),
+    /// Visual cues: task parser, variant catalogue, instance set, quick rendering.
+    Cues(cmd::cues::Args),
 }
 
 fn main() {
@@ -29,6 +31,7 @@ fn main() {
         Command::Bench(args) => cmd::bench::run(&args),
         Command::Xval(args) => cmd::xval::run(&args),
         Command::Bddl(args) => cmd::bddl::run(args),
+        Command::Cues(args) => cmd::cues::run(args),
     };
     if let Err(err) = result {
         eprintln!("error: {err:#}");

@@ -1,0 +1,204 @@
+//! Drawing primitives shared by every cue family and the signage system.
+//!
+//! Everything is drawn with tiny-skia into premultiplied RGBA layers (`Pixmap`) and then
+//! composited onto the caller's RGB frame by [`composite`]. Glyphs (hands, robots, objects,
+//! pictograms) are paths in a unit box mapped to pixels by a `Transform`, so one definition
+//! serves every size.
+
+pub mod barcode;
+pub mod fiducial;
+pub mod geom;
+pub mod qr;
+pub mod text;
+
+use tiny_skia::{FillRule, Paint, Path, Pixmap, Shader, Stroke, StrokeDash, Transform};
+
+use crate::image::{RgbImage, RgbaImage};
+
+/// Straight-alpha RGBA colour.
+pub type Rgba = [u8; 4];
+
+/// Opaque colour from RGB.
+pub const fn rgb(c: [u8; 3]) -> Rgba {
+    [c[0], c[1], c[2], 255]
+}
+
+pub const WHITE: Rgba = [255, 255, 255, 255];
+pub const BLACK: Rgba = [0, 0, 0, 255];
+
+fn paint(color: Rgba) -> Paint<'static> {
+    let mut paint = Paint::default();
+    paint.set_color_rgba8(color[0], color[1], color[2], color[3]);
+    paint.anti_alias = true;
+    paint
+}
+
+/// Fills `path` (non-zero rule).
+pub fn fill(pm: &mut Pixmap, path: &Path, color: Rgba, ts: Transform) {
+    pm.fill_path(path, &paint(color), FillRule::Winding, ts, None);
+}
+
+/// Fills `path` with a shader (gradients).
+pub fn fill_shader(pm: &mut Pixmap, path: &Path, shader: Shader<'_>, ts: Transform) {
+    let paint = Paint { shader, anti_alias: true, ..Paint::default() };
+    pm.fill_path(path, &paint, FillRule::Winding, ts, None);
+}
+
+/// Strokes `path` with round joins and caps; `width` is in path units.
+pub fn stroke(pm: &mut Pixmap, path: &Path, color: Rgba, width: f32, ts: Transform) {
+    let stroke = Stroke {
+        width,
+        line_cap: tiny_skia::LineCap::Round,
+        line_join: tiny_skia::LineJoin::Round,
+        ..Stroke::default()
+    };
+    pm.stroke_path(path, &paint(color), &stroke, ts, None);
+}
+
+/// Strokes `path` dashed (`on`, `off` lengths in path units).
+pub fn stroke_dashed(pm: &mut Pixmap, path: &Path, color: Rgba, width: f32, on: f32, off: f32, ts: Transform) {
+    let stroke = Stroke {
+        width,
+        line_cap: tiny_skia::LineCap::Round,
+        line_join: tiny_skia::LineJoin::Round,
+        dash: StrokeDash::new(vec![on, off], 0.0),
+        ..Stroke::default()
+    };
+    pm.stroke_path(path, &paint(color), &stroke, ts, None);
+}
+
+/// Fills `path` and draws an outline around it (outline first, so the fill keeps its size
+/// inside and the outline shows as a border outside).
+pub fn fill_outlined(pm: &mut Pixmap, path: &Path, color: Rgba, outline: Rgba, outline_width: f32, ts: Transform) {
+    stroke(pm, path, outline, outline_width * 2.0, ts);
+    fill(pm, path, color, ts);
+}
+
+/// Blends a premultiplied layer onto an RGB frame with its top-left corner at (x, y) and an
+/// extra opacity in [0, 1]. Integer arithmetic, so results are identical on every platform.
+pub fn composite(frame: &mut RgbImage, layer: &Pixmap, x: i32, y: i32, opacity: f32) {
+    let op = (opacity.clamp(0.0, 1.0) * 255.0 + 0.5) as u32;
+    if op == 0 {
+        return;
+    }
+    let (fw, fh) = (frame.width as i32, frame.height as i32);
+    let (lw, lh) = (layer.width() as i32, layer.height() as i32);
+    let x0 = x.max(0);
+    let y0 = y.max(0);
+    let x1 = (x + lw).min(fw);
+    let y1 = (y + lh).min(fh);
+    if x0 >= x1 || y0 >= y1 {
+        return;
+    }
+    let src = layer.data();
+    let span = (x1 - x0) as usize;
+    for fy in y0..y1 {
+        let ly = (fy - y) as usize;
+        let s0 = (ly * lw as usize + (x0 - x) as usize) * 4;
+        let d0 = (fy as usize * fw as usize + x0 as usize) * 3;
+        let src_row = &src[s0..s0 + span * 4];
+        let dst_row = &mut frame.data[d0..d0 + span * 3];
+        for (s, d) in src_row.chunks_exact(4).zip(dst_row.chunks_exact_mut(3)) {
+            if s[3] == 0 {
+                continue;
+            }
+            let a = mul255(s[3] as u32, op);
+            for c in 0..3 {
+                let sc = mul255(s[c] as u32, op);
+                d[c] = (sc + mul255(d[c] as u32, 255 - a)).min(255) as u8;
+            }
+        }
+    }
+}
+
+/// Draws a premultiplied sprite onto a premultiplied layer at integer position (x, y),
+/// source-over, in integer arithmetic. Cheaper than tiny-skia's general `draw_pixmap` (no
+/// shader pipeline) for the unscaled, unrotated sprites cues place every frame.
+pub fn blit_over(layer: &mut Pixmap, sprite: &Pixmap, x: i32, y: i32) {
+    let (lw, lh) = (layer.width() as i32, layer.height() as i32);
+    let (sw, sh) = (sprite.width() as i32, sprite.height() as i32);
+    let (x0, y0, x1, y1) = (x.max(0), y.max(0), (x + sw).min(lw), (y + sh).min(lh));
+    if x0 >= x1 || y0 >= y1 {
+        return;
+    }
+    let span = (x1 - x0) as usize;
+    let src = sprite.data();
+    let dst = layer.data_mut();
+    for ly in y0..y1 {
+        let s0 = ((ly - y) as usize * sw as usize + (x0 - x) as usize) * 4;
+        let d0 = (ly as usize * lw as usize + x0 as usize) * 4;
+        for (s, d) in src[s0..s0 + span * 4].chunks_exact(4).zip(dst[d0..d0 + span * 4].chunks_exact_mut(4)) {
+            match s[3] {
+                0 => {}
+                255 => d.copy_from_slice(s),
+                a => {
+                    for c in 0..4 {
+                        d[c] = (s[c] as u32 + mul255(d[c] as u32, 255 - a as u32)).min(255) as u8;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Blends a straight-alpha image of the frame's size onto the frame with an extra opacity,
+/// optionally pulling its colours towards `tint` by `tint_amount` (0–1). Integer arithmetic.
+pub fn composite_rgba(frame: &mut RgbImage, img: &RgbaImage, opacity: f32, tint: Option<([u8; 3], f32)>) {
+    let op = (opacity.clamp(0.0, 1.0) * 255.0 + 0.5) as u32;
+    let (tint_rgb, t) = tint.map_or(([0; 3], 0), |(c, k)| (c, (k.clamp(0.0, 1.0) * 255.0 + 0.5) as u32));
+    for (d, s) in frame.data.chunks_exact_mut(3).zip(img.data.chunks_exact(4)) {
+        if s[3] == 0 {
+            continue;
+        }
+        let a = mul255(s[3] as u32, op);
+        for c in 0..3 {
+            let src = mul255(s[c] as u32, 255 - t) + mul255(tint_rgb[c] as u32, t);
+            d[c] = (mul255(src, a) + mul255(d[c] as u32, 255 - a)).min(255) as u8;
+        }
+    }
+}
+
+/// `a * b / 255`, rounded.
+fn mul255(a: u32, b: u32) -> u32 {
+    let t = a * b + 128;
+    (t + (t >> 8)) >> 8
+}
+
+/// Converts a premultiplied layer to a straight-alpha [`RgbaImage`].
+pub fn to_rgba_image(pm: &Pixmap) -> RgbaImage {
+    let mut data = Vec::with_capacity(pm.data().len());
+    for px in pm.data().chunks_exact(4) {
+        let a = px[3] as u32;
+        for &c in &px[..3] {
+            data.push((c as u32 * 255 + a / 2).checked_div(a).unwrap_or(0).min(255) as u8);
+        }
+        data.push(px[3]);
+    }
+    RgbaImage { width: pm.width(), height: pm.height(), data }
+}
+
+/// Converts a straight-alpha [`RgbaImage`] to a premultiplied layer; `None` when the image
+/// is malformed (wrong buffer length or zero size).
+pub fn from_rgba_image(img: &RgbaImage) -> Option<Pixmap> {
+    img.validate().ok()?;
+    let mut pm = Pixmap::new(img.width, img.height)?;
+    for (dst, src) in pm.data_mut().chunks_exact_mut(4).zip(img.data.chunks_exact(4)) {
+        let a = src[3] as u32;
+        for c in 0..3 {
+            dst[c] = mul255(src[c] as u32, a) as u8;
+        }
+        dst[3] = src[3];
+    }
+    Some(pm)
+}
+
+/// An RGB frame as an opaque layer (used to draw pictures of frames into panels).
+pub fn from_rgb_image(img: &RgbImage) -> Option<Pixmap> {
+    img.validate().ok()?;
+    let mut pm = Pixmap::new(img.width, img.height)?;
+    for (dst, src) in pm.data_mut().chunks_exact_mut(4).zip(img.data.chunks_exact(3)) {
+        dst[..3].copy_from_slice(src);
+        dst[3] = 255;
+    }
+    Some(pm)
+}

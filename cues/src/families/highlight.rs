@@ -1,0 +1,188 @@
+//! F7 visual highlight / lighting (scene-anchored): light cones, glows, dimming and washes
+//! that sit on the anchored objects. Light is drawn as translucent layers with radial or
+//! linear gradients, so the object under it stays visible.
+
+use tiny_skia::{Color, FillRule, GradientStop, LinearGradient, Paint, Point, RadialGradient, SpreadMode, Transform};
+
+use crate::draw::geom::{self, V2, v2};
+use crate::draw::{self, Rgba};
+use crate::error::CueError;
+use crate::insert::{Ctx, Placed, Which};
+
+use crate::draw::geom::ID;
+
+fn rgba(c: Rgba, alpha: u8) -> Color {
+    Color::from_rgba8(c[0], c[1], c[2], alpha)
+}
+
+/// A soft radial pool of light: `alphas` at fractions `stops` of radius `r`.
+fn pool(pm: &mut tiny_skia::Pixmap, at: V2, r: f32, color: Rgba, stops: &[(f32, u8)]) {
+    let stops: Vec<GradientStop> = stops.iter().map(|&(t, a)| GradientStop::new(t, rgba(color, a))).collect();
+    if let (Some(shader), Some(path)) = (
+        RadialGradient::new(Point::from_xy(at.x, at.y), 0.0, Point::from_xy(at.x, at.y), r, stops, SpreadMode::Pad, ID),
+        geom::circle(at, r),
+    ) {
+        draw::fill_shader(pm, &path, shader, ID);
+    }
+}
+
+fn radius(p: &Placed, s: f32) -> f32 {
+    p.radius.max(10.0 * s)
+}
+
+pub fn spotlight_cone(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    let color = ctx.color([255, 246, 200]);
+    let s = ctx.scale();
+    let Some(src) = ctx.place(Which::Source, color) else { return Ok(()) };
+    let pm = ctx.layer();
+    let r = radius(&src, s) * 1.5;
+    let ry = r * 0.45;
+    let top = v2(src.at.x, -4.0 * s);
+    let half_top = 5.0 * s;
+    if let (Some(path), Some(shader)) = (
+        geom::polygon(&[
+            v2(top.x - half_top, top.y),
+            v2(top.x + half_top, top.y),
+            v2(src.at.x + r, src.at.y),
+            v2(src.at.x - r, src.at.y),
+        ]),
+        LinearGradient::new(
+            Point::from_xy(top.x, top.y),
+            Point::from_xy(src.at.x, src.at.y),
+            vec![GradientStop::new(0.0, rgba(color, 40)), GradientStop::new(1.0, rgba(color, 120))],
+            SpreadMode::Pad,
+            ID,
+        ),
+    ) {
+        draw::fill_shader(pm, &path, shader, ID);
+    }
+    if let Some(p) = geom::circle(top, 6.0 * s) {
+        draw::fill(pm, &p, [255, 255, 240, 255], ID);
+    }
+    // The lit pool on the object: an ellipse (a scaled circle gradient).
+    let squash = Transform::from_row(1.0, 0.0, 0.0, ry / r, 0.0, src.at.y * (1.0 - ry / r));
+    let stops = vec![
+        GradientStop::new(0.0, rgba(color, 150)),
+        GradientStop::new(0.7, rgba(color, 110)),
+        GradientStop::new(1.0, rgba(color, 0)),
+    ];
+    if let (Some(shader), Some(path)) = (
+        RadialGradient::new(
+            Point::from_xy(src.at.x, src.at.y),
+            0.0,
+            Point::from_xy(src.at.x, src.at.y),
+            r * 1.15,
+            stops,
+            SpreadMode::Pad,
+            ID,
+        ),
+        geom::circle(src.at, r * 1.15),
+    ) {
+        let paint = Paint { shader, anti_alias: true, ..Paint::default() };
+        pm.fill_path(&path, &paint, FillRule::Winding, squash, None);
+    }
+    Ok(())
+}
+
+pub fn glow_halo(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    let color = ctx.color([255, 228, 70]);
+    let s = ctx.scale();
+    let Some(src) = ctx.place(Which::Source, color) else { return Ok(()) };
+    let r = radius(&src, s);
+    pool(ctx.layer(), src.at, r * 2.3, color, &[(0.0, 40), (0.38, 70), (0.5, 190), (0.62, 120), (1.0, 0)]);
+    Ok(())
+}
+
+/// Darkens the frame outside soft circles on the source and target. Done per pixel on the
+/// frame (smoothstep on squared distance, so no square roots), which is several times faster
+/// than painting and punching a full-frame layer.
+pub fn dim_surround(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    let s = ctx.scale();
+    let src = ctx.place(Which::Source, draw::WHITE);
+    let tgt = ctx.place(Which::Target, draw::WHITE);
+    let holes: Vec<(V2, f32)> = [src, tgt].into_iter().flatten().map(|p| (p.at, radius(&p, s) * 1.8)).collect();
+    if holes.is_empty() {
+        return Ok(());
+    }
+    // Outside every hole the frame is scaled by KEEP/255; inside, by a smoothstep of the
+    // squared distance from 0.65 R (no dimming) to R (full dimming).
+    const KEEP: u32 = 90;
+    let frame = ctx.frame_mut();
+    let w = frame.width as usize;
+    for (y, row) in frame.data.chunks_exact_mut(w * 3).enumerate() {
+        let py = y as f32 + 0.5;
+        for (x, px) in row.chunks_exact_mut(3).enumerate() {
+            let px_x = x as f32 + 0.5;
+            let mut m: f32 = 1.0;
+            for (c, r) in &holes {
+                let (dx, dy) = (px_x - c.x, py - c.y);
+                if dx.abs() < *r && dy.abs() < *r {
+                    let inner = 0.4225 * r * r;
+                    let t = ((dx * dx + dy * dy - inner) / (r * r - inner)).clamp(0.0, 1.0);
+                    m = m.min(t * t * (3.0 - 2.0 * t));
+                }
+            }
+            let keep = if m >= 1.0 { KEEP } else { (255.0 - (255 - KEEP) as f32 * m + 0.5) as u32 };
+            for c in px.iter_mut() {
+                *c = ((*c as u32 * keep + 127) / 255) as u8;
+            }
+        }
+    }
+    Ok(())
+}
+
+pub fn color_wash(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    let color = ctx.color([40, 255, 110]);
+    let s = ctx.scale();
+    let Some(goal) = ctx.place_goal(color) else { return Ok(()) };
+    let r = radius(&goal, s) * 1.9;
+    pool(ctx.layer(), goal.at, r, color, &[(0.0, 120), (0.6, 100), (1.0, 0)]);
+    Ok(())
+}
+
+pub fn rim_light(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    let glow = ctx.color([110, 215, 255]);
+    let s = ctx.scale();
+    let Some(src) = ctx.place(Which::Source, glow) else { return Ok(()) };
+    let pm = ctx.layer();
+    let r = radius(&src, s) * 1.2;
+    if let Some(p) = geom::circle(src.at, r) {
+        draw::stroke(pm, &p, [glow[0], glow[1], glow[2], 70], 11.0 * s, ID);
+        draw::stroke(pm, &p, [glow[0], glow[1], glow[2], 140], 5.0 * s, ID);
+        draw::stroke(pm, &p, [255, 255, 255, 235], 2.0 * s, ID);
+    }
+    Ok(())
+}
+
+pub fn dual_spotlights(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    let first = ctx.color([60, 230, 255]);
+    let second: Rgba = [255, 70, 220, 255];
+    let s = ctx.scale();
+    let src = ctx.place(Which::Source, first);
+    let tgt = ctx.place(Which::Target, second);
+    for (p, c) in [(src, first), (tgt, second)] {
+        if let Some(p) = p {
+            let r = radius(&p, s) * 1.8;
+            pool(ctx.layer(), p.at, r, c, &[(0.0, 150), (0.55, 120), (1.0, 0)]);
+        }
+    }
+    Ok(())
+}
+
+pub fn light_path(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    let color = ctx.color([120, 200, 255]);
+    let s = ctx.scale();
+    let src = ctx.place(Which::Source, color);
+    let tgt = ctx.place(Which::Target, color);
+    let Some((a, b)) = src.zip(tgt) else { return Ok(()) };
+    let pm = ctx.layer();
+    if let Some(p) = geom::line(a.at, b.at) {
+        draw::stroke(pm, &p, [color[0], color[1], color[2], 60], 16.0 * s, ID);
+        draw::stroke(pm, &p, [color[0], color[1], color[2], 130], 7.0 * s, ID);
+        draw::stroke(pm, &p, [255, 255, 255, 230], 2.2 * s, ID);
+    }
+    for p in [a, b] {
+        pool(pm, p.at, radius(&p, s) * 1.4, color, &[(0.0, 130), (1.0, 0)]);
+    }
+    Ok(())
+}

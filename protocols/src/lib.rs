@@ -1,1 +1,12 @@
-//! placeholder
+//! The LIBERO-VIFO benchmark protocols.
+//!
+//! - [`spec`]: what one episode is (task, protocol, language condition, cue instance, seed) and
+//!   what it produced — the records the runner writes and the reports read.
+//! - [`policy`]: the observation a policy sees and the [`Policy`] trait every policy implements
+//!   (built-in reference policies, remote VLA servers).
+
+pub mod policy;
+pub mod spec;
+
+pub use policy::{Observation, Policy, PolicyError};
+pub use spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};

@@ -1,0 +1,69 @@
+//! What a policy sees, and the trait every policy implements.
+
+use thiserror::Error;
+use vifo_cues::RgbImage;
+
+/// One observation, as LIBERO provides it (plus the instruction of the episode).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Observation {
+    /// `agentview` camera, cue inserted, upright (row 0 at the top).
+    pub agentview: RgbImage,
+    /// `robot0_eye_in_hand` camera, cue inserted, upright.
+    pub wrist: RgbImage,
+    /// Grip site position (robosuite `robot0_eef_pos`), world frame.
+    pub eef_pos: [f64; 3],
+    /// Hand orientation (robosuite `robot0_eef_quat`), (x, y, z, w).
+    pub eef_quat_xyzw: [f64; 4],
+    /// Finger joint positions (robosuite `robot0_gripper_qpos`).
+    pub gripper_qpos: [f64; 2],
+    /// Arm joint positions.
+    pub joint_pos: [f64; 7],
+    /// The instruction the policy receives this episode (may be empty).
+    pub instruction: String,
+    /// Control steps since the end of the settle phase.
+    pub step: usize,
+}
+
+impl Observation {
+    /// openpi's 8-D LIBERO state: eef position, axis-angle of the eef quaternion (robosuite's
+    /// `quat2axisangle`), finger positions.
+    pub fn state8(&self) -> [f64; 8] {
+        let [x, y, z, w] = self.eef_quat_xyzw;
+        let w = w.clamp(-1.0, 1.0);
+        let den = (1.0 - w * w).sqrt();
+        let aa = if den.abs() < 1e-12 {
+            [0.0; 3]
+        } else {
+            let s = 2.0 * libm::acos(w) / den;
+            [x * s, y * s, z * s]
+        };
+        let p = self.eef_pos;
+        [p[0], p[1], p[2], aa[0], aa[1], aa[2], self.gripper_qpos[0], self.gripper_qpos[1]]
+    }
+}
+
+/// Why a policy could not produce an action. The episode is then recorded as an error (not a
+/// failure) and can be retried.
+#[derive(Debug, Error)]
+pub enum PolicyError {
+    #[error("policy connection: {0}")]
+    Connection(String),
+    #[error("policy sent a malformed reply: {0}")]
+    Malformed(String),
+    #[error("policy timed out after {0:.1} s")]
+    Timeout(f64),
+    #[error("{0}")]
+    Other(String),
+}
+
+/// A policy: turns observations into 7-D actions `[dx, dy, dz, dax, day, daz, gripper]`.
+pub trait Policy: Send {
+    /// Name used in results files and reports.
+    fn name(&self) -> String;
+    /// Called at the start of every episode (after the settle steps).
+    fn reset(&mut self) -> Result<(), PolicyError> {
+        Ok(())
+    }
+    /// The next action.
+    fn act(&mut self, obs: &Observation) -> Result<[f64; 7], PolicyError>;
+}

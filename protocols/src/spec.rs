@@ -1,0 +1,118 @@
+//! Episode specifications and results.
+
+use serde::{Deserialize, Serialize};
+
+/// The four evaluation protocols of the paper plus the cue-free baseline.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Protocol {
+    /// Original instruction, no cue (Orig. SR).
+    Original,
+    /// Part I-B: "follow the visual cue in the observation and complete the task" + cue (AVF).
+    Authorized,
+    /// Part II-A: the instruction of a different task feasible in the scene + this task's cue
+    /// (LFR for the language task, UVF for the cue task).
+    Conflict,
+    /// Part II-B: empty instruction + cue (UVI).
+    NoLanguage,
+}
+
+impl Protocol {
+    pub const ALL: [Protocol; 4] = [Protocol::Original, Protocol::Authorized, Protocol::Conflict, Protocol::NoLanguage];
+
+    /// The literal instruction of Part I-B.
+    pub const AUTHORIZED_INSTRUCTION: &'static str = "follow the visual cue in the observation and complete the task";
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Protocol::Original => "original",
+            Protocol::Authorized => "authorized",
+            Protocol::Conflict => "conflict",
+            Protocol::NoLanguage => "no_language",
+        }
+    }
+
+    pub fn uses_cue(self) -> bool {
+        self != Protocol::Original
+    }
+}
+
+/// A LIBERO task by suite and index (`libero_goal/3`).
+#[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct TaskRef {
+    pub suite: String,
+    pub index: usize,
+}
+
+impl std::fmt::Display for TaskRef {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.suite, self.index)
+    }
+}
+
+/// Everything that determines one episode. Two specs with the same fields produce the same
+/// episode bit for bit, whatever thread runs them.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct EpisodeSpec {
+    /// The scene (and, without a cue, the task) of the episode.
+    pub task: TaskRef,
+    pub protocol: Protocol,
+    /// Cue instance id (`libero_goal/3/F2/curved_arrow_red`); `None` for the original protocol.
+    pub instance: Option<String>,
+    /// Index of the fixed initial state (0..50).
+    pub init: usize,
+    /// Repetition of the same (instance, protocol, init), for stochastic policies.
+    pub episode: usize,
+    /// The instruction the policy receives (may be empty).
+    pub instruction: String,
+    /// The task the language asks for, when it asks for one (original, conflict).
+    pub language_task: Option<TaskRef>,
+    /// The task the cue shows (every protocol but the original).
+    pub cue_task: Option<TaskRef>,
+    /// Seed of everything random in the episode (fixture jitter, policy sampling), derived from
+    /// the fields above so results do not depend on scheduling.
+    pub seed: u64,
+}
+
+impl EpisodeSpec {
+    /// A stable key identifying the episode in a results file (used by `--resume`).
+    pub fn key(&self) -> String {
+        format!(
+            "{}|{}|{}|{}|{}",
+            self.task,
+            self.protocol.name(),
+            self.instance.as_deref().unwrap_or("-"),
+            self.init,
+            self.episode
+        )
+    }
+}
+
+/// How an episode ended.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "status", rename_all = "snake_case")]
+pub enum Outcome {
+    /// The episode ran to success or to the step budget.
+    Completed {
+        /// The language-specified task was completed (original, conflict).
+        language_success: Option<bool>,
+        /// The cue-indicated task was completed (every protocol with a cue).
+        cue_success: Option<bool>,
+        /// Control steps taken (excluding the settle steps).
+        steps: usize,
+    },
+    /// The episode could not be run to the end for a reason outside the policy's behaviour
+    /// (dropped connection, malformed reply, invalid action...). Not a failure; retried on resume.
+    Error { message: String },
+}
+
+/// One line of a results file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EpisodeRecord {
+    pub spec: EpisodeSpec,
+    /// Policy name or server address.
+    pub policy: String,
+    pub outcome: Outcome,
+    /// Wall-clock milliseconds (informational; never part of comparisons).
+    pub wall_ms: f64,
+}

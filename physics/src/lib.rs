@@ -14,7 +14,7 @@ mod world;
 
 pub use fingerprint::Fingerprint;
 pub use params::SimParams;
-pub use world::{Snapshot, World};
+pub use world::{Snapshot, TOUCH_DISTANCE, World};
 
 /// The rapier3d build this workspace uses (`rapier3d-f64` with `enhanced-determinism`).
 pub use rapier3d as rapier;

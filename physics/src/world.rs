@@ -4,6 +4,10 @@ use rapier3d::prelude::*;
 
 use crate::{Fingerprint, SimParams};
 
+/// Contact points closer than this (m) count as touching (soft contacts rest with a small
+/// penetration; this tolerates a hair of separation too).
+pub const TOUCH_DISTANCE: f64 = 5e-4;
+
 /// A rigid-body world stepped at a fixed rate.
 ///
 /// All rapier state is reachable through [`World::rapier`] / [`World::rapier_mut`] so that the
@@ -143,15 +147,16 @@ impl World {
         Fingerprint::of(&self.rapier.bodies, &self.rapier.multibody_joints)
     }
 
-    /// True if any collider of `a` has an active contact (touching or penetrating) with any
-    /// collider of `b`, as of the last step or [`World::refresh_contacts`].
+    /// True if any collider of `a` touches any collider of `b` (contact points closer than
+    /// [`TOUCH_DISTANCE`]), as of the last step or [`World::refresh_contacts`]. rapier also keeps
+    /// speculative contacts for shapes that are merely close; those do not count, as MuJoCo only
+    /// reports contacts within the (zero) geom margin.
     pub fn in_contact(&self, a: &[ColliderHandle], b: &[ColliderHandle]) -> bool {
         a.iter().any(|&ca| {
             b.iter().any(|&cb| {
-                self.rapier
-                    .narrow_phase
-                    .contact_pair(ca, cb)
-                    .is_some_and(|pair| pair.has_any_active_contact())
+                self.rapier.narrow_phase.contact_pair(ca, cb).is_some_and(|pair| {
+                    pair.manifolds().iter().any(|m| m.points.iter().any(|p| p.dist < TOUCH_DISTANCE))
+                })
             })
         })
     }
@@ -173,6 +178,11 @@ fn apply_params(rapier: &mut PhysicsWorld, params: &SimParams) {
     ip.contact_softness.damping_ratio = params.contact_damping_ratio;
     ip.static_contact_softness.natural_frequency = params.static_contact_frequency;
     ip.static_contact_softness.damping_ratio = params.contact_damping_ratio;
+    // Contact recycling reuses a pair's manifold while the pair barely moves; with a multibody
+    // gripper hovering next to an object it left stale constraints that stalled the arm
+    // (observed: a Panda unable to lower its open fingers around a can). Fresh contacts every
+    // step cost little at LIBERO's scale.
+    ip.contact_recycling = false;
 }
 
 #[cfg(test)]

@@ -112,7 +112,12 @@ fn finger(bodies: &mut Vec<Body>, gripper: usize, side: f64) {
     } else {
         ("rightfinger", "finger2_tip", finger_joint("finger_joint2", [-0.04, 0.0]), "finger2_pad")
     };
-    let shell = cuboid("finger", [0.0105, 0.0132, 0.0269], [0.0, side * 0.0132, 0.0269], ContactRole::Finger, 1.0);
+    // The finger mesh tapers: thick near the hand, thin at the tip (robosuite collides with its
+    // convex hull); two boxes follow that profile.
+    let shell = vec![
+        cuboid("finger_base", [0.0105, 0.0102, 0.0125], [0.0, side * 0.0162, 0.0125], ContactRole::Finger, 1.0),
+        cuboid("finger_tip", [0.0095, 0.0072, 0.0145], [0.0, side * 0.0072, 0.0395], ContactRole::Finger, 1.0),
+    ];
     let index = bodies.len();
     bodies.push(Body {
         name,
@@ -120,8 +125,8 @@ fn finger(bodies: &mut Vec<Body>, gripper: usize, side: f64) {
         local: Pose::from_wxyz([0.0, 0.0, 0.0524], q(H, 0.0, 0.0, H)),
         joint: Some(joint),
         inertial: Inertial::diag(0.1, [0.0, 0.0, 0.05], [0.01, 0.01, 0.005]),
-        visuals: visuals_of(std::slice::from_ref(&shell), GREY),
-        colliders: vec![shell],
+        visuals: visuals_of(&shell, GREY),
+        colliders: shell,
     });
     let pad = Collider {
         name: pad_name,
@@ -573,5 +578,29 @@ mod determinism {
         assert_eq!(a.fingerprint(), c.fingerprint(), "a run across snapshot/restore differs");
         assert_eq!(ca, cc);
         assert_eq!(robot.joints(&a), robot.joints(&c));
+    }
+}
+
+#[cfg(test)]
+mod probe_low {
+    use super::*;
+    use vifo_physics::SimParams;
+
+    #[test]
+    fn probe_descend_low() {
+        let mut world = World::new(SimParams::LIBERO);
+        let robot = Panda::insert(&mut world, Mount::Ground, Pose::from_wxyz([-0.6, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]));
+        robot.set_joints(&mut world, &[-0.202, 0.45, -0.25, -2.232, 0.232, 2.653, 0.151], &[0.04, -0.04], &[0.0; 7], &[0.0; 2]);
+        let mut control = robot.reset_control();
+        control.stale_cache = false;
+        let site = robot.grip_site_pose(&world);
+        control.goal = OscGoal::new(site.pos, site.rot);
+        for k in 0..20 {
+            let before = robot.grip_site_pose(&world).pos;
+            robot.control_step(&mut world, &mut control, &Action::new(&[0.0, 0.0, -0.5, 0.0, 0.0, 0.0, -1.0]).unwrap());
+            let after = robot.grip_site_pose(&world).pos;
+            let q = robot.joints(&world);
+            println!("{k}: z {:.4} -> {:.4} q {:?}", before.z, after.z, q.q.iter().take(7).map(|v| (v * 1000.0).round() / 1000.0).collect::<Vec<_>>());
+        }
     }
 }

@@ -11,6 +11,7 @@
 
 pub mod bddl;
 pub mod catalog;
+pub mod expert;
 pub mod init_file;
 pub mod scene_class;
 pub mod sim;

@@ -1,4 +1,5 @@
 //! The work behind the `vifo` subcommands, as a library so tests can drive it directly.
 
 pub mod bench;
+pub mod expert;
 pub mod xval;

@@ -17,6 +17,8 @@ struct Cli {
 enum Command {
     /// Measure speed (physics, ...).
     Bench(cmd::bench::BenchArgs),
+    /// Run the scripted expert on LIBERO tasks and print success rates.
+    Expert(cmd::expert::ExpertArgs),
     /// Cross-validate against MuJoCo reference recordings.
     Xval(cmd::xval::XvalArgs),
     /// Parse LIBERO BDDL files and print their tasks (text or --json).
@@ -29,6 +31,7 @@ fn main() {
     let cli = Cli::parse();
     let result: anyhow::Result<()> = match cli.command {
         Command::Bench(args) => cmd::bench::run(&args),
+        Command::Expert(args) => cmd::expert::run(&args),
         Command::Xval(args) => cmd::xval::run(&args),
         Command::Bddl(args) => cmd::bddl::run(args),
         Command::Cues(args) => cmd::cues::run(args),

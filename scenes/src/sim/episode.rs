@@ -68,6 +68,7 @@ impl Sim {
         &self.world
     }
 
+
     /// Control steps since the episode started.
     pub fn steps(&self) -> usize {
         self.steps

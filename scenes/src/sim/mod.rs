@@ -7,8 +7,10 @@
 
 mod episode;
 mod model;
+mod placement;
 mod predicates;
 
 pub use episode::{RegionBox, Sim, SimSnapshot, StateError};
 pub use model::{ARENA_CATEGORIES, BuildError, RegionPlace, SceneEntity, SceneModel, SceneRegion};
+pub use placement::{FixturePlacement, sample_fixtures};
 pub use predicates::{ON_OBJECT_XY, PredicateError};

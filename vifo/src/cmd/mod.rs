@@ -4,3 +4,4 @@ pub mod xval;
 pub mod bddl;
 pub mod bench;
 pub mod cues;
+pub mod expert;

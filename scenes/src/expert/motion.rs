@@ -1,0 +1,77 @@
+//! Turning a desired gripper pose into the 7-D delta action a policy would send.
+
+use vifo_robots::action::Action;
+use vifo_robots::spatial::{Mat3, Pose, Vec3, axis_angle, rotation_vector};
+
+use crate::sim::Sim;
+
+/// A gripper pose the expert wants: grip-site position and yaw of the finger axis about world z
+/// (0 = fingers along world y, the LIBERO reset orientation), gripper pointing down.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Waypoint {
+    pub pos: Vec3,
+    pub yaw: f64,
+}
+
+/// The gripper pointing straight down with its fingers along world y (LIBERO's reset pose).
+pub fn down() -> Mat3 {
+    Mat3::new(0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, -1.0)
+}
+
+/// Orientation for a yaw of the finger axis.
+pub fn orientation(yaw: f64) -> Mat3 {
+    axis_angle(&Vec3::z(), yaw) * down()
+}
+
+/// Yaw of the current finger axis.
+pub fn current_yaw(ee: &Pose) -> f64 {
+    let finger = ee.rot * Vec3::x();
+    libm::atan2(-finger.x, finger.y)
+}
+
+/// The yaw equivalent to `yaw` (the gripper is symmetric under a half turn) closest to `near`.
+pub fn nearest_yaw(yaw: f64, near: f64) -> f64 {
+    let pi = std::f64::consts::PI;
+    let mut y = yaw;
+    while y - near > pi / 2.0 {
+        y -= pi;
+    }
+    while near - y > pi / 2.0 {
+        y += pi;
+    }
+    y
+}
+
+/// Gains of the pose servo.
+#[derive(Clone, Copy, Debug)]
+pub struct Servo {
+    /// Action per metre of position error (an action of 1 asks the OSC for 5 cm).
+    pub pos_gain: f64,
+    /// Largest translation action.
+    pub max_speed: f64,
+    /// Action per radian of orientation error.
+    pub rot_gain: f64,
+}
+
+impl Servo {
+    pub const TRAVEL: Servo = Servo { pos_gain: 40.0, max_speed: 1.0, rot_gain: 3.0 };
+    pub const FINE: Servo = Servo { pos_gain: 60.0, max_speed: 0.5, rot_gain: 3.0 };
+
+    /// The action moving the gripper toward `target` with the gripper command `grip`.
+    pub fn act(&self, sim: &Sim, target: &Waypoint, grip: f64) -> Action {
+        let ee = sim.model().robot.grip_site_pose(sim.world());
+        let dp = (target.pos - ee.pos) * self.pos_gain;
+        let norm = dp.norm();
+        let dp = if norm > self.max_speed { dp * (self.max_speed / norm) } else { dp };
+        let err = rotation_vector(&(orientation(target.yaw) * ee.rot.transpose())) * self.rot_gain;
+        let r = |v: f64| v.clamp(-1.0, 1.0);
+        Action([dp.x, dp.y, dp.z, r(err.x), r(err.y), r(err.z), grip])
+    }
+}
+
+/// Position error (m) and orientation error (rad) between the gripper and a waypoint.
+pub fn error(sim: &Sim, target: &Waypoint) -> (f64, f64) {
+    let ee = sim.model().robot.grip_site_pose(sim.world());
+    let rot = rotation_vector(&(orientation(target.yaw) * ee.rot.transpose())).norm();
+    ((target.pos - ee.pos).norm(), rot)
+}

@@ -1,0 +1,280 @@
+//! Skills: small state machines that turn privileged scene state into 7-D actions.
+
+use vifo_robots::action::Action;
+use vifo_robots::spatial::Vec3;
+
+use super::geometry::{self, Grasp};
+use super::motion::{self, Servo, Waypoint};
+use crate::sim::Sim;
+
+/// Gripper commands.
+pub const OPEN: f64 = -1.0;
+pub const CLOSE: f64 = 1.0;
+
+/// Where a picked object must go.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Placement {
+    /// Put the object's origin at `xy`, resting on whatever is below (a plate, a region, a
+    /// burner), released from just above the surface.
+    On { xy: [f64; 2] },
+    /// Drop the object into a container whose opening is centred at `xy`.
+    Into { xy: [f64; 2] },
+}
+
+/// What a skill reports each step.
+pub enum Step {
+    Act(Action),
+    Done,
+    /// The skill cannot succeed from here (e.g. lost the object); the planner may retry.
+    Failed(&'static str),
+}
+
+/// Highest point of the scene (objects, fixtures, arena) over a horizontal disc, excluding one
+/// entity (the one being carried).
+pub fn surface_height(sim: &Sim, centre: [f64; 2], radius: f64, exclude: Option<usize>) -> f64 {
+    let mut z = sim.model().class.support_z();
+    for (i, e) in sim.model().entities.iter().enumerate() {
+        if Some(i) == exclude {
+            continue;
+        }
+        for b in 0..e.model.bodies.len() {
+            for p in geometry::corners(sim, i, b) {
+                let d = ((p.x - centre[0]).powi(2) + (p.y - centre[1]).powi(2)).sqrt();
+                if d < radius {
+                    z = z.max(p.z);
+                }
+            }
+        }
+    }
+    z
+}
+
+/// Pick an object and put it somewhere.
+pub struct PickPlace {
+    pub object: usize,
+    pub placement: Placement,
+    stage: Stage,
+    stage_steps: usize,
+    grasp: Option<Grasp>,
+    /// Grip site minus object origin while carried (world frame).
+    carry_offset: Option<Vec3>,
+    /// Object bottom below its origin while carried.
+    carry_depth: f64,
+    attempts: usize,
+    lift_start_z: f64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Stage {
+    Rise,
+    Above,
+    Descend,
+    Close,
+    Lift,
+    Travel,
+    Lower,
+    Release,
+    Retreat,
+}
+
+/// How long any stage may last before the skill gives up on it (control steps).
+const STAGE_LIMIT: usize = 80;
+
+impl PickPlace {
+    pub fn new(object: usize, placement: Placement) -> Self {
+        PickPlace {
+            object,
+            placement,
+            stage: Stage::Rise,
+            stage_steps: 0,
+            grasp: None,
+            carry_offset: None,
+            carry_depth: 0.0,
+            attempts: 0,
+            lift_start_z: 0.0,
+        }
+    }
+
+    pub fn describe(&self) -> String {
+        let g = self.grasp.map(|g| format!("grasp ({:.3} {:.3} {:.3}) yaw {:.2} width {:.3}", g.pos.x, g.pos.y, g.pos.z, g.yaw, g.width)).unwrap_or_default();
+        format!("pick-place {:?} step {} attempt {} {g}", self.stage, self.stage_steps, self.attempts)
+    }
+
+    fn next(&mut self, stage: Stage) {
+        self.stage = stage;
+        self.stage_steps = 0;
+    }
+
+    fn plan_grasp(&self, sim: &Sim) -> Grasp {
+        let points = geometry::corners(sim, self.object, 0);
+        let ee = sim.model().robot.grip_site_pose(sim.world());
+        if let Some(g) = geometry::solid_grasp(&points, 0.025) {
+            return Grasp { yaw: motion::nearest_yaw(g.yaw, motion::current_yaw(&ee)), ..g };
+        }
+        let origin = sim.entity_pose(self.object).pos;
+        let (lo, hi) = geometry::bounds(&points);
+        let centre = Vec3::new(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), origin.z);
+        // Grip the rim on the side facing the robot's base, where the arm comes from.
+        let base = sim.model().robot.arm().base().pos;
+        let g = geometry::rim_grasp(&points, &centre, &base);
+        Grasp { yaw: motion::nearest_yaw(g.yaw, motion::current_yaw(&ee)), ..g }
+    }
+
+    /// Height at which to travel: clear of everything between here and there.
+    fn travel_height(&self, sim: &Sim, to: [f64; 2]) -> f64 {
+        let ee = sim.model().robot.grip_site_pose(sim.world());
+        let mut top: f64 = 0.0;
+        for k in 0..=10 {
+            let t = k as f64 / 10.0;
+            let p = [ee.pos.x + t * (to[0] - ee.pos.x), ee.pos.y + t * (to[1] - ee.pos.y)];
+            top = top.max(surface_height(sim, p, 0.09, Some(self.object)));
+        }
+        top + self.carry_depth + 0.06
+    }
+
+    fn target_xy(&self) -> [f64; 2] {
+        match self.placement {
+            Placement::On { xy } | Placement::Into { xy } => xy,
+        }
+    }
+
+    pub fn step(&mut self, sim: &Sim) -> Step {
+        self.stage_steps += 1;
+        if self.stage_steps > STAGE_LIMIT {
+            return Step::Failed("a stage took too long");
+        }
+        let ee = sim.model().robot.grip_site_pose(sim.world());
+        let object = sim.entity_pose(self.object);
+        match self.stage {
+            Stage::Rise => {
+                if self.grasp.is_none() {
+                    self.grasp = Some(self.plan_grasp(sim));
+                }
+                let g = self.grasp.expect("planned");
+                let clear = surface_height(sim, [ee.pos.x, ee.pos.y], 0.08, None).max(g.pos.z) + 0.10;
+                if ee.pos.z >= clear - 0.02 {
+                    self.next(Stage::Above);
+                    return self.step(sim);
+                }
+                let wp = Waypoint { pos: Vec3::new(ee.pos.x, ee.pos.y, clear), yaw: g.yaw };
+                Step::Act(Servo::TRAVEL.act(sim, &wp, OPEN))
+            }
+            Stage::Above => {
+                let g = self.grasp.expect("planned");
+                let wp = Waypoint { pos: g.pos + Vec3::new(0.0, 0.0, 0.08), yaw: g.yaw };
+                let (d, r) = motion::error(sim, &wp);
+                let servo = if d < 0.03 { Servo::FINE } else { Servo::TRAVEL };
+                if d < 0.003 && r < 0.03 {
+                    self.next(Stage::Descend);
+                }
+                Step::Act(servo.act(sim, &wp, OPEN))
+            }
+            Stage::Descend => {
+                let g = self.grasp.expect("planned");
+                // Go down no faster than the horizontal error allows, so the fingers arrive
+                // centred on the object.
+                let horizontal = ((ee.pos.x - g.pos.x).powi(2) + (ee.pos.y - g.pos.y).powi(2)).sqrt();
+                let z = if horizontal > 0.005 { ee.pos.z.max(g.pos.z) } else { g.pos.z };
+                let wp = Waypoint { pos: Vec3::new(g.pos.x, g.pos.y, z), yaw: g.yaw };
+                if (ee.pos - g.pos).norm() < 0.005 {
+                    self.next(Stage::Close);
+                }
+                Step::Act(Servo::FINE.act(sim, &wp, OPEN))
+            }
+            Stage::Close => {
+                let g = self.grasp.expect("planned");
+                if self.stage_steps >= 12 {
+                    self.lift_start_z = object.pos.z;
+                    self.next(Stage::Lift);
+                }
+                Step::Act(Servo::FINE.act(sim, &Waypoint { pos: g.pos, yaw: g.yaw }, CLOSE))
+            }
+            Stage::Lift => {
+                let g = self.grasp.expect("planned");
+                let fingers = sim.model().robot.joints(sim.world()).q;
+                if fingers[7] - fingers[8] < 0.002 {
+                    return self.retry("the fingers closed on nothing");
+                }
+                let up = Waypoint { pos: Vec3::new(g.pos.x, g.pos.y, g.pos.z + 0.12), yaw: g.yaw };
+                if self.stage_steps >= 8 && object.pos.z - self.lift_start_z < 0.01 {
+                    return self.retry("the object did not come up");
+                }
+                let (d, _) = motion::error(sim, &up);
+                if d < 0.02 && object.pos.z - self.lift_start_z > 0.05 {
+                    self.carry_offset = Some(ee.pos - object.pos);
+                    let (lo, _) = geometry::bounds(&geometry::corners(sim, self.object, 0));
+                    self.carry_depth = ee.pos.z - lo.z;
+                    self.next(Stage::Travel);
+                }
+                Step::Act(Servo::TRAVEL.act(sim, &up, CLOSE))
+            }
+            Stage::Travel => {
+                let offset = self.carry_offset.expect("measured");
+                let xy = self.target_xy();
+                let z = self.travel_height(sim, xy).max(ee.pos.z.min(self.travel_height(sim, [ee.pos.x, ee.pos.y])));
+                let over = Vec3::new(xy[0] + offset.x, xy[1] + offset.y, z);
+                let yaw = self.grasp.expect("planned").yaw;
+                // Climb first, then cross.
+                let climb = self.travel_height(sim, xy);
+                let wp = if ee.pos.z < climb - 0.03 {
+                    Waypoint { pos: Vec3::new(ee.pos.x, ee.pos.y, climb), yaw }
+                } else {
+                    Waypoint { pos: over, yaw }
+                };
+                if sim.entity_pose(self.object).pos.z < self.lift_start_z + 0.01 {
+                    return self.retry("the object slipped out");
+                }
+                let (d, _) = motion::error(sim, &Waypoint { pos: over, yaw });
+                let horizontal = ((ee.pos.x - over.x).powi(2) + (ee.pos.y - over.y).powi(2)).sqrt();
+                if horizontal < 0.01 && d < 0.03 {
+                    self.next(Stage::Lower);
+                }
+                Step::Act(Servo::TRAVEL.act(sim, &wp, CLOSE))
+            }
+            Stage::Lower => {
+                let offset = self.carry_offset.expect("measured");
+                let xy = self.target_xy();
+                let (lo, hi) = geometry::bounds(&geometry::corners(sim, self.object, 0));
+                let radius = 0.5 * (hi.x - lo.x).max(hi.y - lo.y);
+                let surface = surface_height(sim, xy, radius.max(0.02), Some(self.object));
+                let clearance = match self.placement {
+                    Placement::On { .. } => 0.012,
+                    Placement::Into { .. } => 0.02,
+                };
+                let z = surface + self.carry_depth + clearance;
+                let wp = Waypoint { pos: Vec3::new(xy[0] + offset.x, xy[1] + offset.y, z), yaw: self.grasp.expect("planned").yaw };
+                let (d, _) = motion::error(sim, &wp);
+                if d < 0.008 || (self.stage_steps > 30 && ee.pos.z < z + 0.01) {
+                    self.next(Stage::Release);
+                }
+                Step::Act(Servo::FINE.act(sim, &wp, CLOSE))
+            }
+            Stage::Release => {
+                if self.stage_steps >= 10 {
+                    self.next(Stage::Retreat);
+                }
+                let wp = Waypoint { pos: ee.pos, yaw: self.grasp.expect("planned").yaw };
+                Step::Act(Servo::FINE.act(sim, &wp, OPEN))
+            }
+            Stage::Retreat => {
+                let yaw = self.grasp.expect("planned").yaw;
+                let up = Waypoint { pos: Vec3::new(ee.pos.x, ee.pos.y, ee.pos.z.max(object.pos.z + self.carry_depth) + 0.06), yaw };
+                if self.stage_steps >= 6 {
+                    return Step::Done;
+                }
+                Step::Act(Servo::TRAVEL.act(sim, &up, OPEN))
+            }
+        }
+    }
+
+    fn retry(&mut self, why: &'static str) -> Step {
+        self.attempts += 1;
+        if self.attempts >= 3 {
+            return Step::Failed(why);
+        }
+        self.grasp = None;
+        self.carry_offset = None;
+        self.next(Stage::Rise);
+        Step::Act(Action::hold(OPEN))
+    }
+}

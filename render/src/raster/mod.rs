@@ -1,0 +1,595 @@
+//! The z-buffer renderer.
+//!
+//! One frame runs in four steps, single-threaded, with buffers reused between frames:
+//! 1. **Geometry.** Instances outside the view frustum (bounding sphere test) are skipped; the
+//!    rest are sorted front to back. Each instance's vertices are transformed into camera
+//!    space once, with outcodes for trivial rejection and clipping. Triangles are back-face
+//!    culled in exact fixed point, near-plane (and guard-band) clipped when needed, and only the
+//!    vertices of surviving triangles are lit (per vertex, [`lighting`]).
+//! 2. **Visibility.** Opaque triangles are rasterized depth-only into a visibility buffer: per
+//!    pixel, `1/z` and the index of the nearest triangle ([`triangle`] does exact coverage at
+//!    pixel centres).
+//! 3. **Resolve.** Each pixel is shaded once from its triangle's screen-space attribute planes
+//!    (perspective-correct colour and UV), textured, and written with depth and segment id;
+//!    uncovered pixels get the background.
+//! 4. **Transparency.** Instances with alpha < 1 are blended back to front over the result.
+
+mod clip;
+mod lighting;
+mod shadow;
+mod triangle;
+
+use glam::{Mat3, Vec2, Vec3};
+use thiserror::Error;
+
+use self::clip::{ClipSpace, ClipVert, Polygon, MUST_CLIP, REJECT};
+use self::lighting::{LightRig, Lit, Surface};
+use self::shadow::ShadowMap;
+use self::triangle::{orientation, snap, Plane, Setup};
+use crate::camera::{Camera, Intrinsics};
+use crate::frame::Frame;
+use crate::scene::{Background, Instance, Scene};
+use crate::texture::Texture;
+use crate::transform::{cross, dot, mul_mat3, mul_mat3_mat3};
+
+/// Largest accepted image side (pixels), after supersampling.
+pub const MAX_IMAGE_SIDE: u32 = 16384;
+
+/// Renderer settings. The defaults match what LIBERO renders: no shadows (its scene lights
+/// have `castshadow="false"`), no supersampling.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderOptions {
+    /// Shadow mapping for the first light with `cast_shadow` (one light at most).
+    pub shadows: bool,
+    /// Side of the square shadow map in texels.
+    pub shadow_map_size: u32,
+    /// Render `k × k` samples per pixel and average the colours (1 = off, at most 8). Depth and
+    /// segmentation come from the sample at offset `(k/2, k/2)` of each block, which is the
+    /// pixel centre for odd `k`.
+    pub supersample: u32,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions { shadows: false, shadow_map_size: 1024, supersample: 1 }
+    }
+}
+
+/// Counts from the last frame, for benchmarks and tests.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RenderStats {
+    /// Instances inside the view frustum.
+    pub instances_drawn: usize,
+    /// Instances skipped by frustum culling (or for non-finite transforms).
+    pub instances_culled: usize,
+    /// Triangles of the drawn instances.
+    pub triangles_in_view: usize,
+    /// Screen triangles that passed culling and covered at least one pixel centre.
+    pub triangles_rasterized: usize,
+}
+
+/// Why a frame could not be rendered.
+#[derive(Debug, Error, PartialEq)]
+pub enum RenderError {
+    #[error("invalid camera: {0}")]
+    InvalidCamera(String),
+}
+
+/// A vertex of the current instance in camera space.
+#[derive(Clone, Copy, Default)]
+struct Vert {
+    cam: Vec3,
+    /// Snapped screen position and `1/z`; valid only if `code & MUST_CLIP == 0`.
+    xy: (i64, i64),
+    iz: f32,
+    code: u16,
+}
+
+/// A vertex on screen, ready for triangle setup.
+#[derive(Clone, Copy)]
+struct ScreenVert {
+    xy: (i64, i64),
+    iz: f32,
+    lit: Lit,
+    uv: Vec2,
+}
+
+/// Everything the resolve and blend passes need to shade a pixel of one triangle.
+#[derive(Clone, Copy)]
+struct TriRecord {
+    /// `1/z`, and colour and UV premultiplied by `1/z` (perspective-correct interpolation).
+    iz: Plane,
+    rgb: [Plane; 3],
+    uv: [Plane; 2],
+    instance: u32,
+    segment: u32,
+    /// Mip level, or `u32::MAX` when untextured.
+    mip: u32,
+}
+
+const NO_TRIANGLE: u32 = u32::MAX;
+
+/// Per-frame view constants.
+struct View {
+    k: Intrinsics,
+    clip: ClipSpace,
+    /// World → camera rotation (rows are the camera's right, down and forward axes).
+    rot: Mat3,
+    position: Vec3,
+    width: u32,
+    height: u32,
+    far: f32,
+}
+
+impl View {
+    fn new(c: &Camera) -> View {
+        let k = c.intrinsics();
+        let r = &c.rotation;
+        View {
+            k,
+            clip: ClipSpace::new(&k, c.width, c.height, c.near),
+            rot: Mat3::from_cols(r.x_axis, -r.y_axis, -r.z_axis).transpose(),
+            position: c.position,
+            width: c.width,
+            height: c.height,
+            far: c.far,
+        }
+    }
+
+    /// Screen position (snapped) and `1/z` of a camera-space point in front of the near plane;
+    /// the same arithmetic as [`Camera::project`].
+    #[inline]
+    fn project(&self, c: Vec3) -> ((i64, i64), f32) {
+        let u = self.k.fx * (c.x / c.z) + self.k.cx;
+        let v = self.k.fy * (c.y / c.z) + self.k.cy;
+        ((snap(u), snap(v)), 1.0 / c.z)
+    }
+}
+
+/// A software rasterizer with its reusable buffers. One renderer per thread; scenes are shared.
+#[derive(Default)]
+pub struct Renderer {
+    options: RenderOptions,
+    stats: RenderStats,
+    rig: LightRig,
+    shadow: ShadowMap,
+    shadows_active: bool,
+    /// Visibility buffer: `1/z` (0 = empty) and triangle index per pixel.
+    depth: Vec<f32>,
+    tri_id: Vec<u32>,
+    records: Vec<TriRecord>,
+    /// Per-record colour of the shadow-casting light (only while shadows are active).
+    shadow_rgb: Vec<[Plane; 3]>,
+    verts: Vec<Vert>,
+    /// Lit colours, two slots (front, back) per vertex, and whether each is computed.
+    lit: Vec<Lit>,
+    lit_done: Vec<bool>,
+    poly: Polygon,
+    order: Vec<(f32, u32)>,
+    blended: Vec<(f32, u32)>,
+    supersampled: Frame,
+}
+
+impl Renderer {
+    pub fn new(options: RenderOptions) -> Renderer {
+        Renderer { options, ..Renderer::default() }
+    }
+
+    pub fn options(&self) -> &RenderOptions {
+        &self.options
+    }
+
+    pub fn set_options(&mut self, options: RenderOptions) {
+        self.options = options;
+    }
+
+    /// Counts from the last rendered frame.
+    pub fn stats(&self) -> RenderStats {
+        self.stats
+    }
+
+    /// Renders `scene` as seen by `camera` into a new frame.
+    pub fn render(&mut self, scene: &Scene, camera: &Camera) -> Result<Frame, RenderError> {
+        let mut frame = Frame::default();
+        self.render_into(scene, camera, &mut frame)?;
+        Ok(frame)
+    }
+
+    /// Renders into `frame`, reusing its memory (it is resized to the camera's image size).
+    pub fn render_into(&mut self, scene: &Scene, camera: &Camera, frame: &mut Frame) -> Result<(), RenderError> {
+        let k = self.options.supersample.clamp(1, 8);
+        validate(camera, k)?;
+        frame.resize(camera.width, camera.height);
+        if k == 1 {
+            self.render_view(scene, camera, frame);
+        } else {
+            let mut hi = std::mem::take(&mut self.supersampled);
+            let hi_cam = camera.scaled(k);
+            hi.resize(hi_cam.width, hi_cam.height);
+            self.render_view(scene, &hi_cam, &mut hi);
+            downsample(&hi, k, frame);
+            self.supersampled = hi;
+        }
+        Ok(())
+    }
+
+    fn render_view(&mut self, scene: &Scene, camera: &Camera, out: &mut Frame) {
+        let view = View::new(camera);
+        let n = camera.width as usize * camera.height as usize;
+        self.stats = RenderStats::default();
+        self.shadows_active = self.options.shadows && self.shadow.build(scene, camera, self.options.shadow_map_size);
+        self.rig.prepare(scene, camera, self.shadows_active);
+        self.depth.clear();
+        self.depth.resize(n, 0.0);
+        self.tri_id.clear();
+        self.tri_id.resize(n, NO_TRIANGLE);
+        self.records.clear();
+        self.shadow_rgb.clear();
+
+        self.sort_instances(scene, &view);
+        let order = std::mem::take(&mut self.order);
+        for &(_, idx) in &order {
+            self.draw_opaque(scene, idx, &view);
+        }
+        self.order = order;
+        self.resolve(scene, &view, out);
+        let blended = std::mem::take(&mut self.blended);
+        for &(_, idx) in &blended {
+            self.draw_blended(scene, idx, &view, out);
+        }
+        self.blended = blended;
+    }
+
+    /// Frustum-culls instances and orders them: opaque front to back, transparent back to front.
+    fn sort_instances(&mut self, scene: &Scene, view: &View) {
+        self.order.clear();
+        self.blended.clear();
+        for (idx, inst) in scene.instances.iter().enumerate() {
+            let t = &inst.transform;
+            let b = inst.mesh.bounds();
+            let centre = mul_mat3(&view.rot, t.transform_point(b.center) - view.position);
+            let radius = b.radius * t.max_scale();
+            let finite = t.linear.is_finite() && t.translation.is_finite();
+            if !(finite && view.clip.sphere_visible(centre, radius, view.far)) {
+                self.stats.instances_culled += 1;
+                continue;
+            }
+            self.stats.instances_drawn += 1;
+            self.stats.triangles_in_view += inst.mesh.triangle_count();
+            if inst.material.is_transparent() {
+                self.blended.push((centre.z, idx as u32));
+            } else {
+                self.order.push((centre.z, idx as u32));
+            }
+        }
+        let by_key = |a: &(f32, u32), b: &(f32, u32)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
+        self.order.sort_unstable_by(by_key);
+        self.blended.sort_unstable_by(|a, b| by_key(b, a));
+    }
+
+    fn draw_opaque(&mut self, scene: &Scene, idx: u32, view: &View) {
+        let inst = &scene.instances[idx as usize];
+        let shadows = self.shadows_active;
+        let (depth, tri_id, records, shadow_rgb) = (&mut self.depth, &mut self.tri_id, &mut self.records, &mut self.shadow_rgb);
+        let mut rasterized = 0;
+        let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, lit_done: &mut self.lit_done, poly: &mut self.poly, rig: &self.rig };
+        front.assemble(inst, view, |sv| {
+            let Some((setup, rec, sh)) = build_record(sv, inst, idx, view, shadows) else { return };
+            let id = records.len() as u32;
+            records.push(rec);
+            if let Some(sh) = sh {
+                shadow_rgb.push(sh);
+            }
+            rasterized += 1;
+            setup.for_each_pixel(&rec.iz, view.width, |p, _, _, iz| {
+                if iz > depth[p] {
+                    depth[p] = iz;
+                    tri_id[p] = id;
+                }
+            });
+        });
+        self.stats.triangles_rasterized += rasterized;
+    }
+
+    fn draw_blended(&mut self, scene: &Scene, idx: u32, view: &View, out: &mut Frame) {
+        let inst = &scene.instances[idx as usize];
+        let shadows = self.shadows_active.then_some(&self.shadow);
+        let depth = &self.depth;
+        let mut rasterized = 0;
+        let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, lit_done: &mut self.lit_done, poly: &mut self.poly, rig: &self.rig };
+        front.assemble(inst, view, |sv| {
+            let Some((setup, rec, sh)) = build_record(sv, inst, idx, view, shadows.is_some()) else { return };
+            rasterized += 1;
+            setup.for_each_pixel(&rec.iz, view.width, |p, i, j, iz| {
+                if iz > depth[p] {
+                    let src = shade(&rec, sh.as_ref(), shadows, scene, view, i, j, 1.0 / iz);
+                    let dst = &mut out.color.data[p * 3..p * 3 + 3];
+                    let a = src[3];
+                    for c in 0..3 {
+                        let d = dst[c] as f32 * (1.0 / 255.0);
+                        dst[c] = to_u8(src[c] * a + d * (1.0 - a));
+                    }
+                    out.segmentation[p] = rec.segment;
+                }
+            });
+        });
+        self.stats.triangles_rasterized += rasterized;
+    }
+
+    /// Shades every pixel once from the visibility buffer.
+    fn resolve(&self, scene: &Scene, view: &View, out: &mut Frame) {
+        let shadows = self.shadows_active.then_some(&self.shadow);
+        let sky = Sky::new(scene.background, view);
+        let w = view.width as usize;
+        for (p, (&id, &iz)) in self.tri_id.iter().zip(&self.depth).enumerate() {
+            let (i, j) = ((p % w) as u32, (p / w) as u32);
+            let rgb = if id == NO_TRIANGLE {
+                out.depth[p] = f32::INFINITY;
+                out.segmentation[p] = 0;
+                sky.color(i, j)
+            } else {
+                let rec = &self.records[id as usize];
+                let z = 1.0 / iz;
+                out.depth[p] = z;
+                out.segmentation[p] = rec.segment;
+                let sh = shadows.map(|_| self.shadow_rgb[id as usize]);
+                let c = shade(rec, sh.as_ref(), shadows, scene, view, i, j, z);
+                [c[0], c[1], c[2]]
+            };
+            out.color.data[p * 3] = to_u8(rgb[0]);
+            out.color.data[p * 3 + 1] = to_u8(rgb[1]);
+            out.color.data[p * 3 + 2] = to_u8(rgb[2]);
+        }
+    }
+}
+
+/// Borrowed per-instance state for geometry processing.
+struct Frontend<'a> {
+    verts: &'a mut Vec<Vert>,
+    lit: &'a mut Vec<Lit>,
+    lit_done: &'a mut Vec<bool>,
+    poly: &'a mut Polygon,
+    rig: &'a LightRig,
+}
+
+impl Frontend<'_> {
+    /// Transforms, culls, clips and lights one instance, calling `emit` with each screen
+    /// triangle (any orientation; setup normalises it).
+    fn assemble(&mut self, inst: &Instance, view: &View, mut emit: impl FnMut([ScreenVert; 3])) {
+        let mesh = &*inst.mesh;
+        let t = &inst.transform;
+        let linear = mul_mat3_mat3(&view.rot, &t.linear);
+        let trans = mul_mat3(&view.rot, t.translation - view.position);
+        let normal_m = mul_mat3_mat3(&view.rot, &t.normal_matrix());
+        let surface = Surface::new(&inst.material);
+        let double_sided = inst.material.double_sided;
+        let uvs = inst.material.texture.as_ref().and(mesh.uvs());
+        let (uv_scale, uv_offset) = (inst.material.uv_scale, inst.material.uv_offset);
+        let uv_of = |i: usize| uvs.map_or(Vec2::ZERO, |u| u[i] * uv_scale + uv_offset);
+
+        self.verts.clear();
+        self.verts.extend(mesh.positions().iter().map(|&p| {
+            let cam = mul_mat3(&linear, p) + trans;
+            let code = view.clip.outcode(cam);
+            let (xy, iz) = if code & MUST_CLIP == 0 { view.project(cam) } else { ((0, 0), 0.0) };
+            Vert { cam, xy, iz, code }
+        }));
+        let n = self.verts.len();
+        self.lit.clear();
+        self.lit.resize(2 * n, Lit::default());
+        self.lit_done.clear();
+        self.lit_done.resize(2 * n, false);
+
+        let normals = mesh.normals();
+        let lit_vertex = |lit: &mut Vec<Lit>, done: &mut Vec<bool>, v: &Vert, i: usize, back: bool| -> Lit {
+            let slot = 2 * i + back as usize;
+            if !done[slot] {
+                let nrm = mul_mat3(&normal_m, normals[i]);
+                lit[slot] = self.rig.shade(&surface, v.cam, if back { -nrm } else { nrm });
+                done[slot] = true;
+            }
+            lit[slot]
+        };
+
+        for tri in mesh.triangles() {
+            let [a, b, c] = tri.map(|i| i as usize);
+            let (va, vb, vc) = (self.verts[a], self.verts[b], self.verts[c]);
+            if va.code & vb.code & vc.code & REJECT != 0 {
+                continue;
+            }
+            let clip_bits = (va.code | vb.code | vc.code) & MUST_CLIP;
+            if clip_bits == 0 {
+                let o = orientation([va.xy, vb.xy, vc.xy]);
+                // Counter-clockwise front faces have negative orientation on screen (y down).
+                let back = o > 0;
+                if o == 0 || (back && !double_sided) {
+                    continue;
+                }
+                let sv = |v: &Vert, i: usize, lit: Lit| ScreenVert { xy: v.xy, iz: v.iz, lit, uv: uv_of(i) };
+                let la = lit_vertex(self.lit, self.lit_done, &va, a, back);
+                let lb = lit_vertex(self.lit, self.lit_done, &vb, b, back);
+                let lc = lit_vertex(self.lit, self.lit_done, &vc, c, back);
+                emit([sv(&va, a, la), sv(&vb, b, lb), sv(&vc, c, lc)]);
+            } else {
+                // Facing from camera space: the eye is at the origin.
+                let facing = dot(cross(vb.cam - va.cam, vc.cam - va.cam), va.cam);
+                let back = facing > 0.0;
+                if !(facing != 0.0) || (back && !double_sided) {
+                    continue;
+                }
+                let cv = |v: &Vert, i: usize, lit: Lit| ClipVert { p: v.cam, lit, uv: uv_of(i) };
+                let la = lit_vertex(self.lit, self.lit_done, &va, a, back);
+                let lb = lit_vertex(self.lit, self.lit_done, &vb, b, back);
+                let lc = lit_vertex(self.lit, self.lit_done, &vc, c, back);
+                let count = view.clip.clip([cv(&va, a, la), cv(&vb, b, lb), cv(&vc, c, lc)], clip_bits, self.poly);
+                let on_screen = |v: &ClipVert| {
+                    let (xy, iz) = view.project(v.p);
+                    ScreenVert { xy, iz, lit: v.lit, uv: v.uv }
+                };
+                for k in 1..count.saturating_sub(1) {
+                    let p = &self.poly.verts;
+                    emit([on_screen(&p[0]), on_screen(&p[k]), on_screen(&p[k + 1])]);
+                }
+            }
+        }
+    }
+}
+
+/// Orients a screen triangle, sets it up and builds its shading record; `None` if it covers
+/// no pixel centre. Also returns the shadow-light colour planes when shadows are on.
+fn build_record(
+    mut sv: [ScreenVert; 3],
+    inst: &Instance,
+    idx: u32,
+    view: &View,
+    shadows: bool,
+) -> Option<(Setup, TriRecord, Option<[Plane; 3]>)> {
+    if orientation([sv[0].xy, sv[1].xy, sv[2].xy]) < 0 {
+        sv.swap(1, 2);
+    }
+    let setup = Setup::new([sv[0].xy, sv[1].xy, sv[2].xy], view.width, view.height)?;
+    let iz = [sv[0].iz, sv[1].iz, sv[2].iz];
+    let per_z = |f: &dyn Fn(&ScreenVert) -> f32| setup.plane([f(&sv[0]) * iz[0], f(&sv[1]) * iz[1], f(&sv[2]) * iz[2]]);
+    let texture = inst.material.texture.as_deref().filter(|_| inst.mesh.uvs().is_some());
+    let mip = texture.map_or(u32::MAX, |t| mip_level(t, &sv, setup.area2));
+    let rec = TriRecord {
+        iz: setup.plane(iz),
+        rgb: [per_z(&|v| v.lit.base[0]), per_z(&|v| v.lit.base[1]), per_z(&|v| v.lit.base[2])],
+        uv: if texture.is_some() { [per_z(&|v| v.uv.x), per_z(&|v| v.uv.y)] } else { [Plane::default(); 2] },
+        instance: idx,
+        segment: inst.segment,
+        mip,
+    };
+    let sh = shadows.then(|| [per_z(&|v| v.lit.shadowed[0]), per_z(&|v| v.lit.shadowed[1]), per_z(&|v| v.lit.shadowed[2])]);
+    Some((setup, rec, sh))
+}
+
+/// The mip level whose texels best match this triangle's pixels (one level per triangle).
+fn mip_level(t: &Texture, sv: &[ScreenVert; 3], screen_area2: f32) -> u32 {
+    let (d1, d2) = (sv[1].uv - sv[0].uv, sv[2].uv - sv[0].uv);
+    let uv_area2 = (d1.x * d2.y - d1.y * d2.x).abs() * t.width() as f32 * t.height() as f32;
+    t.level_for_density(uv_area2 / screen_area2) as u32
+}
+
+/// Colour (RGBA, `[0, 1]`) of pixel `(i, j)` of a triangle at view depth `z`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn shade(
+    rec: &TriRecord,
+    shadow_rgb: Option<&[Plane; 3]>,
+    shadow: Option<&ShadowMap>,
+    scene: &Scene,
+    view: &View,
+    i: u32,
+    j: u32,
+    z: f32,
+) -> [f32; 4] {
+    let (fi, fj) = (i as f32, j as f32);
+    let mut rgb = [rec.rgb[0].eval(fi, fj) * z, rec.rgb[1].eval(fi, fj) * z, rec.rgb[2].eval(fi, fj) * z];
+    if let (Some(sh), Some(map)) = (shadow_rgb, shadow) {
+        let p = Vec3::new((fi - view.k.cx) / view.k.fx * z, (fj - view.k.cy) / view.k.fy * z, z);
+        let vis = map.visibility(p);
+        for c in 0..3 {
+            rgb[c] += sh[c].eval(fi, fj) * z * vis;
+        }
+    }
+    let material = &scene.instances[rec.instance as usize].material;
+    let mut out = [rgb[0].clamp(0.0, 1.0), rgb[1].clamp(0.0, 1.0), rgb[2].clamp(0.0, 1.0), material.rgba[3].clamp(0.0, 1.0)];
+    if rec.mip != u32::MAX {
+        if let Some(tex) = &material.texture {
+            let t = tex.sample_level(rec.uv[0].eval(fi, fj) * z, rec.uv[1].eval(fi, fj) * z, rec.mip as usize);
+            for c in 0..4 {
+                out[c] *= t[c];
+            }
+        }
+    }
+    out
+}
+
+/// `[0, 1]` → `0..=255`, rounding to nearest (NaN → 0).
+#[inline]
+fn to_u8(x: f32) -> u8 {
+    (x.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+}
+
+/// Background colour per pixel.
+struct Sky {
+    solid: Option<[f32; 3]>,
+    up: [f32; 3],
+    down: [f32; 3],
+    /// World z of the camera's right, down and forward axes (for the gradient).
+    zr: f32,
+    zd: f32,
+    zf: f32,
+    k: Intrinsics,
+}
+
+impl Sky {
+    fn new(bg: Background, view: &View) -> Sky {
+        let z = view.rot.transpose().z_axis; // Row 2 of camera → world.
+        let (solid, up, down) = match bg {
+            Background::Solid(c) => (Some(c), c, c),
+            Background::Gradient { up, down } => (None, up, down),
+        };
+        Sky { solid, up, down, zr: z.x, zd: z.y, zf: z.z, k: view.k }
+    }
+
+    #[inline]
+    fn color(&self, i: u32, j: u32) -> [f32; 3] {
+        if let Some(c) = self.solid {
+            return c;
+        }
+        let (x, y) = ((i as f32 - self.k.cx) / self.k.fx, (j as f32 - self.k.cy) / self.k.fy);
+        let dz = (self.zr * x + self.zd * y + self.zf) / (x * x + y * y + 1.0).sqrt();
+        let t = 0.5 + 0.5 * dz;
+        std::array::from_fn(|c| self.down[c] + (self.up[c] - self.down[c]) * t)
+    }
+}
+
+fn validate(c: &Camera, supersample: u32) -> Result<(), RenderError> {
+    let bad = |m: String| Err(RenderError::InvalidCamera(m));
+    if c.width == 0 || c.height == 0 || c.width.saturating_mul(supersample) > MAX_IMAGE_SIDE || c.height.saturating_mul(supersample) > MAX_IMAGE_SIDE {
+        return bad(format!(
+            "image size {}×{} (×{supersample} supersampling) must be between 1 and {MAX_IMAGE_SIDE} per side",
+            c.width, c.height
+        ));
+    }
+    if !(c.fovy_deg > 0.0 && c.fovy_deg < 180.0) {
+        return bad(format!("fovy {}° must be strictly between 0 and 180", c.fovy_deg));
+    }
+    if !(c.position.is_finite() && c.rotation.is_finite()) {
+        return bad("pose is not finite".into());
+    }
+    if !(c.near > 0.0 && c.near.is_finite() && c.far > c.near) {
+        return bad(format!("clip range near {} / far {} must satisfy 0 < near < far", c.near, c.far));
+    }
+    Ok(())
+}
+
+/// Box-filters colour; depth and segmentation from the sample at `(k/2, k/2)` of each block.
+fn downsample(hi: &Frame, k: u32, out: &mut Frame) {
+    let (w, h) = (out.width() as usize, out.height() as usize);
+    let (k, hw) = (k as usize, hi.width() as usize);
+    let n = (k * k) as u32;
+    for y in 0..h {
+        for x in 0..w {
+            let mut sum = [0u32; 3];
+            for sy in 0..k {
+                let row = (y * k + sy) * hw;
+                for sx in 0..k {
+                    let q = (row + x * k + sx) * 3;
+                    for c in 0..3 {
+                        sum[c] += hi.color.data[q + c] as u32;
+                    }
+                }
+            }
+            let p = y * w + x;
+            for c in 0..3 {
+                out.color.data[p * 3 + c] = ((sum[c] + n / 2) / n) as u8;
+            }
+            let centre = (y * k + k / 2) * hw + x * k + k / 2;
+            out.depth[p] = hi.depth[centre];
+            out.segmentation[p] = hi.segmentation[centre];
+        }
+    }
+}

@@ -8,13 +8,22 @@
 //! - [`Camera`]: MuJoCo pose convention, the paper's pixel convention, `project` / `unproject`.
 //! - [`Renderer`]: a deterministic, single-threaded z-buffer rasterizer with MuJoCo-like
 //!   fixed-function lighting, giving colour, depth and segmentation ([`Frame`]).
+//! - [`imageio`]: PNG in/out, animated GIFs, side-by-side images; [`metrics`]: PSNR and SSIM.
+//! - [`assets`]: optional loaders for `.msh`, OBJ, STL and PNG files of a LIBERO checkout.
 //!
 //! This crate depends on no other crate of the workspace and builds for
 //! `wasm32-unknown-unknown`.
 
+// `!(x > 0.0)` is used on purpose throughout: it is also true for NaN, which must be rejected.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+pub mod assets;
 mod camera;
 mod frame;
+pub mod imageio;
 mod mesh;
+pub mod metrics;
+mod num;
 mod raster;
 mod scene;
 mod shapes;

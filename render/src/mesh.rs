@@ -100,6 +100,39 @@ impl Mesh {
         Mesh::new(positions, normals, uvs, triangles)
     }
 
+    /// Builds a mesh shaded the way MuJoCo draws loaded meshes: vertex normals from the file
+    /// (or area-weighted smooth normals when it has none), except that for meshes without UVs a
+    /// corner whose vertex normal is more than ~37° (cosine 0.8) off its face normal uses the
+    /// face normal instead, which keeps hard edges hard. Such meshes come out with unshared
+    /// vertices (three per triangle).
+    pub fn with_mujoco_normals(
+        positions: Vec<Vec3>,
+        normals: Option<Vec<Vec3>>,
+        uvs: Option<Vec<Vec2>>,
+        triangles: Vec<[u32; 3]>,
+    ) -> Result<Mesh, MeshError> {
+        let smooth = match normals {
+            Some(n) => Mesh::new(positions, n, uvs, triangles)?,
+            None => Mesh::with_smooth_normals(positions, uvs, triangles)?,
+        };
+        if smooth.uvs.is_some() {
+            return Ok(smooth);
+        }
+        let mut positions = Vec::with_capacity(smooth.triangles.len() * 3);
+        let mut normals = Vec::with_capacity(smooth.triangles.len() * 3);
+        for tri in &smooth.triangles {
+            let [a, b, c] = tri.map(|i| smooth.positions[i as usize]);
+            let face = normalize(cross(b - a, c - a));
+            for &i in tri {
+                let n = normalize(smooth.normals[i as usize]);
+                positions.push(smooth.positions[i as usize]);
+                normals.push(if dot(n, face) < 0.8 { face } else { n });
+            }
+        }
+        let triangles = (0..smooth.triangles.len() as u32).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect();
+        Mesh::new(positions, normals, None, triangles)
+    }
+
     /// Vertex positions in the local frame.
     pub fn positions(&self) -> &[Vec3] {
         &self.positions
@@ -224,6 +257,17 @@ mod tests {
         for &p in m.positions() {
             assert!((p - b.center).length() <= b.radius + 1e-6);
         }
+    }
+
+    #[test]
+    fn mujoco_normals_keep_hard_edges() {
+        // Two triangles folded 90° along the x axis, sharing their edge vertices.
+        let p = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
+        let m = Mesh::with_mujoco_normals(p, None, None, vec![[0, 1, 2], [0, 3, 1]]).unwrap();
+        assert_eq!(m.vertex_count(), 6);
+        // Smooth normals at the shared edge are 45° off each face: the face normals win.
+        assert!(m.normals()[..3].iter().all(|&n| (n - Vec3::Z).length() < 1e-6));
+        assert!(m.normals()[3..].iter().all(|&n| (n - Vec3::Y).length() < 1e-6));
     }
 
     #[test]

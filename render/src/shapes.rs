@@ -154,30 +154,39 @@ impl Mesh {
                 (libm::cosf(a), libm::sinf(a))
             })
             .collect();
-        // Each segment of the profile becomes one band of quads between two rings.
-        for pair in rings.windows(2) {
-            let (lo, hi) = (&pair[0], &pair[1]);
-            let ring = |b: &mut Builder, at: &ProfileRing, normal: Vec2| -> u32 {
-                let base = b.positions.len() as u32;
-                for (k, &(c, s)) in angles.iter().enumerate() {
-                    let p = Vec3::new(at.point.x * c, at.point.x * s, at.point.y);
-                    let n = Vec3::new(normal.x * c, normal.x * s, normal.y);
-                    let uv = Vec2::new(k as f32 / segments as f32, 1.0 - at.arc / total);
-                    b.vertex(p, n, uv);
-                }
-                base
+        let ring = |b: &mut Builder, at: &ProfileRing, normal: Vec2| -> u32 {
+            let base = b.positions.len() as u32;
+            for (k, &(c, s)) in angles.iter().enumerate() {
+                let p = Vec3::new(at.point.x * c, at.point.x * s, at.point.y);
+                let n = Vec3::new(normal.x * c, normal.x * s, normal.y);
+                let uv = Vec2::new(k as f32 / segments as f32, 1.0 - at.arc / total);
+                b.vertex(p, n, uv);
+            }
+            base
+        };
+        // One ring of vertices per profile point, two where the profile has a hard edge; each
+        // segment of the profile becomes a band of quads between consecutive rings.
+        let mut lower: Option<u32> = None;
+        for (i, at) in rings.iter().enumerate() {
+            let before = (i > 0).then(|| ring(&mut b, at, at.normal_before));
+            let after = match before {
+                _ if i + 1 == rings.len() => None,
+                Some(base) if at.normal_before == at.normal_after => Some(base),
+                _ => Some(ring(&mut b, at, at.normal_after)),
             };
-            let a = ring(&mut b, lo, lo.normal_after);
-            let c = ring(&mut b, hi, hi.normal_before);
-            for k in 0..segments {
-                let (a0, a1, c0, c1) = (a + k, a + k + 1, c + k, c + k + 1);
-                if lo.point.x > 0.0 {
-                    b.triangles.push([a0, a1, c1]);
-                }
-                if hi.point.x > 0.0 {
-                    b.triangles.push([a0, c1, c0]);
+            if let (Some(a), Some(c)) = (lower, before) {
+                let lo = &rings[i - 1];
+                for k in 0..segments {
+                    let (a0, a1, c0, c1) = (a + k, a + k + 1, c + k, c + k + 1);
+                    if lo.point.x > 0.0 {
+                        b.triangles.push([a0, a1, c1]);
+                    }
+                    if at.point.x > 0.0 {
+                        b.triangles.push([a0, c1, c0]);
+                    }
                 }
             }
+            lower = after;
         }
         b.finish()
     }

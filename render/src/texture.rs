@@ -6,6 +6,8 @@
 use glam::Vec2;
 use thiserror::Error;
 
+use crate::num::floor;
+
 /// How a texel is chosen between texel centres.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Filter {
@@ -100,13 +102,12 @@ impl Texture {
         const S: f32 = 1.0 / 255.0;
         match self.filter {
             Filter::Nearest => {
-                let t = fetch((x + 0.5).floor() as i64, (y + 0.5).floor() as i64);
+                let t = fetch(floor(x + 0.5), floor(y + 0.5));
                 t.map(|c| c as f32 * S)
             }
             Filter::Bilinear => {
-                let (fx, fy) = (x.floor(), y.floor());
-                let (ax, ay) = (x - fx, y - fy);
-                let (x0, y0) = (fx as i64, fy as i64);
+                let (x0, y0) = (floor(x), floor(y));
+                let (ax, ay) = (x - x0 as f32, y - y0 as f32);
                 let (t00, t10, t01, t11) = (fetch(x0, y0), fetch(x0 + 1, y0), fetch(x0, y0 + 1), fetch(x0 + 1, y0 + 1));
                 let mut out = [0.0; 4];
                 for (c, o) in out.iter_mut().enumerate() {
@@ -127,7 +128,7 @@ impl Texture {
         }
         // log4 of the area ratio = log2 of the linear ratio; round to the nearest level.
         let lod = 0.5 * libm::log2f(texels_per_pixel);
-        (lod + 0.5).floor().clamp(0.0, (self.levels.len() - 1) as f32) as usize
+        floor(lod + 0.5).clamp(0, self.levels.len() as i64 - 1) as usize
     }
 
     fn from_level(level: Level) -> Texture {

@@ -166,11 +166,11 @@ pub(crate) fn dot(a: Vec3, b: Vec3) -> f32 {
     a.x * b.x + a.y * b.y + a.z * b.z
 }
 
-/// `v / |v|`, or zero for a zero vector.
+/// `v / |v|`, or zero for a zero vector (one division, three multiplications).
 #[inline]
 pub(crate) fn normalize(v: Vec3) -> Vec3 {
     let n = dot(v, v).sqrt();
-    if n > 0.0 { v / n } else { Vec3::ZERO }
+    if n > 0.0 { v * (1.0 / n) } else { Vec3::ZERO }
 }
 
 #[cfg(test)]

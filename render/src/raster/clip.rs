@@ -125,16 +125,11 @@ impl ClipVert {
 }
 
 /// A convex polygon with room for a triangle clipped by all five clipping planes.
+#[derive(Default)]
 pub(crate) struct Polygon {
     pub verts: [ClipVert; 9],
     pub len: usize,
     scratch: [ClipVert; 9],
-}
-
-impl Default for Polygon {
-    fn default() -> Self {
-        Polygon { verts: [ClipVert::default(); 9], len: 0, scratch: [ClipVert::default(); 9] }
-    }
 }
 
 impl Polygon {

@@ -39,31 +39,54 @@ pub(crate) struct LightRig {
     /// The one light whose contribution is kept apart so the shadow test can remove it.
     shadowed: Option<CamLight>,
     global_ambient: f32,
+    /// `x^e` tables for the scene's non-integer Phong exponents, kept across frames.
+    pow_tables: Vec<(f32, Vec<f32>)>,
+}
+
+/// Samples per `x^e` table over `[0, 1]`; linear interpolation between them is accurate to
+/// about 0.002 even for `e = 128`, below one 8-bit colour step.
+const POW_SAMPLES: usize = 1024;
+/// At most this many distinct non-integer exponents get a table; others use `libm::powf`.
+const MAX_POW_TABLES: usize = 32;
+
+/// How a surface raises `n·h` to its Phong exponent.
+#[derive(Clone, Copy, Debug)]
+enum Power<'a> {
+    /// Integer exponent: repeated squaring.
+    Int(u32),
+    Table(&'a [f32]),
+    Libm(f32),
+}
+
+impl Power<'_> {
+    #[inline]
+    fn of(&self, x: f32) -> f32 {
+        match *self {
+            Power::Int(k) => powi(x, k),
+            Power::Table(t) => {
+                let f = x.clamp(0.0, 1.0) * POW_SAMPLES as f32;
+                let i = (f as usize).min(POW_SAMPLES - 1);
+                t[i] + (t[i + 1] - t[i]) * (f - i as f32)
+            }
+            Power::Libm(e) => libm::powf(x, e),
+        }
+    }
 }
 
 /// A material's lighting parameters, prepared once per instance.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Surface {
+pub(crate) struct Surface<'a> {
     rgb: Vec3,
     alpha: f32,
     specular: f32,
-    exponent: f32,
+    power: Power<'a>,
     emission: Vec3,
     unlit: bool,
 }
 
-impl Surface {
-    pub(crate) fn new(m: &Material) -> Surface {
-        let rgb = Vec3::new(m.rgba[0], m.rgba[1], m.rgba[2]);
-        Surface {
-            rgb,
-            alpha: m.rgba[3].clamp(0.0, 1.0),
-            specular: m.specular,
-            exponent: (m.shininess * 128.0).clamp(0.0, 128.0),
-            emission: rgb * m.emission,
-            unlit: m.unlit,
-        }
-    }
+/// MuJoCo's Phong exponent for a material (NaN → 0).
+fn phong_exponent(m: &Material) -> f32 {
+    (m.shininess * 128.0).clamp(0.0, 128.0)
 }
 
 /// A lit vertex colour: the part from unshadowed lights (RGBA, alpha = material alpha) and the
@@ -75,11 +98,30 @@ pub(crate) struct Lit {
 }
 
 impl LightRig {
+    /// Lighting parameters of material `m` for this rig.
+    pub(crate) fn surface(&self, m: &Material) -> Surface<'_> {
+        let rgb = Vec3::new(m.rgba[0], m.rgba[1], m.rgba[2]);
+        let e = phong_exponent(m);
+        let power = if e == e.floor() {
+            Power::Int(e as u32)
+        } else {
+            self.pow_tables.iter().find(|(te, _)| *te == e).map_or(Power::Libm(e), |(_, t)| Power::Table(t))
+        };
+        Surface { rgb, alpha: m.rgba[3].clamp(0.0, 1.0), specular: m.specular, power, emission: rgb * m.emission, unlit: m.unlit }
+    }
+
     /// Rebuilds the rig for `camera`; the first shadow-casting light is split off when
     /// `shadows` is on.
     pub(crate) fn prepare(&mut self, scene: &Scene, camera: &Camera, shadows: bool) {
         self.plain.clear();
         self.shadowed = None;
+        for inst in &scene.instances {
+            let e = phong_exponent(&inst.material);
+            if e != e.floor() && self.pow_tables.len() < MAX_POW_TABLES && !self.pow_tables.iter().any(|(te, _)| *te == e) {
+                let table = (0..=POW_SAMPLES).map(|i| libm::powf(i as f32 / POW_SAMPLES as f32, e)).collect();
+                self.pow_tables.push((e, table));
+            }
+        }
         let to_cam = |v: Vec3| camera.direction_to_camera(v);
         let h = &scene.headlight;
         if h.active {
@@ -118,7 +160,7 @@ impl LightRig {
     }
 
     /// Lights a vertex at camera-space `p` with (not necessarily unit) normal `n`.
-    pub(crate) fn shade(&self, s: &Surface, p: Vec3, n: Vec3) -> Lit {
+    pub(crate) fn shade(&self, s: &Surface<'_>, p: Vec3, n: Vec3) -> Lit {
         if s.unlit {
             return Lit { base: [s.rgb.x, s.rgb.y, s.rgb.z, s.alpha], shadowed: [0.0; 3] };
         }
@@ -136,13 +178,13 @@ impl LightRig {
 }
 
 /// One light's term of the OpenGL lighting equation.
-fn contribution(l: &CamLight, s: &Surface, p: Vec3, n: Vec3, view: Vec3) -> Vec3 {
+fn contribution(l: &CamLight, s: &Surface<'_>, p: Vec3, n: Vec3, view: Vec3) -> Vec3 {
     let (to_light, factor) = match l.source {
         Source::Directional { to_light } => (to_light, 1.0),
         Source::Spot { position, axis, cos_cutoff, exponent, attenuation } => {
             let d = position - p;
             let dist = dot(d, d).sqrt();
-            let to_light = if dist > 0.0 { d / dist } else { Vec3::ZERO };
+            let to_light = if dist > 0.0 { d * (1.0 / dist) } else { Vec3::ZERO };
             let spot = match cos_cutoff {
                 None => 1.0,
                 Some(cos_cut) => {
@@ -150,9 +192,13 @@ fn contribution(l: &CamLight, s: &Surface, p: Vec3, n: Vec3, view: Vec3) -> Vec3
                     if c < cos_cut { 0.0 } else { pow(c, exponent) }
                 }
             };
-            let [a0, a1, a2] = attenuation;
-            let att_den = a0 + a1 * dist + a2 * dist * dist;
-            let att = if att_den > 0.0 { 1.0 / att_den } else { 1.0 };
+            let att = match attenuation {
+                [1.0, 0.0, 0.0] => 1.0, // MuJoCo's default: skip the division.
+                [a0, a1, a2] => {
+                    let den = a0 + a1 * dist + a2 * dist * dist;
+                    if den > 0.0 { 1.0 / den } else { 1.0 }
+                }
+            };
             (to_light, att * spot)
         }
     };
@@ -166,7 +212,7 @@ fn contribution(l: &CamLight, s: &Surface, p: Vec3, n: Vec3, view: Vec3) -> Vec3
         if s.specular > 0.0 {
             let half = normalize(to_light + view);
             let ndh = dot(n, half).max(0.0);
-            c += l.specular * (s.specular * pow(ndh, s.exponent));
+            c += l.specular * (s.specular * s.power.of(ndh));
         }
     }
     c * factor
@@ -175,23 +221,21 @@ fn contribution(l: &CamLight, s: &Surface, p: Vec3, n: Vec3, view: Vec3) -> Vec3
 /// `x^e` for `x ≥ 0`, bit-identical on every platform: integer exponents by repeated
 /// squaring, others through `libm`. `0^0 = 1` as in OpenGL implementations.
 fn pow(x: f32, e: f32) -> f32 {
-    if e == 0.0 {
-        return 1.0;
-    }
-    if e == e.floor() && e <= 256.0 {
-        let mut k = e as u32;
-        let (mut base, mut acc) = (x, 1.0f32);
-        while k > 0 {
-            if k & 1 == 1 {
-                acc *= base;
-            }
-            base *= base;
-            k >>= 1;
+    if e == e.floor() && (0.0..=256.0).contains(&e) { powi(x, e as u32) } else { libm::powf(x, e) }
+}
+
+/// `x^k` by repeated squaring (a fixed sequence of multiplications).
+#[inline]
+fn powi(x: f32, mut k: u32) -> f32 {
+    let (mut base, mut acc) = (x, 1.0f32);
+    while k > 0 {
+        if k & 1 == 1 {
+            acc *= base;
         }
-        acc
-    } else {
-        libm::powf(x, e)
+        base *= base;
+        k >>= 1;
     }
+    acc
 }
 
 #[cfg(test)]
@@ -206,8 +250,8 @@ mod tests {
         r
     }
 
-    fn mat(specular: f32) -> Surface {
-        Surface::new(&Material { rgba: [0.5, 0.5, 0.5, 1.0], specular, ..Material::default() })
+    fn mat(specular: f32) -> Material {
+        Material { rgba: [0.5, 0.5, 0.5, 1.0], specular, ..Material::default() }
     }
 
     #[test]
@@ -223,11 +267,11 @@ mod tests {
         let scene = Scene::default();
         let r = rig(&scene);
         // A surface 2 m in front, facing the camera: n·L = 1, n·H = 1.
-        let lit = r.shade(&mat(0.5), Vec3::new(0.0, 0.0, 2.0), Vec3::new(0.0, 0.0, -1.0));
+        let lit = r.shade(&r.surface(&mat(0.5)), Vec3::new(0.0, 0.0, 2.0), Vec3::new(0.0, 0.0, -1.0));
         let expect = 0.1 * 0.5 + 0.4 * 0.5 + 0.5 * 0.5;
         assert!((lit.base[0] - expect).abs() < 1e-6, "{lit:?}");
         // Facing away: ambient only.
-        let back = r.shade(&mat(0.5), Vec3::new(0.0, 0.0, 2.0), Vec3::new(0.0, 0.0, 1.0));
+        let back = r.shade(&r.surface(&mat(0.5)), Vec3::new(0.0, 0.0, 2.0), Vec3::new(0.0, 0.0, 1.0));
         assert!((back.base[0] - 0.05).abs() < 1e-6);
     }
 
@@ -241,22 +285,36 @@ mod tests {
         let r = rig(&scene);
         let cam = Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y, 45.0, 64, 64);
         let up_normal = cam.world_to_camera(cam.position + Vec3::Z);
-        let on_axis = r.shade(&mat(0.0), cam.world_to_camera(Vec3::ZERO), up_normal);
+        let on_axis = r.shade(&r.surface(&mat(0.0)), cam.world_to_camera(Vec3::ZERO), up_normal);
         assert!((on_axis.base[0] - 0.7 * 0.5).abs() < 1e-6, "{on_axis:?}");
         // 30° off-axis: cos^10 fall-off and n·L = cos 30°.
         let off = Vec3::new(libm::tanf(30f32.to_radians()), 0.0, 0.0);
-        let lit = r.shade(&mat(0.0), cam.world_to_camera(off), up_normal);
+        let lit = r.shade(&r.surface(&mat(0.0)), cam.world_to_camera(off), up_normal);
         let c = 30f32.to_radians().cos();
         assert!((lit.base[0] - 0.7 * 0.5 * c * pow(c, 10.0)).abs() < 1e-5);
         // Beyond the 45° cutoff: dark (no global ambient because a light exists).
-        let far = r.shade(&mat(0.0), cam.world_to_camera(Vec3::new(2.0, 0.0, 0.0)), up_normal);
+        let far = r.shade(&r.surface(&mat(0.0)), cam.world_to_camera(Vec3::new(2.0, 0.0, 0.0)), up_normal);
         assert_eq!(far.base[0], 0.0);
+    }
+
+    #[test]
+    fn non_integer_exponents_use_an_accurate_table() {
+        let m = Material { shininess: 0.1, ..mat(1.0) };
+        let scene = Scene { instances: vec![crate::Instance::new(std::sync::Arc::new(crate::Mesh::plane(1.0, 1.0)), crate::Transform::IDENTITY, 1).with_material(m.clone())], ..Scene::default() };
+        let r = rig(&scene);
+        let s = r.surface(&m);
+        assert!(matches!(s.power, Power::Table(_)));
+        for k in 0..=100 {
+            let x = k as f32 / 100.0;
+            assert!((s.power.of(x) - libm::powf(x, 12.8)).abs() < 2e-3, "{x}");
+        }
     }
 
     #[test]
     fn no_lights_means_global_ambient() {
         let scene = Scene { headlight: Headlight { active: false, ..Headlight::default() }, ..Scene::default() };
-        let lit = rig(&scene).shade(&mat(0.5), Vec3::new(0.0, 0.0, 1.0), Vec3::Z);
+        let r = rig(&scene);
+        let lit = r.shade(&r.surface(&mat(0.5)), Vec3::new(0.0, 0.0, 1.0), Vec3::Z);
         assert!((lit.base[0] - 0.15).abs() < 1e-6);
     }
 }

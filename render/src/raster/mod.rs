@@ -23,7 +23,7 @@ use glam::{Mat3, Vec2, Vec3};
 use thiserror::Error;
 
 use self::clip::{ClipSpace, ClipVert, Polygon, MUST_CLIP, REJECT};
-use self::lighting::{LightRig, Lit, Surface};
+use self::lighting::{LightRig, Lit};
 use self::shadow::ShadowMap;
 use self::triangle::{orientation, snap, Plane, Setup};
 use crate::camera::{Camera, Intrinsics};
@@ -66,6 +66,8 @@ pub struct RenderStats {
     pub triangles_in_view: usize,
     /// Screen triangles that passed culling and covered at least one pixel centre.
     pub triangles_rasterized: usize,
+    /// Vertices lit (only those of triangles that survive culling are).
+    pub vertices_lit: usize,
 }
 
 /// Why a frame could not be rendered.
@@ -105,6 +107,8 @@ struct TriRecord {
     segment: u32,
     /// Mip level, or `u32::MAX` when untextured.
     mip: u32,
+    /// Material opacity (used when blending).
+    alpha: f32,
 }
 
 const NO_TRIANGLE: u32 = u32::MAX;
@@ -273,7 +277,7 @@ impl Renderer {
         let (depth, tri_id, records, shadow_rgb) = (&mut self.depth, &mut self.tri_id, &mut self.records, &mut self.shadow_rgb);
         let mut rasterized = 0;
         let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, lit_done: &mut self.lit_done, poly: &mut self.poly, rig: &self.rig };
-        front.assemble(inst, view, |sv| {
+        let lit = front.assemble(inst, view, |sv| {
             let Some((setup, rec, sh)) = build_record(sv, inst, idx, view, shadows) else { return };
             let id = records.len() as u32;
             records.push(rec);
@@ -281,14 +285,22 @@ impl Renderer {
                 shadow_rgb.push(sh);
             }
             rasterized += 1;
-            setup.for_each_pixel(&rec.iz, view.width, |p, _, _, iz| {
-                if iz > depth[p] {
-                    depth[p] = iz;
-                    tri_id[p] = id;
+            let plane = rec.iz;
+            setup.for_each_span(|j, first, last| {
+                let base = j as usize * view.width as usize;
+                let range = base + first as usize..base + last as usize + 1;
+                let row_key = plane.b * j as f32 + plane.c;
+                for ((d, t), i) in depth[range.clone()].iter_mut().zip(&mut tri_id[range]).zip(first..) {
+                    let iz = plane.a * i as f32 + row_key;
+                    // Bit selects rather than branches: depth-test outcomes are hard to predict.
+                    let mask = ((iz > *d) as u32).wrapping_neg();
+                    *t = (*t & !mask) | (id & mask);
+                    *d = f32::from_bits((d.to_bits() & !mask) | (iz.to_bits() & mask));
                 }
             });
         });
         self.stats.triangles_rasterized += rasterized;
+        self.stats.vertices_lit += lit;
     }
 
     fn draw_blended(&mut self, scene: &Scene, idx: u32, view: &View, out: &mut Frame) {
@@ -297,7 +309,7 @@ impl Renderer {
         let depth = &self.depth;
         let mut rasterized = 0;
         let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, lit_done: &mut self.lit_done, poly: &mut self.poly, rig: &self.rig };
-        front.assemble(inst, view, |sv| {
+        let lit = front.assemble(inst, view, |sv| {
             let Some((setup, rec, sh)) = build_record(sv, inst, idx, view, shadows.is_some()) else { return };
             rasterized += 1;
             setup.for_each_pixel(&rec.iz, view.width, |p, i, j, iz| {
@@ -314,33 +326,68 @@ impl Renderer {
             });
         });
         self.stats.triangles_rasterized += rasterized;
+        self.stats.vertices_lit += lit;
     }
 
-    /// Shades every pixel once from the visibility buffer.
+    /// Shades every pixel once from the visibility buffer, one run of same-triangle pixels at
+    /// a time.
     fn resolve(&self, scene: &Scene, view: &View, out: &mut Frame) {
         let shadows = self.shadows_active.then_some(&self.shadow);
         let sky = Sky::new(scene.background, view);
         let w = view.width as usize;
-        for (p, (&id, &iz)) in self.tri_id.iter().zip(&self.depth).enumerate() {
-            let (i, j) = ((p % w) as u32, (p / w) as u32);
-            let rgb = if id == NO_TRIANGLE {
-                out.depth[p] = f32::INFINITY;
-                out.segmentation[p] = 0;
-                sky.color(i, j)
-            } else {
-                let rec = &self.records[id as usize];
-                let z = 1.0 / iz;
-                out.depth[p] = z;
-                out.segmentation[p] = rec.segment;
-                let sh = shadows.map(|_| self.shadow_rgb[id as usize]);
-                let c = shade(rec, sh.as_ref(), shadows, scene, view, i, j, z);
-                [c[0], c[1], c[2]]
-            };
-            out.color.data[p * 3] = to_u8(rgb[0]);
-            out.color.data[p * 3 + 1] = to_u8(rgb[1]);
-            out.color.data[p * 3 + 2] = to_u8(rgb[2]);
+        for j in 0..view.height {
+            let row = j as usize * w..(j as usize + 1) * w;
+            let ids = &self.tri_id[row.clone()];
+            let depths = &self.depth[row.clone()];
+            let rgb_out = &mut out.color.data[row.start * 3..row.end * 3];
+            let depth_out = &mut out.depth[row.clone()];
+            let seg_out = &mut out.segmentation[row];
+            let fj = j as f32;
+            let mut start = 0;
+            while start < w {
+                let id = ids[start];
+                let end = start + ids[start..].iter().take_while(|&&x| x == id).count();
+                if id == NO_TRIANGLE {
+                    for k in start..end {
+                        depth_out[k] = f32::INFINITY;
+                        seg_out[k] = 0;
+                        put_rgb(rgb_out, k, sky.color(k as u32, j));
+                    }
+                } else {
+                    let rec = &self.records[id as usize];
+                    seg_out[start..end].fill(rec.segment);
+                    if rec.mip == u32::MAX && shadows.is_none() {
+                        // Common case: Gouraud colour only.
+                        let rows = rec.rgb.map(|p| p.b * fj + p.c);
+                        for k in start..end {
+                            let z = 1.0 / depths[k];
+                            depth_out[k] = z;
+                            let fi = k as f32;
+                            put_rgb(rgb_out, k, std::array::from_fn(|c| (rec.rgb[c].a * fi + rows[c]) * z));
+                        }
+                    } else {
+                        let sh = shadows.map(|_| self.shadow_rgb[id as usize]);
+                        for k in start..end {
+                            let z = 1.0 / depths[k];
+                            depth_out[k] = z;
+                            let c = shade(rec, sh.as_ref(), shadows, scene, view, k as u32, j, z);
+                            put_rgb(rgb_out, k, [c[0], c[1], c[2]]);
+                        }
+                    }
+                }
+                start = end;
+            }
         }
     }
+}
+
+/// Writes pixel `k` of a packed RGB row.
+#[inline]
+fn put_rgb(row: &mut [u8], k: usize, rgb: [f32; 3]) {
+    let px = &mut row[3 * k..3 * k + 3];
+    px[0] = to_u8(rgb[0]);
+    px[1] = to_u8(rgb[1]);
+    px[2] = to_u8(rgb[2]);
 }
 
 /// Borrowed per-instance state for geometry processing.
@@ -354,14 +401,14 @@ struct Frontend<'a> {
 
 impl Frontend<'_> {
     /// Transforms, culls, clips and lights one instance, calling `emit` with each screen
-    /// triangle (any orientation; setup normalises it).
-    fn assemble(&mut self, inst: &Instance, view: &View, mut emit: impl FnMut([ScreenVert; 3])) {
+    /// triangle (any orientation; setup normalises it). Returns how many vertices were lit.
+    fn assemble(&mut self, inst: &Instance, view: &View, mut emit: impl FnMut([ScreenVert; 3])) -> usize {
         let mesh = &*inst.mesh;
         let t = &inst.transform;
         let linear = mul_mat3_mat3(&view.rot, &t.linear);
         let trans = mul_mat3(&view.rot, t.translation - view.position);
         let normal_m = mul_mat3_mat3(&view.rot, &t.normal_matrix());
-        let surface = Surface::new(&inst.material);
+        let surface = self.rig.surface(&inst.material);
         let double_sided = inst.material.double_sided;
         let uvs = inst.material.texture.as_ref().and(mesh.uvs());
         let (uv_scale, uv_offset) = (inst.material.uv_scale, inst.material.uv_offset);
@@ -432,6 +479,7 @@ impl Frontend<'_> {
                 }
             }
         }
+        self.lit_done.iter().filter(|&&d| d).count()
     }
 }
 
@@ -459,6 +507,7 @@ fn build_record(
         instance: idx,
         segment: inst.segment,
         mip,
+        alpha: inst.material.rgba[3].clamp(0.0, 1.0),
     };
     let sh = shadows.then(|| [per_z(&|v| v.lit.shadowed[0]), per_z(&|v| v.lit.shadowed[1]), per_z(&|v| v.lit.shadowed[2])]);
     Some((setup, rec, sh))
@@ -493,23 +542,24 @@ fn shade(
             rgb[c] += sh[c].eval(fi, fj) * z * vis;
         }
     }
-    let material = &scene.instances[rec.instance as usize].material;
-    let mut out = [rgb[0].clamp(0.0, 1.0), rgb[1].clamp(0.0, 1.0), rgb[2].clamp(0.0, 1.0), material.rgba[3].clamp(0.0, 1.0)];
+    let mut out = [rgb[0].clamp(0.0, 1.0), rgb[1].clamp(0.0, 1.0), rgb[2].clamp(0.0, 1.0), rec.alpha];
     if rec.mip != u32::MAX {
-        if let Some(tex) = &material.texture {
+        if let Some(tex) = &scene.instances[rec.instance as usize].material.texture {
             let t = tex.sample_level(rec.uv[0].eval(fi, fj) * z, rec.uv[1].eval(fi, fj) * z, rec.mip as usize);
-            for c in 0..4 {
-                out[c] *= t[c];
+            for (o, t) in out.iter_mut().zip(t) {
+                *o *= t;
             }
         }
     }
     out
 }
 
-/// `[0, 1]` → `0..=255`, rounding to nearest (NaN → 0).
+/// `[0, 1]` → `0..=255`, rounding to nearest (ties to even; NaN → 0). Adding 2^23 leaves
+/// the rounded integer in the low mantissa bits, which is cheaper than a saturating cast.
 #[inline]
 fn to_u8(x: f32) -> u8 {
-    (x.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+    let y = x.max(0.0).min(1.0) * 255.0 + 8_388_608.0;
+    (y.to_bits() & 0xFF) as u8
 }
 
 /// Background colour per pixel.
@@ -522,6 +572,8 @@ struct Sky {
     zd: f32,
     zf: f32,
     k: Intrinsics,
+    inv_fx: f32,
+    inv_fy: f32,
 }
 
 impl Sky {
@@ -531,7 +583,7 @@ impl Sky {
             Background::Solid(c) => (Some(c), c, c),
             Background::Gradient { up, down } => (None, up, down),
         };
-        Sky { solid, up, down, zr: z.x, zd: z.y, zf: z.z, k: view.k }
+        Sky { solid, up, down, zr: z.x, zd: z.y, zf: z.z, k: view.k, inv_fx: 1.0 / view.k.fx, inv_fy: 1.0 / view.k.fy }
     }
 
     #[inline]
@@ -539,7 +591,7 @@ impl Sky {
         if let Some(c) = self.solid {
             return c;
         }
-        let (x, y) = ((i as f32 - self.k.cx) / self.k.fx, (j as f32 - self.k.cy) / self.k.fy);
+        let (x, y) = ((i as f32 - self.k.cx) * self.inv_fx, (j as f32 - self.k.cy) * self.inv_fy);
         let dz = (self.zr * x + self.zd * y + self.zf) / (x * x + y * y + 1.0).sqrt();
         let t = 0.5 + 0.5 * dz;
         std::array::from_fn(|c| self.down[c] + (self.up[c] - self.down[c]) * t)
@@ -578,14 +630,14 @@ fn downsample(hi: &Frame, k: u32, out: &mut Frame) {
                 let row = (y * k + sy) * hw;
                 for sx in 0..k {
                     let q = (row + x * k + sx) * 3;
-                    for c in 0..3 {
-                        sum[c] += hi.color.data[q + c] as u32;
+                    for (s, &v) in sum.iter_mut().zip(&hi.color.data[q..q + 3]) {
+                        *s += v as u32;
                     }
                 }
             }
             let p = y * w + x;
-            for c in 0..3 {
-                out.color.data[p * 3 + c] = ((sum[c] + n / 2) / n) as u8;
+            for (o, s) in out.color.data[p * 3..p * 3 + 3].iter_mut().zip(sum) {
+                *o = ((s + n / 2) / n) as u8;
             }
             let centre = (y * k + k / 2) * hw + x * k + k / 2;
             out.depth[p] = hi.depth[centre];

@@ -1,17 +1,18 @@
 //! Triangle coverage with exact fixed-point edge functions, and screen-space attribute planes.
 //!
-//! Vertices are snapped to 1/16 pixel. Coverage is tested at pixel centres `(i, j)` (integers,
+//! Vertices are snapped to 1/256 pixel. Coverage is tested at pixel centres `(i, j)` (integers,
 //! the camera's pixel convention) with integer edge functions, so the test is exact and
 //! deterministic, and a tie-breaking rule makes every pixel centre on an edge shared by two
 //! triangles belong to exactly one of them (no double blending, no cracks).
 
-/// Sub-pixel steps per pixel.
-pub(crate) const SUB: i64 = 16;
+/// Sub-pixel steps per pixel. With the clipper's guard band of 2^19 pixels, snapped
+/// coordinates stay below 2^27 and edge functions below 2^57, well inside `i64`.
+pub(crate) const SUB: i64 = 256;
 
 /// Snaps a screen coordinate (pixels) to the fixed-point grid.
 #[inline]
 pub(crate) fn snap(x: f32) -> i64 {
-    (x * SUB as f32).round() as i64
+    crate::num::round(x as f64 * SUB as f64)
 }
 
 /// A screen-linear quantity `a·i + b·j + c`, evaluated as `a·i + (b·j + c)` everywhere so that
@@ -42,10 +43,12 @@ pub(crate) struct Setup {
     /// Edge function change per pixel step in i and in j.
     di: [i64; 3],
     dj: [i64; 3],
-    /// Vertex positions in pixels (snapped) and `1 / (2 × area)`, for attribute planes.
-    x: [f32; 3],
-    y: [f32; 3],
-    inv_det: f32,
+    /// Vertex positions in pixels (snapped) and `1 / (2 × area)`, for attribute planes. In
+    /// f64: clipped triangles can have vertices far off screen, and the planes must still be
+    /// accurate at the on-screen pixels.
+    x: [f64; 3],
+    y: [f64; 3],
+    inv_det: f64,
     /// Twice the area in square pixels.
     pub area2: f32,
 }
@@ -82,10 +85,10 @@ impl Setup {
             di[k] = -dy * SUB;
             dj[k] = dx * SUB;
         }
-        let s = 1.0 / SUB as f32;
-        let x = [v[0].0 as f32 * s, v[1].0 as f32 * s, v[2].0 as f32 * s];
-        let y = [v[0].1 as f32 * s, v[1].1 as f32 * s, v[2].1 as f32 * s];
-        let area2 = (area2 as f64 / (SUB * SUB) as f64) as f32;
+        let s = 1.0 / SUB as f64;
+        let x = [v[0].0 as f64 * s, v[1].0 as f64 * s, v[2].0 as f64 * s];
+        let y = [v[0].1 as f64 * s, v[1].1 as f64 * s, v[2].1 as f64 * s];
+        let area2 = area2 as f64 * s * s;
         Some(Setup {
             i0: i0 as u32,
             i1: i1 as u32,
@@ -97,43 +100,111 @@ impl Setup {
             x,
             y,
             inv_det: 1.0 / area2,
-            area2,
+            area2: area2 as f32,
         })
     }
 
     /// The plane through the vertex values `a` (one per vertex, in setup order).
     pub(crate) fn plane(&self, a: [f32; 3]) -> Plane {
         let (x, y) = (&self.x, &self.y);
+        let a = a.map(f64::from);
         let (d1, d2) = (a[1] - a[0], a[2] - a[0]);
         let pa = (d1 * (y[2] - y[0]) - d2 * (y[1] - y[0])) * self.inv_det;
         let pb = (d2 * (x[1] - x[0]) - d1 * (x[2] - x[0])) * self.inv_det;
-        Plane { a: pa, b: pb, c: a[0] - pa * x[0] - pb * y[0] }
+        Plane { a: pa as f32, b: pb as f32, c: (a[0] - pa * x[0] - pb * y[0]) as f32 }
+    }
+
+    /// Calls `f(j, first, last)` with the covered pixels `first..=last` of every row `j` that
+    /// has any. Each edge's crossing is tracked exactly from row to row with integer steps
+    /// (no division per row), so pixels outside the triangle are never visited.
+    #[inline]
+    pub(crate) fn for_each_span(&self, mut f: impl FnMut(u32, u32, u32)) {
+        let last = (self.i1 - self.i0) as i64;
+        let mut walkers: [EdgeWalker; 3] = std::array::from_fn(|k| EdgeWalker::new(self.e0[k], self.di[k], self.dj[k]));
+        for j in self.j0..=self.j1 {
+            let (mut lo, mut hi) = (0i64, last);
+            for w in &walkers {
+                match *w {
+                    EdgeWalker::Enter { t, .. } => lo = lo.max(t),
+                    EdgeWalker::Leave { t, .. } => hi = hi.min(t),
+                    EdgeWalker::Flat { e, .. } if e < 0 => hi = -1,
+                    EdgeWalker::Flat { .. } => {}
+                }
+            }
+            if lo <= hi {
+                f(j, self.i0 + lo as u32, self.i0 + hi as u32);
+            }
+            for w in &mut walkers {
+                w.next_row();
+            }
+        }
     }
 
     /// Calls `f(pixel index, i, j, key)` for every covered pixel, row by row, where `key` is
     /// `plane` evaluated at the pixel centre.
     #[inline]
     pub(crate) fn for_each_pixel(&self, plane: &Plane, width: u32, mut f: impl FnMut(usize, u32, u32, f32)) {
-        let mut row = self.e0;
-        for j in self.j0..=self.j1 {
-            let mut e = row;
+        self.for_each_span(|j, first, last| {
             let base = j as usize * width as usize;
             let row_key = plane.b * j as f32 + plane.c;
-            let mut entered = false;
-            for i in self.i0..=self.i1 {
-                if (e[0] | e[1] | e[2]) >= 0 {
-                    entered = true;
-                    f(base + i as usize, i, j, plane.a * i as f32 + row_key);
-                } else if entered {
-                    break; // Convex: the row's span has ended.
-                }
-                e[0] += self.di[0];
-                e[1] += self.di[1];
-                e[2] += self.di[2];
+            for i in first..=last {
+                f(base + i as usize, i, j, plane.a * i as f32 + row_key);
             }
-            row[0] += self.dj[0];
-            row[1] += self.dj[1];
-            row[2] += self.dj[2];
+        });
+    }
+}
+
+/// Where one edge starts or ends a row's span, as a pixel offset `t` from the bounding box's
+/// left column, kept exact from row to row by a remainder (Bresenham style).
+#[derive(Clone, Copy)]
+enum EdgeWalker {
+    /// The edge function grows along the row (`e + d·t`, `d > 0`): covered from `t` on.
+    /// `f = e + d·t ∈ [0, d)`; each row adds `dj = −(q·d + rem)` to `e`.
+    Enter { t: i64, f: i64, d: i64, q: i64, rem: i64 },
+    /// It shrinks (`e − a·t`, `a > 0`): covered up to `t`. `g = e − a·t ∈ [0, a)`; each row
+    /// adds `dj = q·a + rem`.
+    Leave { t: i64, g: i64, a: i64, q: i64, rem: i64 },
+    /// Constant along the row: covered where `e ≥ 0`.
+    Flat { e: i64, dj: i64 },
+}
+
+impl EdgeWalker {
+    /// From the (biased) edge value `e` at the bounding box's left column and its changes per
+    /// pixel (`di`) and per row (`dj`).
+    fn new(e: i64, di: i64, dj: i64) -> EdgeWalker {
+        if di > 0 {
+            let (q, rem) = ((-dj).div_euclid(di), (-dj).rem_euclid(di));
+            EdgeWalker::Enter { t: -e.div_euclid(di), f: e.rem_euclid(di), d: di, q, rem }
+        } else if di < 0 {
+            let a = -di;
+            EdgeWalker::Leave { t: e.div_euclid(a), g: e.rem_euclid(a), a, q: dj.div_euclid(a), rem: dj.rem_euclid(a) }
+        } else {
+            EdgeWalker::Flat { e, dj }
+        }
+    }
+
+    #[inline]
+    fn next_row(&mut self) {
+        match self {
+            EdgeWalker::Enter { t, f, d, q, rem } => {
+                if *rem > *f {
+                    *t += *q + 1;
+                    *f += *d - *rem;
+                } else {
+                    *t += *q;
+                    *f -= *rem;
+                }
+            }
+            EdgeWalker::Leave { t, g, a, q, rem } => {
+                if *g + *rem >= *a {
+                    *t += *q + 1;
+                    *g += *rem - *a;
+                } else {
+                    *t += *q;
+                    *g += *rem;
+                }
+            }
+            EdgeWalker::Flat { e, dj } => *e += *dj,
         }
     }
 }
@@ -206,6 +277,41 @@ mod tests {
         }
         assert_eq!(total[6 * w as usize + 6], 1, "the shared vertex is drawn exactly once");
         assert!(total.iter().all(|&n| n <= 1));
+    }
+
+    #[test]
+    fn spans_match_brute_force_edge_tests() {
+        // Random triangles, including thin, huge and off-screen ones, against a direct
+        // evaluation of the tie-broken edge functions at every pixel centre.
+        let (w, h) = (40u32, 30u32);
+        let mut seed = 12345u64;
+        let mut rnd = |range: f32| {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((seed >> 33) as f32 / (1u64 << 31) as f32 - 0.25) * range
+        };
+        for n in 0..2000 {
+            let range = if n % 3 == 0 { 400.0 } else { 60.0 };
+            let mut v = [(snap(rnd(range)), snap(rnd(range))), (snap(rnd(range)), snap(rnd(range))), (snap(rnd(range)), snap(rnd(range)))];
+            if orientation(v) < 0 {
+                v.swap(1, 2);
+            }
+            let mut want = vec![0u32; (w * h) as usize];
+            if orientation(v) > 0 {
+                for j in 0..h as i64 {
+                    for i in 0..w as i64 {
+                        let (px, py) = (i * SUB, j * SUB);
+                        let inside = (0..3).all(|k| {
+                            let (a, b) = (v[(k + 1) % 3], v[(k + 2) % 3]);
+                            let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+                            let e = dx * (py - a.1) - dy * (px - a.0);
+                            e > 0 || (e == 0 && (dy > 0 || (dy == 0 && dx < 0)))
+                        });
+                        want[(j * w as i64 + i) as usize] = inside as u32;
+                    }
+                }
+            }
+            assert_eq!(covered(v, w, h), want, "triangle {n}: {v:?}");
+        }
     }
 
     #[test]

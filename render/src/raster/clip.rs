@@ -33,6 +33,18 @@ impl HalfSpace {
     }
 }
 
+/// A bounding sphere against the view volume.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum SphereClass {
+    /// Nothing of it can be seen.
+    Outside,
+    /// Partly inside: vertices need outcodes.
+    Straddles,
+    /// Wholly in front of the near plane and within the image (with its one-pixel margin):
+    /// every vertex has outcode 0.
+    Inside,
+}
+
 /// The clip planes of one view.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ClipSpace {
@@ -74,14 +86,25 @@ impl ClipSpace {
         code
     }
 
-    /// False if a sphere (camera coordinates) lies entirely in front of the near plane's
-    /// cut-off, beyond `far`, or outside the image's side planes.
-    pub(crate) fn sphere_visible(&self, c: Vec3, r: f32, far: f32) -> bool {
-        let inside = |h: &HalfSpace| {
+    /// Where a bounding sphere (camera coordinates) lies relative to the near plane, the far
+    /// distance and the image's side planes.
+    pub(crate) fn classify_sphere(&self, c: Vec3, r: f32, far: f32) -> SphereClass {
+        let mut inside = true;
+        for h in std::iter::once(&self.near).chain(self.view.iter()) {
             let [a, b, cc, _] = h.0;
-            h.eval(c) >= -r * (a * a + b * b + cc * cc).sqrt()
-        };
-        c.z - r <= far && inside(&self.near) && self.view.iter().all(inside)
+            let distance = h.eval(c) / (a * a + b * b + cc * cc).sqrt();
+            if !(distance >= -r) {
+                return SphereClass::Outside; // Entirely behind this plane (or NaN).
+            }
+            inside &= distance >= r;
+        }
+        if !(c.z - r <= far) {
+            SphereClass::Outside
+        } else if inside {
+            SphereClass::Inside
+        } else {
+            SphereClass::Straddles
+        }
     }
 
     /// Clips the triangle `tri` against every plane in `planes` (outcode bits) into `out`,
@@ -183,6 +206,17 @@ mod tests {
         // The cut point on the edge z: -1 → 1 at z = 0.1 is 55 % of the way: colour 0.55.
         let cut = poly.verts[..4].iter().find(|v| v.p.x > 0.0 && v.p.z < 0.2).unwrap();
         assert!((cut.lit.base[0] - 0.55).abs() < 1e-6 && (cut.uv.x - 0.55).abs() < 1e-6);
+    }
+
+    #[test]
+    fn spheres_are_classified_against_the_view() {
+        let s = space();
+        assert_eq!(s.classify_sphere(Vec3::new(0.0, 0.0, 5.0), 0.1, 100.0), SphereClass::Inside);
+        assert_eq!(s.classify_sphere(Vec3::new(0.0, 0.0, 0.1), 0.5, 100.0), SphereClass::Straddles);
+        assert_eq!(s.classify_sphere(Vec3::new(0.0, 0.0, -5.0), 1.0, 100.0), SphereClass::Outside);
+        assert_eq!(s.classify_sphere(Vec3::new(50.0, 0.0, 5.0), 1.0, 100.0), SphereClass::Outside);
+        assert_eq!(s.classify_sphere(Vec3::new(0.0, 0.0, 500.0), 1.0, 100.0), SphereClass::Outside);
+        assert_eq!(s.classify_sphere(Vec3::new(f32::NAN, 0.0, 5.0), 1.0, 100.0), SphereClass::Outside);
     }
 
     #[test]

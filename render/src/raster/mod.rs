@@ -22,7 +22,7 @@ mod triangle;
 use glam::{Mat3, Vec2, Vec3};
 use thiserror::Error;
 
-use self::clip::{ClipSpace, ClipVert, Polygon, MUST_CLIP, REJECT};
+use self::clip::{ClipSpace, ClipVert, Polygon, SphereClass, MUST_CLIP, REJECT};
 use self::lighting::{LightRig, Lit};
 use self::shadow::ShadowMap;
 use self::triangle::{orientation, snap, Plane, Setup};
@@ -77,16 +77,6 @@ pub enum RenderError {
     InvalidCamera(String),
 }
 
-/// A vertex of the current instance in camera space.
-#[derive(Clone, Copy, Default)]
-struct Vert {
-    cam: Vec3,
-    /// Snapped screen position and `1/z`; valid only if `code & MUST_CLIP == 0`.
-    xy: (i64, i64),
-    iz: f32,
-    code: u16,
-}
-
 /// A vertex on screen, ready for triangle setup.
 #[derive(Clone, Copy)]
 struct ScreenVert {
@@ -112,6 +102,16 @@ struct TriRecord {
 }
 
 const NO_TRIANGLE: u32 = u32::MAX;
+
+/// An instance that survived frustum culling.
+#[derive(Clone, Copy)]
+struct Visible {
+    /// View depth of its bounding sphere's centre (the drawing order key).
+    depth: f32,
+    index: u32,
+    /// Its bounding sphere lies wholly inside the view: no per-vertex outcodes needed.
+    inside: bool,
+}
 
 /// Per-frame view constants.
 struct View {
@@ -140,13 +140,13 @@ impl View {
         }
     }
 
-    /// Screen position (snapped) and `1/z` of a camera-space point in front of the near plane;
-    /// the same arithmetic as [`Camera::project`].
+    /// Screen position (snapped) and `1/z` of a camera-space point in front of the near plane
+    /// and inside the guard band; the same arithmetic as [`Camera::project`].
     #[inline]
-    fn project(&self, c: Vec3) -> ((i64, i64), f32) {
+    fn project(&self, c: Vec3) -> ([i32; 2], f32) {
         let u = self.k.fx * (c.x / c.z) + self.k.cx;
         let v = self.k.fy * (c.y / c.z) + self.k.cy;
-        ((snap(u), snap(v)), 1.0 / c.z)
+        ([snap(u) as i32, snap(v) as i32], 1.0 / c.z)
     }
 }
 
@@ -164,13 +164,13 @@ pub struct Renderer {
     records: Vec<TriRecord>,
     /// Per-record colour of the shadow-casting light (only while shadows are active).
     shadow_rgb: Vec<[Plane; 3]>,
-    verts: Vec<Vert>,
+    verts: Verts,
     /// Lit colours, two slots (front, back) per vertex, and whether each is computed.
     lit: Vec<Lit>,
     lit_done: Vec<bool>,
     poly: Polygon,
-    order: Vec<(f32, u32)>,
-    blended: Vec<(f32, u32)>,
+    order: Vec<Visible>,
+    blended: Vec<Visible>,
     supersampled: Frame,
 }
 
@@ -232,14 +232,14 @@ impl Renderer {
 
         self.sort_instances(scene, &view);
         let order = std::mem::take(&mut self.order);
-        for &(_, idx) in &order {
-            self.draw_opaque(scene, idx, &view);
+        for v in &order {
+            self.draw_opaque(scene, v, &view);
         }
         self.order = order;
         self.resolve(scene, &view, out);
         let blended = std::mem::take(&mut self.blended);
-        for &(_, idx) in &blended {
-            self.draw_blended(scene, idx, &view, out);
+        for v in &blended {
+            self.draw_blended(scene, v, &view, out);
         }
         self.blended = blended;
     }
@@ -254,31 +254,33 @@ impl Renderer {
             let centre = mul_mat3(&view.rot, t.transform_point(b.center) - view.position);
             let radius = b.radius * t.max_scale();
             let finite = t.linear.is_finite() && t.translation.is_finite();
-            if !(finite && view.clip.sphere_visible(centre, radius, view.far)) {
+            let class = if finite { view.clip.classify_sphere(centre, radius, view.far) } else { SphereClass::Outside };
+            if class == SphereClass::Outside {
                 self.stats.instances_culled += 1;
                 continue;
             }
+            let entry = Visible { depth: centre.z, index: idx as u32, inside: class == SphereClass::Inside };
             self.stats.instances_drawn += 1;
             self.stats.triangles_in_view += inst.mesh.triangle_count();
             if inst.material.is_transparent() {
-                self.blended.push((centre.z, idx as u32));
+                self.blended.push(entry);
             } else {
-                self.order.push((centre.z, idx as u32));
+                self.order.push(entry);
             }
         }
-        let by_key = |a: &(f32, u32), b: &(f32, u32)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
+        let by_key = |a: &Visible, b: &Visible| a.depth.total_cmp(&b.depth).then(a.index.cmp(&b.index));
         self.order.sort_unstable_by(by_key);
         self.blended.sort_unstable_by(|a, b| by_key(b, a));
     }
 
-    fn draw_opaque(&mut self, scene: &Scene, idx: u32, view: &View) {
-        let inst = &scene.instances[idx as usize];
+    fn draw_opaque(&mut self, scene: &Scene, visible: &Visible, view: &View) {
+        let (idx, inst) = (visible.index, &scene.instances[visible.index as usize]);
         let shadows = self.shadows_active;
         let (depth, tri_id, records, shadow_rgb) = (&mut self.depth, &mut self.tri_id, &mut self.records, &mut self.shadow_rgb);
         let mut rasterized = 0;
         let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, lit_done: &mut self.lit_done, poly: &mut self.poly, rig: &self.rig };
-        let lit = front.assemble(inst, view, |sv| {
-            let Some((setup, rec, sh)) = build_record(sv, inst, idx, view, shadows) else { return };
+        let lit = front.assemble(inst, visible.inside, view, |setup, sv| {
+            let (rec, sh) = build_record(&setup, &sv, inst, idx, shadows);
             let id = records.len() as u32;
             records.push(rec);
             if let Some(sh) = sh {
@@ -303,14 +305,14 @@ impl Renderer {
         self.stats.vertices_lit += lit;
     }
 
-    fn draw_blended(&mut self, scene: &Scene, idx: u32, view: &View, out: &mut Frame) {
-        let inst = &scene.instances[idx as usize];
+    fn draw_blended(&mut self, scene: &Scene, visible: &Visible, view: &View, out: &mut Frame) {
+        let (idx, inst) = (visible.index, &scene.instances[visible.index as usize]);
         let shadows = self.shadows_active.then_some(&self.shadow);
         let depth = &self.depth;
         let mut rasterized = 0;
         let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, lit_done: &mut self.lit_done, poly: &mut self.poly, rig: &self.rig };
-        let lit = front.assemble(inst, view, |sv| {
-            let Some((setup, rec, sh)) = build_record(sv, inst, idx, view, shadows.is_some()) else { return };
+        let lit = front.assemble(inst, visible.inside, view, |setup, sv| {
+            let (rec, sh) = build_record(&setup, &sv, inst, idx, shadows.is_some());
             rasterized += 1;
             setup.for_each_pixel(&rec.iz, view.width, |p, i, j, iz| {
                 if iz > depth[p] {
@@ -392,7 +394,7 @@ fn put_rgb(row: &mut [u8], k: usize, rgb: [f32; 3]) {
 
 /// Borrowed per-instance state for geometry processing.
 struct Frontend<'a> {
-    verts: &'a mut Vec<Vert>,
+    verts: &'a mut Verts,
     lit: &'a mut Vec<Lit>,
     lit_done: &'a mut Vec<bool>,
     poly: &'a mut Polygon,
@@ -401,8 +403,9 @@ struct Frontend<'a> {
 
 impl Frontend<'_> {
     /// Transforms, culls, clips and lights one instance, calling `emit` with each screen
-    /// triangle (any orientation; setup normalises it). Returns how many vertices were lit.
-    fn assemble(&mut self, inst: &Instance, view: &View, mut emit: impl FnMut([ScreenVert; 3])) -> usize {
+    /// triangle that covers a pixel centre (vertices in the order its setup uses). Vertices
+    /// are lit only for such triangles. Returns how many vertices were lit.
+    fn assemble(&mut self, inst: &Instance, inside: bool, view: &View, mut emit: impl FnMut(Setup, [ScreenVert; 3])) -> usize {
         let mesh = &*inst.mesh;
         let t = &inst.transform;
         let linear = mul_mat3_mat3(&view.rot, &t.linear);
@@ -413,69 +416,81 @@ impl Frontend<'_> {
         let uvs = inst.material.texture.as_ref().and(mesh.uvs());
         let (uv_scale, uv_offset) = (inst.material.uv_scale, inst.material.uv_offset);
         let uv_of = |i: usize| uvs.map_or(Vec2::ZERO, |u| u[i] * uv_scale + uv_offset);
+        let (w, h) = (view.width, view.height);
 
-        self.verts.clear();
-        self.verts.extend(mesh.positions().iter().map(|&p| {
+        self.verts.fill(mesh.positions(), |p| {
             let cam = mul_mat3(&linear, p) + trans;
-            let code = view.clip.outcode(cam);
-            let (xy, iz) = if code & MUST_CLIP == 0 { view.project(cam) } else { ((0, 0), 0.0) };
-            Vert { cam, xy, iz, code }
-        }));
-        let n = self.verts.len();
+            let code = if inside { 0 } else { view.clip.outcode(cam) };
+            let (xy, iz) = if code & MUST_CLIP == 0 { view.project(cam) } else { ([0, 0], 0.0) };
+            (cam, xy, iz, code)
+        });
+        let n = mesh.vertex_count();
         self.lit.clear();
         self.lit.resize(2 * n, Lit::default());
         self.lit_done.clear();
         self.lit_done.resize(2 * n, false);
 
+        let verts = &*self.verts;
         let normals = mesh.normals();
-        let lit_vertex = |lit: &mut Vec<Lit>, done: &mut Vec<bool>, v: &Vert, i: usize, back: bool| -> Lit {
+        let lit_vertex = |lit: &mut Vec<Lit>, done: &mut Vec<bool>, i: usize, back: bool| -> Lit {
             let slot = 2 * i + back as usize;
             if !done[slot] {
                 let nrm = mul_mat3(&normal_m, normals[i]);
-                lit[slot] = self.rig.shade(&surface, v.cam, if back { -nrm } else { nrm });
+                lit[slot] = self.rig.shade(&surface, verts.cam[i], if back { -nrm } else { nrm });
                 done[slot] = true;
             }
             lit[slot]
         };
+        let xy = |i: usize| (verts.xy[i][0] as i64, verts.xy[i][1] as i64);
 
         for tri in mesh.triangles() {
             let [a, b, c] = tri.map(|i| i as usize);
-            let (va, vb, vc) = (self.verts[a], self.verts[b], self.verts[c]);
-            if va.code & vb.code & vc.code & REJECT != 0 {
+            let (ca, cb, cc) = (verts.code[a], verts.code[b], verts.code[c]);
+            if ca & cb & cc & REJECT != 0 {
                 continue;
             }
-            let clip_bits = (va.code | vb.code | vc.code) & MUST_CLIP;
+            let clip_bits = (ca | cb | cc) & MUST_CLIP;
             if clip_bits == 0 {
-                let o = orientation([va.xy, vb.xy, vc.xy]);
-                // Counter-clockwise front faces have negative orientation on screen (y down).
+                let o = orientation([xy(a), xy(b), xy(c)]);
+                // Counter-clockwise front faces have negative orientation on screen (y down);
+                // setup wants positive, so front faces swap their last two vertices.
                 let back = o > 0;
                 if o == 0 || (back && !double_sided) {
                     continue;
                 }
-                let sv = |v: &Vert, i: usize, lit: Lit| ScreenVert { xy: v.xy, iz: v.iz, lit, uv: uv_of(i) };
-                let la = lit_vertex(self.lit, self.lit_done, &va, a, back);
-                let lb = lit_vertex(self.lit, self.lit_done, &vb, b, back);
-                let lc = lit_vertex(self.lit, self.lit_done, &vc, c, back);
-                emit([sv(&va, a, la), sv(&vb, b, lb), sv(&vc, c, lc)]);
+                let (b, c) = if back { (b, c) } else { (c, b) };
+                let Some(setup) = Setup::new([xy(a), xy(b), xy(c)], w, h) else { continue };
+                let sv = |i: usize, lit: Lit| ScreenVert { xy: xy(i), iz: verts.iz[i], lit, uv: uv_of(i) };
+                let la = lit_vertex(self.lit, self.lit_done, a, back);
+                let lb = lit_vertex(self.lit, self.lit_done, b, back);
+                let lc = lit_vertex(self.lit, self.lit_done, c, back);
+                emit(setup, [sv(a, la), sv(b, lb), sv(c, lc)]);
             } else {
                 // Facing from camera space: the eye is at the origin.
-                let facing = dot(cross(vb.cam - va.cam, vc.cam - va.cam), va.cam);
+                let (pa, pb, pc) = (verts.cam[a], verts.cam[b], verts.cam[c]);
+                let facing = dot(cross(pb - pa, pc - pa), pa);
                 let back = facing > 0.0;
                 if !(facing != 0.0) || (back && !double_sided) {
                     continue;
                 }
-                let cv = |v: &Vert, i: usize, lit: Lit| ClipVert { p: v.cam, lit, uv: uv_of(i) };
-                let la = lit_vertex(self.lit, self.lit_done, &va, a, back);
-                let lb = lit_vertex(self.lit, self.lit_done, &vb, b, back);
-                let lc = lit_vertex(self.lit, self.lit_done, &vc, c, back);
-                let count = view.clip.clip([cv(&va, a, la), cv(&vb, b, lb), cv(&vc, c, lc)], clip_bits, self.poly);
+                let cv = |i: usize, lit: Lit| ClipVert { p: verts.cam[i], lit, uv: uv_of(i) };
+                let la = lit_vertex(self.lit, self.lit_done, a, back);
+                let lb = lit_vertex(self.lit, self.lit_done, b, back);
+                let lc = lit_vertex(self.lit, self.lit_done, c, back);
+                let count = view.clip.clip([cv(a, la), cv(b, lb), cv(c, lc)], clip_bits, self.poly);
                 let on_screen = |v: &ClipVert| {
                     let (xy, iz) = view.project(v.p);
-                    ScreenVert { xy, iz, lit: v.lit, uv: v.uv }
+                    ScreenVert { xy: (xy[0] as i64, xy[1] as i64), iz, lit: v.lit, uv: v.uv }
                 };
                 for k in 1..count.saturating_sub(1) {
                     let p = &self.poly.verts;
-                    emit([on_screen(&p[0]), on_screen(&p[k]), on_screen(&p[k + 1])]);
+                    let mut sv = [on_screen(&p[0]), on_screen(&p[k]), on_screen(&p[k + 1])];
+                    if orientation([sv[0].xy, sv[1].xy, sv[2].xy]) < 0 {
+                        sv.swap(1, 2);
+                    }
+                    if let Some(setup) = Setup::new([sv[0].xy, sv[1].xy, sv[2].xy], w, h) {
+                        emit(setup, sv);
+                    }
                 }
             }
         }
@@ -483,34 +498,51 @@ impl Frontend<'_> {
     }
 }
 
-/// Orients a screen triangle, sets it up and builds its shading record; `None` if it covers
-/// no pixel centre. Also returns the shadow-light colour planes when shadows are on.
-fn build_record(
-    mut sv: [ScreenVert; 3],
-    inst: &Instance,
-    idx: u32,
-    view: &View,
-    shadows: bool,
-) -> Option<(Setup, TriRecord, Option<[Plane; 3]>)> {
-    if orientation([sv[0].xy, sv[1].xy, sv[2].xy]) < 0 {
-        sv.swap(1, 2);
+/// Per-vertex results of one instance, in separate arrays so that the culling loop touches
+/// only screen positions and outcodes.
+#[derive(Default)]
+struct Verts {
+    cam: Vec<Vec3>,
+    /// Snapped screen position (fits `i32`: the guard band keeps it below 2^28 sub-pixels).
+    xy: Vec<[i32; 2]>,
+    iz: Vec<f32>,
+    code: Vec<u16>,
+}
+
+impl Verts {
+    fn fill(&mut self, positions: &[Vec3], mut f: impl FnMut(Vec3) -> (Vec3, [i32; 2], f32, u16)) {
+        self.cam.clear();
+        self.xy.clear();
+        self.iz.clear();
+        self.code.clear();
+        for &p in positions {
+            let (cam, xy, iz, code) = f(p);
+            self.cam.push(cam);
+            self.xy.push(xy);
+            self.iz.push(iz);
+            self.code.push(code);
+        }
     }
-    let setup = Setup::new([sv[0].xy, sv[1].xy, sv[2].xy], view.width, view.height)?;
+}
+
+/// The shading record of a set-up screen triangle, plus the shadow-light colour planes when
+/// shadows are on.
+fn build_record(setup: &Setup, sv: &[ScreenVert; 3], inst: &Instance, idx: u32, shadows: bool) -> (TriRecord, Option<[Plane; 3]>) {
     let iz = [sv[0].iz, sv[1].iz, sv[2].iz];
-    let per_z = |f: &dyn Fn(&ScreenVert) -> f32| setup.plane([f(&sv[0]) * iz[0], f(&sv[1]) * iz[1], f(&sv[2]) * iz[2]]);
+    let per_z = |f: fn(&ScreenVert) -> f32| setup.plane([f(&sv[0]) * iz[0], f(&sv[1]) * iz[1], f(&sv[2]) * iz[2]]);
     let texture = inst.material.texture.as_deref().filter(|_| inst.mesh.uvs().is_some());
-    let mip = texture.map_or(u32::MAX, |t| mip_level(t, &sv, setup.area2));
+    let mip = texture.map_or(u32::MAX, |t| mip_level(t, sv, setup.area2));
     let rec = TriRecord {
         iz: setup.plane(iz),
-        rgb: [per_z(&|v| v.lit.base[0]), per_z(&|v| v.lit.base[1]), per_z(&|v| v.lit.base[2])],
-        uv: if texture.is_some() { [per_z(&|v| v.uv.x), per_z(&|v| v.uv.y)] } else { [Plane::default(); 2] },
+        rgb: [per_z(|v| v.lit.base[0]), per_z(|v| v.lit.base[1]), per_z(|v| v.lit.base[2])],
+        uv: if texture.is_some() { [per_z(|v| v.uv.x), per_z(|v| v.uv.y)] } else { [Plane::default(); 2] },
         instance: idx,
         segment: inst.segment,
         mip,
         alpha: inst.material.rgba[3].clamp(0.0, 1.0),
     };
-    let sh = shadows.then(|| [per_z(&|v| v.lit.shadowed[0]), per_z(&|v| v.lit.shadowed[1]), per_z(&|v| v.lit.shadowed[2])]);
-    Some((setup, rec, sh))
+    let sh = shadows.then(|| [per_z(|v| v.lit.shadowed[0]), per_z(|v| v.lit.shadowed[1]), per_z(|v| v.lit.shadowed[2])]);
+    (rec, sh)
 }
 
 /// The mip level whose texels best match this triangle's pixels (one level per triangle).
@@ -543,12 +575,11 @@ fn shade(
         }
     }
     let mut out = [rgb[0].clamp(0.0, 1.0), rgb[1].clamp(0.0, 1.0), rgb[2].clamp(0.0, 1.0), rec.alpha];
-    if rec.mip != u32::MAX {
-        if let Some(tex) = &scene.instances[rec.instance as usize].material.texture {
-            let t = tex.sample_level(rec.uv[0].eval(fi, fj) * z, rec.uv[1].eval(fi, fj) * z, rec.mip as usize);
-            for (o, t) in out.iter_mut().zip(t) {
-                *o *= t;
-            }
+    let texture = scene.instances[rec.instance as usize].material.texture.as_ref();
+    if let Some(tex) = texture.filter(|_| rec.mip != u32::MAX) {
+        let t = tex.sample_level(rec.uv[0].eval(fi, fj) * z, rec.uv[1].eval(fi, fj) * z, rec.mip as usize);
+        for (o, t) in out.iter_mut().zip(t) {
+            *o *= t;
         }
     }
     out
@@ -558,6 +589,8 @@ fn shade(
 /// the rounded integer in the low mantissa bits, which is cheaper than a saturating cast.
 #[inline]
 fn to_u8(x: f32) -> u8 {
+    // Not `clamp`, which passes NaN through.
+    #[allow(clippy::manual_clamp)]
     let y = x.max(0.0).min(1.0) * 255.0 + 8_388_608.0;
     (y.to_bits() & 0xFF) as u8
 }

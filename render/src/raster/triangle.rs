@@ -9,6 +9,9 @@
 /// coordinates stay below 2^27 and edge functions below 2^57, well inside `i64`.
 pub(crate) const SUB: i64 = 256;
 
+/// Bounding boxes narrower than this many pixels are scanned pixel by pixel rather than walked.
+const SCAN_WIDTH: u32 = 12;
+
 /// Snaps a screen coordinate (pixels) to the fixed-point grid.
 #[inline]
 pub(crate) fn snap(x: f32) -> i64 {
@@ -43,12 +46,13 @@ pub(crate) struct Setup {
     /// Edge function change per pixel step in i and in j.
     di: [i64; 3],
     dj: [i64; 3],
-    /// Vertex positions in pixels (snapped) and `1 / (2 × area)`, for attribute planes. In
-    /// f64: clipped triangles can have vertices far off screen, and the planes must still be
-    /// accurate at the on-screen pixels.
-    x: [f64; 3],
-    y: [f64; 3],
-    inv_det: f64,
+    /// First vertex in pixels (snapped) and the edge vectors from it divided by twice the
+    /// area, for attribute planes. In f64: clipped triangles can have vertices far off screen,
+    /// and the planes must still be accurate at the on-screen pixels.
+    x0: f64,
+    y0: f64,
+    /// `(y2 − y0, y1 − y0, x1 − x0, x2 − x0) / (2 × area)`.
+    k: [f64; 4],
     /// Twice the area in square pixels.
     pub area2: f32,
 }
@@ -89,6 +93,7 @@ impl Setup {
         let x = [v[0].0 as f64 * s, v[1].0 as f64 * s, v[2].0 as f64 * s];
         let y = [v[0].1 as f64 * s, v[1].1 as f64 * s, v[2].1 as f64 * s];
         let area2 = area2 as f64 * s * s;
+        let inv = 1.0 / area2;
         Some(Setup {
             i0: i0 as u32,
             i1: i1 as u32,
@@ -97,28 +102,60 @@ impl Setup {
             e0,
             di,
             dj,
-            x,
-            y,
-            inv_det: 1.0 / area2,
+            x0: x[0],
+            y0: y[0],
+            k: [(y[2] - y[0]) * inv, (y[1] - y[0]) * inv, (x[1] - x[0]) * inv, (x[2] - x[0]) * inv],
             area2: area2 as f32,
         })
     }
 
     /// The plane through the vertex values `a` (one per vertex, in setup order).
     pub(crate) fn plane(&self, a: [f32; 3]) -> Plane {
-        let (x, y) = (&self.x, &self.y);
-        let a = a.map(f64::from);
-        let (d1, d2) = (a[1] - a[0], a[2] - a[0]);
-        let pa = (d1 * (y[2] - y[0]) - d2 * (y[1] - y[0])) * self.inv_det;
-        let pb = (d2 * (x[1] - x[0]) - d1 * (x[2] - x[0])) * self.inv_det;
-        Plane { a: pa as f32, b: pb as f32, c: (a[0] - pa * x[0] - pb * y[0]) as f32 }
+        let a0 = a[0] as f64;
+        let (d1, d2) = (a[1] as f64 - a0, a[2] as f64 - a0);
+        let pa = d1 * self.k[0] - d2 * self.k[1];
+        let pb = d2 * self.k[2] - d1 * self.k[3];
+        Plane { a: pa as f32, b: pb as f32, c: (a0 - pa * self.x0 - pb * self.y0) as f32 }
     }
 
     /// Calls `f(j, first, last)` with the covered pixels `first..=last` of every row `j` that
-    /// has any. Each edge's crossing is tracked exactly from row to row with integer steps
-    /// (no division per row), so pixels outside the triangle are never visited.
+    /// has any. Narrow triangles test each pixel of their bounding box; wider ones track each
+    /// edge's crossing from row to row with exact integer steps, so they never visit pixels
+    /// outside the triangle. Both give exactly the pixels whose centres pass the edge tests.
     #[inline]
-    pub(crate) fn for_each_span(&self, mut f: impl FnMut(u32, u32, u32)) {
+    pub(crate) fn for_each_span(&self, f: impl FnMut(u32, u32, u32)) {
+        if self.i1 - self.i0 < SCAN_WIDTH {
+            self.scan_spans(f);
+        } else {
+            self.walk_spans(f);
+        }
+    }
+
+    /// Spans by testing every pixel of the bounding box (cheap for small boxes: no division).
+    fn scan_spans(&self, mut f: impl FnMut(u32, u32, u32)) {
+        let mut row = self.e0;
+        for j in self.j0..=self.j1 {
+            let mut e = row;
+            let mut first = None;
+            for i in self.i0..=self.i1 {
+                if (e[0] | e[1] | e[2]) >= 0 {
+                    first.get_or_insert(i);
+                } else if let Some(start) = first {
+                    f(j, start, i - 1); // Convex: the span has ended.
+                    first = None;
+                    break;
+                }
+                e = [e[0] + self.di[0], e[1] + self.di[1], e[2] + self.di[2]];
+            }
+            if let Some(start) = first {
+                f(j, start, self.i1);
+            }
+            row = [row[0] + self.dj[0], row[1] + self.dj[1], row[2] + self.dj[2]];
+        }
+    }
+
+    /// Spans from edge walkers (no per-pixel work outside the triangle).
+    fn walk_spans(&self, mut f: impl FnMut(u32, u32, u32)) {
         let last = (self.i1 - self.i0) as i64;
         let mut walkers: [EdgeWalker; 3] = std::array::from_fn(|k| EdgeWalker::new(self.e0[k], self.di[k], self.dj[k]));
         for j in self.j0..=self.j1 {
@@ -173,11 +210,14 @@ impl EdgeWalker {
     /// pixel (`di`) and per row (`dj`).
     fn new(e: i64, di: i64, dj: i64) -> EdgeWalker {
         if di > 0 {
-            let (q, rem) = ((-dj).div_euclid(di), (-dj).rem_euclid(di));
-            EdgeWalker::Enter { t: -e.div_euclid(di), f: e.rem_euclid(di), d: di, q, rem }
+            let (t, f) = floor_divmod(e, di);
+            let (q, rem) = floor_divmod(-dj, di);
+            EdgeWalker::Enter { t: -t, f, d: di, q, rem }
         } else if di < 0 {
             let a = -di;
-            EdgeWalker::Leave { t: e.div_euclid(a), g: e.rem_euclid(a), a, q: dj.div_euclid(a), rem: dj.rem_euclid(a) }
+            let (t, g) = floor_divmod(e, a);
+            let (q, rem) = floor_divmod(dj, a);
+            EdgeWalker::Leave { t, g, a, q, rem }
         } else {
             EdgeWalker::Flat { e, dj }
         }
@@ -207,6 +247,13 @@ impl EdgeWalker {
             EdgeWalker::Flat { e, dj } => *e += *dj,
         }
     }
+}
+
+/// `(⌊a / b⌋, a mod b)` for `b > 0`, from one hardware division.
+#[inline]
+fn floor_divmod(a: i64, b: i64) -> (i64, i64) {
+    let (q, r) = (a / b, a % b);
+    if r < 0 { (q - 1, r + b) } else { (q, r) }
 }
 
 /// Twice the signed area in fixed-point units². [`Setup`] needs it positive. Because screen y

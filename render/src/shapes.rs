@@ -352,6 +352,8 @@ mod tests {
     fn sphere_and_capsule_are_closed_with_radial_normals() {
         let s = Mesh::sphere(0.3, 32);
         assert_outward_consistent(&s);
+        // Smooth profiles share one ring of vertices between neighbouring bands.
+        assert_eq!(s.vertex_count(), 17 * 33);
         let exact = 4.0 / 3.0 * std::f32::consts::PI * 0.027;
         assert!((volume(&s) - exact).abs() / exact < 0.03);
         for (p, n) in s.positions().iter().zip(s.normals()) {

@@ -221,6 +221,22 @@ fn textures_are_perspective_correct() {
 }
 
 #[test]
+fn distant_textures_are_filtered_not_aliased() {
+    // A 64×64 one-texel checkerboard tiled 40× over a 2 m plane seen from 3 m: many texels
+    // per pixel, so each pixel should come out near the average grey.
+    let data: Vec<u8> = (0..64 * 64).flat_map(|i| if (i % 64 + i / 64) % 2 == 0 { [255u8; 3] } else { [0u8; 3] }).collect();
+    let tex = Arc::new(Texture::from_rgb8(64, 64, &data).unwrap());
+    let mat = Material { texture: Some(tex), unlit: true, uv_scale: Vec2::splat(40.0), ..Material::default() };
+    let cam = Camera::look_at(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y, 40.0, 64, 64);
+    let plane = Instance::new(Arc::new(Mesh::plane(1.0, 1.0)), Transform::IDENTITY, 1).with_material(mat);
+    let frame = render(&unlit_scene(vec![plane]), &cam);
+    let px = covered(&frame, 1);
+    assert!(px.len() > 1000);
+    let worst = px.iter().map(|&(x, y)| (frame.color.pixel(x, y)[0] as i32 - 128).abs()).max().unwrap();
+    assert!(worst < 40, "a pixel is {worst} levels off grey: aliasing");
+}
+
+#[test]
 fn transparent_instances_blend_and_keep_depth() {
     let cam = Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y, 45.0, 16, 16);
     let back = Instance::new(Arc::new(Mesh::plane(1.0, 1.0)), Transform::IDENTITY, 1).with_material(Material::unlit([0.0, 0.0, 1.0, 1.0]));

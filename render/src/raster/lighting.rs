@@ -242,10 +242,10 @@ impl LightRig {
                 }
             }
         }
-        for c in 0..3 {
-            b.ambient[c][lane] = colours[0][c];
-            b.diffuse[c][lane] = colours[1][c];
-            b.specular[c][lane] = colours[2][c];
+        for (target, source) in [&mut b.ambient, &mut b.diffuse, &mut b.specular].into_iter().zip(colours) {
+            for (t, value) in target.iter_mut().zip(source) {
+                t[lane] = value;
+            }
         }
         b.shadow[lane] = if casts_shadow { 1.0 } else { 0.0 };
     }

@@ -119,7 +119,13 @@ impl Frame {
     }
 }
 
+/// Reverses the order of the `rows` rows of `row_len` items (only whole rows present in
+/// `data` take part, so inconsistent sizes cannot make it panic).
 fn flip_rows<T>(data: &mut [T], row_len: usize, rows: usize) {
+    if row_len == 0 {
+        return;
+    }
+    let rows = rows.min(data.len() / row_len);
     for y in 0..rows / 2 {
         let (top, bottom) = data.split_at_mut((rows - 1 - y) * row_len);
         top[y * row_len..(y + 1) * row_len].swap_with_slice(&mut bottom[..row_len]);
@@ -163,6 +169,14 @@ mod tests {
         assert_eq!(f.depth_at(1, 0), 4.0);
         f.flip_vertical();
         assert_eq!(f, numbered());
+    }
+
+    #[test]
+    fn inconsistent_sizes_do_not_panic() {
+        let mut img = RgbImage { width: 4, height: 4, data: vec![1; 10] };
+        img.flip_vertical();
+        img.rotate_180();
+        assert_eq!(img.data.len(), 10);
     }
 
     #[test]

@@ -319,6 +319,14 @@ fn bad_input_is_an_error_or_skipped_never_a_panic() {
     let frame = r.render(&broken, &agentview(32, 32)).unwrap();
     assert_eq!(r.stats().instances_culled, 2);
     assert!(frame.segmentation.iter().all(|&s| s != 1 && s != 2));
+    // Absurd but finite placements (overflow checks are on in tests).
+    let mut wild = scene.clone();
+    wild.instances[0].transform = Transform::from_pos_quat_scale(Vec3::new(0.0, 0.0, 1.0), [1.0, 0.0, 0.0, 0.0], Vec3::splat(1e30));
+    wild.instances[1].transform = Transform::from_pos_quat_scale(Vec3::new(1e25, -1e25, 0.9), [0.3, 0.1, 0.9, 0.2], Vec3::new(1e-30, 1e20, 1.0));
+    wild.instances[2].transform.translation = Vec3::new(0.66, 0.0, 1.6105); // Inside the camera.
+    for cam in [agentview(32, 32), agentview(64, 48).with_clip(1e-6, 1e30)] {
+        r.render(&wild, &cam).unwrap();
+    }
 }
 
 #[test]

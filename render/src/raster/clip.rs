@@ -10,7 +10,10 @@ use super::lighting::Lit;
 use crate::camera::Intrinsics;
 
 /// Screen coordinates beyond ±this many pixels are clipped away before rasterization.
-const GUARD_PX: f32 = 1.0 * (1 << 19) as f32;
+const GUARD_PX: f32 = (1 << 19) as f32;
+/// The guard band in fixed-point units (with a little slack for rounding at its edge); the
+/// rasterizer's integer arithmetic is sized for coordinates up to this.
+pub(crate) const GUARD_FIXED: i64 = 2 << (19 + 8);
 
 /// Outcode bits: a vertex outside the plane sets the bit.
 pub(crate) const NEAR: u16 = 1;

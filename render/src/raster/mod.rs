@@ -22,7 +22,7 @@ mod triangle;
 use glam::{Mat3, Vec2, Vec3};
 use thiserror::Error;
 
-use self::clip::{ClipSpace, ClipVert, Polygon, SphereClass, MUST_CLIP, REJECT};
+use self::clip::{ClipSpace, ClipVert, Polygon, SphereClass, GUARD_FIXED, MUST_CLIP, REJECT};
 use self::lighting::{LightRig, Lit};
 use self::shadow::ShadowMap;
 use self::triangle::{orientation, snap, Plane, Setup};
@@ -33,7 +33,7 @@ use crate::texture::Texture;
 use crate::transform::{cross, dot, mul_mat3, mul_mat3_mat3};
 
 /// Largest accepted image side (pixels), after supersampling.
-pub const MAX_IMAGE_SIDE: u32 = 16384;
+pub const MAX_IMAGE_SIDE: u32 = 8192;
 
 /// Renderer settings. The defaults match what LIBERO renders: no shadows (its scene lights
 /// have `castshadow="false"`), no supersampling.
@@ -146,7 +146,11 @@ impl View {
     fn project(&self, c: Vec3) -> ([i32; 2], f32) {
         let u = self.k.fx * (c.x / c.z) + self.k.cx;
         let v = self.k.fy * (c.y / c.z) + self.k.cy;
-        ([snap(u) as i32, snap(v) as i32], 1.0 / c.z)
+        // Clipping keeps real vertices inside the guard band; the clamp only bounds what
+        // absurd (but finite) inputs could produce, so the fixed-point arithmetic cannot
+        // overflow.
+        let fixed = |x: f32| snap(x).clamp(-GUARD_FIXED, GUARD_FIXED) as i32;
+        ([fixed(u), fixed(v)], 1.0 / c.z)
     }
 }
 

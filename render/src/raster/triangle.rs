@@ -6,7 +6,7 @@
 //! triangles belong to exactly one of them (no double blending, no cracks).
 
 /// Sub-pixel steps per pixel. With the clipper's guard band of 2^19 pixels, snapped
-/// coordinates stay below 2^27 and edge functions below 2^57, well inside `i64`.
+/// coordinates stay below 2^28 (`GUARD_FIXED`) and edge functions below 2^59, inside `i64`.
 pub(crate) const SUB: i64 = 256;
 
 /// Bounding boxes narrower than this many pixels are scanned pixel by pixel rather than walked.

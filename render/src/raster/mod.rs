@@ -170,8 +170,7 @@ pub struct Renderer {
     shadow_rgb: Vec<[Plane; 3]>,
     verts: Verts,
     /// Lit colours, two slots (front, back) per vertex, and whether each is computed.
-    lit: Vec<Lit>,
-    lit_done: Vec<bool>,
+    lit: LitCache,
     poly: Polygon,
     order: Vec<Visible>,
     blended: Vec<Visible>,
@@ -282,7 +281,7 @@ impl Renderer {
         let shadows = self.shadows_active;
         let (depth, tri_id, records, shadow_rgb) = (&mut self.depth, &mut self.tri_id, &mut self.records, &mut self.shadow_rgb);
         let mut rasterized = 0;
-        let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, lit_done: &mut self.lit_done, poly: &mut self.poly, rig: &self.rig };
+        let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, poly: &mut self.poly, rig: &self.rig };
         let lit = front.assemble(inst, visible.inside, view, |setup, sv| {
             let (rec, sh) = build_record(&setup, &sv, inst, idx, shadows);
             let id = records.len() as u32;
@@ -314,7 +313,7 @@ impl Renderer {
         let shadows = self.shadows_active.then_some(&self.shadow);
         let depth = &self.depth;
         let mut rasterized = 0;
-        let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, lit_done: &mut self.lit_done, poly: &mut self.poly, rig: &self.rig };
+        let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, poly: &mut self.poly, rig: &self.rig };
         let lit = front.assemble(inst, visible.inside, view, |setup, sv| {
             let (rec, sh) = build_record(&setup, &sv, inst, idx, shadows.is_some());
             rasterized += 1;
@@ -399,8 +398,7 @@ fn put_rgb(row: &mut [u8], k: usize, rgb: [f32; 3]) {
 /// Borrowed per-instance state for geometry processing.
 struct Frontend<'a> {
     verts: &'a mut Verts,
-    lit: &'a mut Vec<Lit>,
-    lit_done: &'a mut Vec<bool>,
+    lit: &'a mut LitCache,
     poly: &'a mut Polygon,
     rig: &'a LightRig,
 }
@@ -428,22 +426,13 @@ impl Frontend<'_> {
             let (xy, iz) = if code & MUST_CLIP == 0 { view.project(cam) } else { ([0, 0], 0.0) };
             (cam, xy, iz, code)
         });
-        let n = mesh.vertex_count();
-        self.lit.clear();
-        self.lit.resize(2 * n, Lit::default());
-        self.lit_done.clear();
-        self.lit_done.resize(2 * n, false);
-
+        self.lit.begin(mesh.vertex_count());
         let verts = &*self.verts;
         let normals = mesh.normals();
-        let lit_vertex = |lit: &mut Vec<Lit>, done: &mut Vec<bool>, i: usize, back: bool| -> Lit {
-            let slot = 2 * i + back as usize;
-            if !done[slot] {
-                let nrm = mul_mat3(&normal_m, normals[i]);
-                lit[slot] = self.rig.shade(&surface, verts.cam[i], if back { -nrm } else { nrm });
-                done[slot] = true;
-            }
-            lit[slot]
+        let rig = self.rig;
+        let light = |i: usize, back: bool| {
+            let nrm = mul_mat3(&normal_m, normals[i]);
+            rig.shade(&surface, verts.cam[i], if back { -nrm } else { nrm })
         };
         let xy = |i: usize| (verts.xy[i][0] as i64, verts.xy[i][1] as i64);
 
@@ -465,9 +454,7 @@ impl Frontend<'_> {
                 let (b, c) = if back { (b, c) } else { (c, b) };
                 let Some(setup) = Setup::new([xy(a), xy(b), xy(c)], w, h) else { continue };
                 let sv = |i: usize, lit: Lit| ScreenVert { xy: xy(i), iz: verts.iz[i], lit, uv: uv_of(i) };
-                let la = lit_vertex(self.lit, self.lit_done, a, back);
-                let lb = lit_vertex(self.lit, self.lit_done, b, back);
-                let lc = lit_vertex(self.lit, self.lit_done, c, back);
+                let (la, lb, lc) = (self.lit.get(a, back, &light), self.lit.get(b, back, &light), self.lit.get(c, back, &light));
                 emit(setup, [sv(a, la), sv(b, lb), sv(c, lc)]);
             } else {
                 // Facing from camera space: the eye is at the origin.
@@ -478,9 +465,7 @@ impl Frontend<'_> {
                     continue;
                 }
                 let cv = |i: usize, lit: Lit| ClipVert { p: verts.cam[i], lit, uv: uv_of(i) };
-                let la = lit_vertex(self.lit, self.lit_done, a, back);
-                let lb = lit_vertex(self.lit, self.lit_done, b, back);
-                let lc = lit_vertex(self.lit, self.lit_done, c, back);
+                let (la, lb, lc) = (self.lit.get(a, back, &light), self.lit.get(b, back, &light), self.lit.get(c, back, &light));
                 let count = view.clip.clip([cv(a, la), cv(b, lb), cv(c, lc)], clip_bits, self.poly);
                 let on_screen = |v: &ClipVert| {
                     let (xy, iz) = view.project(v.p);
@@ -498,7 +483,46 @@ impl Frontend<'_> {
                 }
             }
         }
-        self.lit_done.iter().filter(|&&d| d).count()
+        self.lit.count
+    }
+}
+
+/// Lit vertex colours of the current instance, computed on first use. Two slots per vertex
+/// (front and back side); a slot is valid when its stamp equals the instance's, so starting a
+/// new instance costs nothing per vertex.
+#[derive(Default)]
+struct LitCache {
+    colours: Vec<Lit>,
+    stamps: Vec<u32>,
+    current: u32,
+    /// Slots computed for the current instance.
+    count: usize,
+}
+
+impl LitCache {
+    fn begin(&mut self, vertices: usize) {
+        if self.colours.len() < 2 * vertices {
+            self.colours.resize(2 * vertices, Lit::default());
+            self.stamps.resize(2 * vertices, 0);
+        }
+        self.current = self.current.wrapping_add(1);
+        if self.current == 0 {
+            // Stamps wrapped around: forget everything once.
+            self.stamps.fill(0);
+            self.current = 1;
+        }
+        self.count = 0;
+    }
+
+    #[inline]
+    fn get(&mut self, vertex: usize, back: bool, light: &impl Fn(usize, bool) -> Lit) -> Lit {
+        let slot = 2 * vertex + back as usize;
+        if self.stamps[slot] != self.current {
+            self.colours[slot] = light(vertex, back);
+            self.stamps[slot] = self.current;
+            self.count += 1;
+        }
+        self.colours[slot]
     }
 }
 
@@ -680,5 +704,29 @@ fn downsample(hi: &Frame, k: u32, out: &mut Frame) {
             out.depth[p] = hi.depth[centre];
             out.segmentation[p] = hi.segmentation[centre];
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lit_cache_computes_each_slot_once_per_instance_and_survives_wrap_around() {
+        let calls = std::cell::Cell::new(0);
+        let light = |v: usize, back: bool| {
+            calls.set(calls.get() + 1);
+            Lit { base: [v as f32, back as u8 as f32, 0.0, 1.0], shadowed: [0.0; 3] }
+        };
+        let mut cache = LitCache::default();
+        cache.begin(3);
+        assert_eq!(cache.get(2, true, &light).base[..2], [2.0, 1.0]);
+        cache.get(2, true, &light);
+        cache.get(2, false, &light);
+        assert_eq!((calls.get(), cache.count), (2, 2));
+        cache.current = u32::MAX;
+        cache.begin(3);
+        cache.get(2, true, &light);
+        assert_eq!((calls.get(), cache.count, cache.current), (3, 1, 1));
     }
 }

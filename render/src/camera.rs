@@ -73,7 +73,8 @@ impl Camera {
         Camera { position, rotation, fovy_deg, width, height, near: DEFAULT_NEAR, far: DEFAULT_FAR }
     }
 
-    /// A camera at `eye` looking at `target`, with `up` (world) appearing upwards in the image.
+    /// A camera at `eye` looking at `target`, with `up` (world) appearing upwards in the image
+    /// (`up` must not be parallel to the viewing direction).
     pub fn look_at(eye: Vec3, target: Vec3, up: Vec3, fovy_deg: f32, width: u32, height: u32) -> Camera {
         let back = normalize(eye - target);
         let right = normalize(cross(up, back));

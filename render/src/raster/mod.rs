@@ -5,7 +5,7 @@
 //!    rest are sorted front to back. Each instance's vertices are transformed into camera
 //!    space once, with outcodes for trivial rejection and clipping. Triangles are back-face
 //!    culled in exact fixed point, near-plane (and guard-band) clipped when needed, and only the
-//!    vertices of surviving triangles are lit (per vertex, [`lighting`]).
+//!    vertices of triangles that cover a pixel centre are lit (per vertex, [`lighting`]).
 //! 2. **Visibility.** Opaque triangles are rasterized depth-only into a visibility buffer: per
 //!    pixel, `1/z` and the index of the nearest triangle ([`triangle`] does exact coverage at
 //!    pixel centres).

@@ -1,0 +1,282 @@
+//! Triangle meshes: validated vertex data plus a bounding sphere for culling.
+
+use glam::{Vec2, Vec3};
+use thiserror::Error;
+
+use crate::transform::{cross, dot, mul_mat3, normalize, Transform};
+
+/// Why mesh data was rejected.
+#[derive(Debug, Error, PartialEq)]
+pub enum MeshError {
+    /// Normals or UVs do not have one entry per position.
+    #[error("mesh has {positions} positions but {count} {what}")]
+    LengthMismatch { what: &'static str, positions: usize, count: usize },
+    /// A triangle refers to a vertex that does not exist.
+    #[error("triangle {triangle} refers to vertex {index}, but the mesh has {vertices} vertices")]
+    IndexOutOfRange { triangle: usize, index: u32, vertices: usize },
+    /// A position, normal or UV is NaN or infinite.
+    #[error("{what} {index} is not finite")]
+    NonFinite { what: &'static str, index: usize },
+}
+
+/// A sphere enclosing all vertices of a mesh, in the mesh's local frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoundingSphere {
+    pub center: Vec3,
+    pub radius: f32,
+}
+
+/// An indexed triangle mesh with per-vertex normals and optional texture coordinates.
+///
+/// Triangles are counter-clockwise seen from the front (OpenGL/MuJoCo convention). Immutable once
+/// built, so scenes share meshes through `Arc<Mesh>`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mesh {
+    positions: Vec<Vec3>,
+    normals: Vec<Vec3>,
+    uvs: Option<Vec<Vec2>>,
+    triangles: Vec<[u32; 3]>,
+    bounds: BoundingSphere,
+}
+
+impl Mesh {
+    /// Builds a mesh after checking lengths, indices and finiteness.
+    ///
+    /// UV `v = 0` is the first (top) row of a texture image, as MuJoCo uses texture rows.
+    pub fn new(
+        positions: Vec<Vec3>,
+        normals: Vec<Vec3>,
+        uvs: Option<Vec<Vec2>>,
+        triangles: Vec<[u32; 3]>,
+    ) -> Result<Mesh, MeshError> {
+        let n = positions.len();
+        if normals.len() != n {
+            return Err(MeshError::LengthMismatch { what: "normals", positions: n, count: normals.len() });
+        }
+        if let Some(uv) = &uvs {
+            if uv.len() != n {
+                return Err(MeshError::LengthMismatch { what: "UVs", positions: n, count: uv.len() });
+            }
+            if let Some(i) = uv.iter().position(|t| !t.is_finite()) {
+                return Err(MeshError::NonFinite { what: "UV", index: i });
+            }
+        }
+        if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(MeshError::NonFinite { what: "position", index: i });
+        }
+        if let Some(i) = normals.iter().position(|p| !p.is_finite()) {
+            return Err(MeshError::NonFinite { what: "normal", index: i });
+        }
+        for (t, tri) in triangles.iter().enumerate() {
+            if let Some(&index) = tri.iter().find(|&&i| i as usize >= n) {
+                return Err(MeshError::IndexOutOfRange { triangle: t, index, vertices: n });
+            }
+        }
+        let bounds = bounding_sphere(&positions);
+        Ok(Mesh { positions, normals, uvs, triangles, bounds })
+    }
+
+    /// Builds a mesh whose normals are the area-weighted average of the adjacent face normals
+    /// (smooth shading across shared vertices).
+    pub fn with_smooth_normals(
+        positions: Vec<Vec3>,
+        uvs: Option<Vec<Vec2>>,
+        triangles: Vec<[u32; 3]>,
+    ) -> Result<Mesh, MeshError> {
+        let mut normals = vec![Vec3::ZERO; positions.len()];
+        for tri in &triangles {
+            let [a, b, c] = tri.map(|i| positions.get(i as usize).copied());
+            if let (Some(a), Some(b), Some(c)) = (a, b, c) {
+                // The cross product's length is twice the area: area weighting for free.
+                let fnorm = cross(b - a, c - a);
+                for &i in tri {
+                    normals[i as usize] += fnorm;
+                }
+            }
+        }
+        for n in &mut normals {
+            *n = normalize(*n);
+        }
+        Mesh::new(positions, normals, uvs, triangles)
+    }
+
+    /// Builds a mesh shaded the way MuJoCo draws loaded meshes: vertex normals from the file
+    /// (or area-weighted smooth normals when it has none), except that for meshes without UVs a
+    /// corner whose vertex normal is more than ~37° (cosine 0.8) off its face normal uses the
+    /// face normal instead, which keeps hard edges hard. Such meshes come out with unshared
+    /// vertices (three per triangle).
+    pub fn with_mujoco_normals(
+        positions: Vec<Vec3>,
+        normals: Option<Vec<Vec3>>,
+        uvs: Option<Vec<Vec2>>,
+        triangles: Vec<[u32; 3]>,
+    ) -> Result<Mesh, MeshError> {
+        let smooth = match normals {
+            Some(n) => Mesh::new(positions, n, uvs, triangles)?,
+            None => Mesh::with_smooth_normals(positions, uvs, triangles)?,
+        };
+        if smooth.uvs.is_some() {
+            return Ok(smooth);
+        }
+        let mut positions = Vec::with_capacity(smooth.triangles.len() * 3);
+        let mut normals = Vec::with_capacity(smooth.triangles.len() * 3);
+        for tri in &smooth.triangles {
+            let [a, b, c] = tri.map(|i| smooth.positions[i as usize]);
+            let face = normalize(cross(b - a, c - a));
+            for &i in tri {
+                let n = normalize(smooth.normals[i as usize]);
+                positions.push(smooth.positions[i as usize]);
+                normals.push(if dot(n, face) < 0.8 { face } else { n });
+            }
+        }
+        let triangles = (0..smooth.triangles.len() as u32).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect();
+        Mesh::new(positions, normals, None, triangles)
+    }
+
+    /// Vertex positions in the local frame.
+    pub fn positions(&self) -> &[Vec3] {
+        &self.positions
+    }
+
+    /// Per-vertex normals (not necessarily unit length; the renderer normalises).
+    pub fn normals(&self) -> &[Vec3] {
+        &self.normals
+    }
+
+    /// Per-vertex texture coordinates, if any.
+    pub fn uvs(&self) -> Option<&[Vec2]> {
+        self.uvs.as_deref()
+    }
+
+    /// Triangles as vertex index triples, counter-clockwise from the front.
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
+    /// Enclosing sphere in the local frame.
+    pub fn bounds(&self) -> BoundingSphere {
+        self.bounds
+    }
+
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// A copy with every vertex moved by `t` (normals by its inverse transpose).
+    pub fn transformed(&self, t: &Transform) -> Mesh {
+        Mesh::merge(&[(self.clone(), *t)])
+    }
+
+    /// A copy with triangle winding and normals reversed (the inside becomes the front).
+    pub fn flipped(&self) -> Mesh {
+        let triangles = self.triangles.iter().map(|&[a, b, c]| [a, c, b]).collect();
+        let normals = self.normals.iter().map(|&n| -n).collect();
+        Mesh::new(self.positions.clone(), normals, self.uvs.clone(), triangles)
+            .expect("flipping keeps a valid mesh valid")
+    }
+
+    /// Concatenates meshes, each placed by its transform, into one.
+    ///
+    /// The result has UVs if any part has them; parts without UVs get `(0, 0)`.
+    pub fn merge(parts: &[(Mesh, Transform)]) -> Mesh {
+        let any_uv = parts.iter().any(|(m, _)| m.uvs.is_some());
+        let mut positions = Vec::new();
+        let mut normals = Vec::new();
+        let mut uvs = Vec::new();
+        let mut triangles = Vec::new();
+        for (mesh, t) in parts {
+            let base = positions.len() as u32;
+            let nm = t.normal_matrix();
+            positions.extend(mesh.positions.iter().map(|&p| t.transform_point(p)));
+            normals.extend(mesh.normals.iter().map(|&n| normalize(mul_mat3(&nm, n))));
+            if any_uv {
+                match &mesh.uvs {
+                    Some(u) => uvs.extend_from_slice(u),
+                    None => uvs.extend(std::iter::repeat_n(Vec2::ZERO, mesh.positions.len())),
+                }
+            }
+            triangles.extend(mesh.triangles.iter().map(|tri| tri.map(|i| i + base)));
+        }
+        Mesh::new(positions, normals, any_uv.then_some(uvs), triangles)
+            .expect("merging valid meshes with finite transforms gives a valid mesh")
+    }
+}
+
+/// Centre of the bounding box, radius to the farthest vertex: deterministic and tight enough.
+fn bounding_sphere(points: &[Vec3]) -> BoundingSphere {
+    if points.is_empty() {
+        return BoundingSphere { center: Vec3::ZERO, radius: 0.0 };
+    }
+    let (mut lo, mut hi) = (points[0], points[0]);
+    for &p in points {
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    let center = (lo + hi) * 0.5;
+    let r2 = points.iter().map(|&p| dot(p - center, p - center)).fold(0.0f32, f32::max);
+    BoundingSphere { center, radius: r2.sqrt() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn triangle() -> Mesh {
+        Mesh::with_smooth_normals(vec![Vec3::ZERO, Vec3::X, Vec3::Y], None, vec![[0, 1, 2]]).unwrap()
+    }
+
+    #[test]
+    fn rejects_bad_indices_and_lengths() {
+        let e = Mesh::new(vec![Vec3::ZERO], vec![Vec3::Z], None, vec![[0, 0, 3]]).unwrap_err();
+        assert_eq!(e, MeshError::IndexOutOfRange { triangle: 0, index: 3, vertices: 1 });
+        let e = Mesh::new(vec![Vec3::ZERO], vec![], None, vec![]).unwrap_err();
+        assert!(matches!(e, MeshError::LengthMismatch { what: "normals", .. }));
+        let e = Mesh::new(vec![Vec3::new(f32::NAN, 0.0, 0.0)], vec![Vec3::Z], None, vec![]).unwrap_err();
+        assert_eq!(e, MeshError::NonFinite { what: "position", index: 0 });
+    }
+
+    #[test]
+    fn smooth_normals_follow_winding() {
+        let m = triangle();
+        assert!(m.normals().iter().all(|&n| (n - Vec3::Z).length() < 1e-6));
+        let f = m.flipped();
+        assert!(f.normals().iter().all(|&n| (n + Vec3::Z).length() < 1e-6));
+        assert_eq!(f.triangles()[0], [0, 2, 1]);
+    }
+
+    #[test]
+    fn bounds_enclose_all_vertices() {
+        let m = triangle();
+        let b = m.bounds();
+        for &p in m.positions() {
+            assert!((p - b.center).length() <= b.radius + 1e-6);
+        }
+    }
+
+    #[test]
+    fn mujoco_normals_keep_hard_edges() {
+        // Two triangles folded 90° along the x axis, sharing their edge vertices.
+        let p = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
+        let m = Mesh::with_mujoco_normals(p, None, None, vec![[0, 1, 2], [0, 3, 1]]).unwrap();
+        assert_eq!(m.vertex_count(), 6);
+        // Smooth normals at the shared edge are 45° off each face: the face normals win.
+        assert!(m.normals()[..3].iter().all(|&n| (n - Vec3::Z).length() < 1e-6));
+        assert!(m.normals()[3..].iter().all(|&n| (n - Vec3::Y).length() < 1e-6));
+    }
+
+    #[test]
+    fn merge_offsets_indices_and_transforms() {
+        let t = Transform::from_translation(Vec3::new(0.0, 0.0, 2.0));
+        let m = Mesh::merge(&[(triangle(), Transform::IDENTITY), (triangle(), t)]);
+        assert_eq!(m.vertex_count(), 6);
+        assert_eq!(m.triangles()[1], [3, 4, 5]);
+        assert_eq!(m.positions()[3], Vec3::new(0.0, 0.0, 2.0));
+        assert!(m.uvs().is_none());
+    }
+}

@@ -1,0 +1,433 @@
+//! Per-vertex lighting as OpenGL's fixed-function pipeline computes it with MuJoCo's settings.
+//!
+//! MuJoCo (`render_gl3.c`) enables `GL_LIGHTING` with `GL_COLOR_MATERIAL` tracking ambient and
+//! diffuse, a local viewer, one-sided lighting, a global ambient of 0 whenever any light exists
+//! (0.3 otherwise), and the headlight as a directional light along the view direction. Colours
+//! are computed at vertices, clamped to `[0, 1]` and interpolated (Gouraud), like OpenGL.
+//!
+//! Everything here works in renderer camera coordinates (x right, y down, z forward, eye at the
+//! origin), so the view vector is just `-p`.
+
+use glam::{BVec4A, Vec3, Vec4};
+
+use crate::camera::Camera;
+use crate::scene::{LightKind, Material, Scene};
+use crate::transform::normalize;
+
+/// Lights are evaluated four at a time, one per lane of a `Vec4` (SSE on x86, scalar or
+/// simd128 in wasm: the same IEEE operations either way, so the same results).
+const LANES: usize = 4;
+
+/// Up to four lights in camera coordinates. Unused lanes have zero colours.
+#[derive(Clone, Copy, Debug)]
+struct LightBlock {
+    /// Position of a positional light; unit vector towards a directional one.
+    x: Vec4,
+    y: Vec4,
+    z: Vec4,
+    /// 1 for positional lights, 0 for directional ones.
+    positional: Vec4,
+    /// Spot lights with a cutoff below 180°.
+    spot: BVec4A,
+    /// Unit spot axis and cosine of the cutoff angle.
+    ax: Vec4,
+    ay: Vec4,
+    az: Vec4,
+    cos_cutoff: Vec4,
+    /// Integer spot exponents as bit masks (`exponent_bits[b]`: the lanes whose exponent has
+    /// bit `b`) and the number of bits in use; lanes with a non-integer exponent are listed in
+    /// `fractional` instead.
+    exponent_bits: [BVec4A; 8],
+    bits: u32,
+    fractional: [Option<f32>; LANES],
+    /// Attenuation `1 / (a0 + a1 d + a2 d²)` (1, 0, 0 for directional lights).
+    a0: Vec4,
+    a1: Vec4,
+    a2: Vec4,
+    ambient: [Vec4; 3],
+    diffuse: [Vec4; 3],
+    specular: [Vec4; 3],
+    /// 1 in the lane of the shadow-casting light.
+    shadow: Vec4,
+}
+
+impl Default for LightBlock {
+    fn default() -> Self {
+        LightBlock {
+            x: Vec4::ZERO,
+            y: Vec4::ZERO,
+            z: Vec4::ZERO,
+            positional: Vec4::ZERO,
+            spot: BVec4A::FALSE,
+            ax: Vec4::ZERO,
+            ay: Vec4::ZERO,
+            az: Vec4::ZERO,
+            cos_cutoff: Vec4::ZERO,
+            exponent_bits: [BVec4A::FALSE; 8],
+            bits: 0,
+            fractional: [None; LANES],
+            a0: Vec4::ONE,
+            a1: Vec4::ZERO,
+            a2: Vec4::ZERO,
+            ambient: [Vec4::ZERO; 3],
+            diffuse: [Vec4::ZERO; 3],
+            specular: [Vec4::ZERO; 3],
+            shadow: Vec4::ZERO,
+        }
+    }
+}
+
+/// The frame's lights, moved into camera coordinates once per frame.
+#[derive(Default)]
+pub(crate) struct LightRig {
+    blocks: Vec<LightBlock>,
+    lights: usize,
+    global_ambient: f32,
+    /// `x^e` tables for the scene's non-integer Phong exponents, kept across frames.
+    pow_tables: Vec<(f32, Vec<f32>)>,
+}
+
+/// Samples per `x^e` table over `[0, 1]`; linear interpolation between them is accurate to
+/// about 0.002 even for `e = 128`, below one 8-bit colour step.
+const POW_SAMPLES: usize = 1024;
+/// At most this many distinct non-integer exponents get a table; others use `libm::powf`.
+const MAX_POW_TABLES: usize = 32;
+
+/// How a surface raises `n·h` to its Phong exponent.
+#[derive(Clone, Copy, Debug)]
+enum Power<'a> {
+    /// Integer exponent: repeated squaring.
+    Int(u32),
+    Table(&'a [f32]),
+    Libm(f32),
+}
+
+impl Power<'_> {
+    #[inline]
+    fn of_lanes(&self, x: Vec4) -> Vec4 {
+        match *self {
+            Power::Int(mut k) => {
+                // The same multiplications as `powi`, on four lanes at once.
+                let (mut base, mut acc) = (x, Vec4::ONE);
+                while k > 0 {
+                    if k & 1 == 1 {
+                        acc *= base;
+                    }
+                    base *= base;
+                    k >>= 1;
+                }
+                acc
+            }
+            _ => Vec4::from_array(x.to_array().map(|v| self.of(v))),
+        }
+    }
+
+
+    #[inline]
+    fn of(&self, x: f32) -> f32 {
+        match *self {
+            Power::Int(k) => powi(x, k),
+            Power::Table(t) => {
+                let f = x.clamp(0.0, 1.0) * POW_SAMPLES as f32;
+                let i = (f as usize).min(POW_SAMPLES - 1);
+                t[i] + (t[i + 1] - t[i]) * (f - i as f32)
+            }
+            Power::Libm(e) => libm::powf(x, e),
+        }
+    }
+}
+
+/// A material's lighting parameters, prepared once per instance.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Surface<'a> {
+    rgb: Vec3,
+    alpha: f32,
+    specular: f32,
+    power: Power<'a>,
+    emission: Vec3,
+    unlit: bool,
+}
+
+/// MuJoCo's Phong exponent for a material (NaN → 0).
+fn phong_exponent(m: &Material) -> f32 {
+    (m.shininess * 128.0).clamp(0.0, 128.0)
+}
+
+/// A lit vertex colour: the part from unshadowed lights (RGBA, alpha = material alpha) and the
+/// part from the shadow-casting light (RGB), each clamped to `[0, 1]` as OpenGL clamps per pass.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Lit {
+    pub base: [f32; 4],
+    pub shadowed: [f32; 3],
+}
+
+impl LightRig {
+    /// Lighting parameters of material `m` for this rig.
+    pub(crate) fn surface(&self, m: &Material) -> Surface<'_> {
+        let rgb = Vec3::new(m.rgba[0], m.rgba[1], m.rgba[2]);
+        let e = phong_exponent(m);
+        let power = if e == e.floor() {
+            Power::Int(e as u32)
+        } else {
+            self.pow_tables.iter().find(|(te, _)| *te == e).map_or(Power::Libm(e), |(_, t)| Power::Table(t))
+        };
+        Surface { rgb, alpha: m.rgba[3].clamp(0.0, 1.0), specular: m.specular, power, emission: rgb * m.emission, unlit: m.unlit }
+    }
+
+    /// Rebuilds the rig for `camera`; the first shadow-casting light is kept apart when
+    /// `shadows` is on.
+    pub(crate) fn prepare(&mut self, scene: &Scene, camera: &Camera, shadows: bool) {
+        for inst in &scene.instances {
+            let e = phong_exponent(&inst.material);
+            if e != e.floor() && self.pow_tables.len() < MAX_POW_TABLES && !self.pow_tables.iter().any(|(te, _)| *te == e) {
+                let table = (0..=POW_SAMPLES).map(|i| libm::powf(i as f32 / POW_SAMPLES as f32, e)).collect();
+                self.pow_tables.push((e, table));
+            }
+        }
+        self.blocks.clear();
+        self.lights = 0;
+        let h = &scene.headlight;
+        if h.active {
+            // Directional, travelling along the view axis (+z in camera coordinates).
+            self.push(Vec3::new(0.0, 0.0, -1.0), None, [h.ambient, h.diffuse, h.specular], false);
+        }
+        let mut shadow_taken = false;
+        for light in &scene.lights {
+            let colours = [light.ambient, light.diffuse, light.specular];
+            let casts = shadows && light.cast_shadow && !shadow_taken;
+            shadow_taken |= casts;
+            match light.kind {
+                LightKind::Directional { direction } => {
+                    self.push(-normalize(camera.direction_to_camera(direction)), None, colours, casts);
+                }
+                LightKind::Spot { position, direction, cutoff_deg, exponent, attenuation } => {
+                    let spot = Spot {
+                        axis: normalize(camera.direction_to_camera(direction)),
+                        cos_cutoff: (cutoff_deg < 180.0).then(|| libm::cosf(cutoff_deg.clamp(0.0, 90.0).to_radians())),
+                        exponent: exponent.clamp(0.0, 128.0),
+                        attenuation,
+                    };
+                    self.push(camera.world_to_camera(position), Some(spot), colours, casts);
+                }
+            }
+        }
+        self.global_ambient = if self.lights > 0 { 0.0 } else { 0.3 };
+    }
+
+    /// Adds a light in the next free lane: `at` is the position of a positional light
+    /// (`spot` given) or the unit vector towards a directional one.
+    fn push(&mut self, at: Vec3, spot: Option<Spot>, colours: [[f32; 3]; 3], casts_shadow: bool) {
+        let lane = self.lights % LANES;
+        if lane == 0 {
+            self.blocks.push(LightBlock::default());
+        }
+        self.lights += 1;
+        let b = self.blocks.last_mut().expect("a block was just ensured");
+        (b.x[lane], b.y[lane], b.z[lane]) = (at.x, at.y, at.z);
+        if let Some(s) = spot {
+            b.positional[lane] = 1.0;
+            [b.a0[lane], b.a1[lane], b.a2[lane]] = s.attenuation;
+            if let Some(cos) = s.cos_cutoff {
+                b.spot.set(lane, true);
+                (b.ax[lane], b.ay[lane], b.az[lane]) = (s.axis.x, s.axis.y, s.axis.z);
+                b.cos_cutoff[lane] = cos;
+                if s.exponent == s.exponent.floor() {
+                    let e = s.exponent as u32;
+                    for (bit, mask) in b.exponent_bits.iter_mut().enumerate() {
+                        mask.set(lane, (e >> bit) & 1 == 1);
+                    }
+                    b.bits = b.bits.max(u32::BITS - e.leading_zeros());
+                } else {
+                    b.fractional[lane] = Some(s.exponent);
+                }
+            }
+        }
+        for (target, source) in [&mut b.ambient, &mut b.diffuse, &mut b.specular].into_iter().zip(colours) {
+            for (t, value) in target.iter_mut().zip(source) {
+                t[lane] = value;
+            }
+        }
+        b.shadow[lane] = if casts_shadow { 1.0 } else { 0.0 };
+    }
+
+    /// Lights a vertex at camera-space `p` with (not necessarily unit) normal `n`.
+    pub(crate) fn shade(&self, s: &Surface<'_>, p: Vec3, n: Vec3) -> Lit {
+        if s.unlit {
+            return Lit { base: [s.rgb.x, s.rgb.y, s.rgb.z, s.alpha], shadowed: [0.0; 3] };
+        }
+        let n = normalize(n);
+        let v = normalize(-p);
+        let mut base = (s.emission + s.rgb * self.global_ambient).to_array();
+        let mut shadowed = [0.0f32; 3];
+        for b in &self.blocks {
+            let c = block_contribution(b, s, p, n, v);
+            for k in 0..3 {
+                // Lane sums in a fixed order; each lane goes to exactly one of the two sums.
+                let plain = (c[k] * (Vec4::ONE - b.shadow)).to_array();
+                let cast = (c[k] * b.shadow).to_array();
+                base[k] += plain[0] + plain[1] + plain[2] + plain[3];
+                shadowed[k] += cast[0] + cast[1] + cast[2] + cast[3];
+            }
+        }
+        let clamp = |x: f32| x.clamp(0.0, 1.0);
+        Lit { base: [clamp(base[0]), clamp(base[1]), clamp(base[2]), s.alpha], shadowed: shadowed.map(clamp) }
+    }
+}
+
+/// A positional light's spot parameters while it is being added to a block.
+struct Spot {
+    axis: Vec3,
+    cos_cutoff: Option<f32>,
+    exponent: f32,
+    attenuation: [f32; 3],
+}
+
+/// The OpenGL lighting terms of four lights at once (RGB × lane).
+#[inline]
+fn block_contribution(b: &LightBlock, s: &Surface<'_>, p: Vec3, n: Vec3, v: Vec3) -> [Vec4; 3] {
+    let zero = Vec4::ZERO;
+    // Unit vector to the light and its distance (directional lights: 1).
+    let lx = b.x - Vec4::splat(p.x) * b.positional;
+    let ly = b.y - Vec4::splat(p.y) * b.positional;
+    let lz = b.z - Vec4::splat(p.z) * b.positional;
+    let dist = (lx * lx + ly * ly + lz * lz).sqrt();
+    let inv = Vec4::select(dist.cmpgt(zero), Vec4::ONE / dist, zero);
+    let (lx, ly, lz) = (lx * inv, ly * inv, lz * inv);
+    // Spot cone: max(−l·axis, 0)^exponent inside the cutoff, 0 outside; 1 for other lights.
+    let cos = (-(lx * b.ax + ly * b.ay + lz * b.az)).max(zero);
+    let mut spot = powi_lanes(cos, &b.exponent_bits, b.bits);
+    if b.fractional.iter().any(Option::is_some) {
+        let (c, mut sp) = (cos.to_array(), spot.to_array());
+        for (l, e) in b.fractional.iter().enumerate() {
+            if let Some(e) = e {
+                sp[l] = libm::powf(c[l], *e);
+            }
+        }
+        spot = Vec4::from_array(sp);
+    }
+    let spot = Vec4::select(b.spot, Vec4::select(cos.cmpge(b.cos_cutoff), spot, zero), Vec4::ONE);
+    let den = b.a0 + b.a1 * dist + b.a2 * dist * dist;
+    let factor = spot * Vec4::select(den.cmpgt(zero), Vec4::ONE / den, Vec4::ONE);
+    // Diffuse and Blinn-Phong specular (only where the light is in front of the surface).
+    let (nx, ny, nz) = (Vec4::splat(n.x), Vec4::splat(n.y), Vec4::splat(n.z));
+    let ndl = nx * lx + ny * ly + nz * lz;
+    let (hx, hy, hz) = (lx + Vec4::splat(v.x), ly + Vec4::splat(v.y), lz + Vec4::splat(v.z));
+    let hlen = (hx * hx + hy * hy + hz * hz).sqrt();
+    let ndh = Vec4::select(hlen.cmpgt(zero), ((nx * hx + ny * hy + nz * hz) * (Vec4::ONE / hlen)).max(zero), zero);
+    let front = ndl.cmpgt(zero);
+    let diffuse = Vec4::select(front, ndl, zero);
+    let specular = Vec4::select(front, s.power.of_lanes(ndh) * s.specular, zero);
+    let rgb = s.rgb.to_array();
+    std::array::from_fn(|k| (b.ambient[k] * rgb[k] + b.diffuse[k] * (diffuse * rgb[k]) + b.specular[k] * specular) * factor)
+}
+
+/// `x^e` per lane by repeated squaring, with `e`'s bits given as lane masks.
+#[inline]
+fn powi_lanes(x: Vec4, bit_masks: &[BVec4A; 8], bits: u32) -> Vec4 {
+    let (mut base, mut acc) = (x, Vec4::ONE);
+    for mask in &bit_masks[..bits as usize] {
+        // Multiply everywhere, then select: no data-dependent branches.
+        acc = Vec4::select(*mask, acc * base, acc);
+        base *= base;
+    }
+    acc
+}
+
+/// `x^k` by repeated squaring (a fixed sequence of multiplications).
+#[inline]
+fn powi(x: f32, mut k: u32) -> f32 {
+    let (mut base, mut acc) = (x, 1.0f32);
+    while k > 0 {
+        if k & 1 == 1 {
+            acc *= base;
+        }
+        base *= base;
+        k >>= 1;
+    }
+    acc
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Headlight, Light};
+
+    fn rig(scene: &Scene) -> LightRig {
+        let cam = Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y, 45.0, 64, 64);
+        let mut r = LightRig::default();
+        r.prepare(scene, &cam, false);
+        r
+    }
+
+    fn mat(specular: f32) -> Material {
+        Material { rgba: [0.5, 0.5, 0.5, 1.0], specular, ..Material::default() }
+    }
+
+    #[test]
+    fn pow_matches_libm_for_integer_exponents() {
+        for &(x, e) in &[(0.9f32, 10u32), (0.5, 64), (0.99, 1), (0.0, 3), (0.7, 128)] {
+            let want = libm::powf(x, e as f32);
+            assert!((powi(x, e) - want).abs() <= 1e-6 * want.max(1e-30));
+            let masks: [BVec4A; 8] = std::array::from_fn(|b| BVec4A::new((e >> b) & 1 == 1, false, b == 0, (e >> b) & 1 == 1));
+            let got = powi_lanes(Vec4::splat(x), &masks, 8).to_array();
+            assert_eq!(got, [powi(x, e), 1.0, x, powi(x, e)]);
+        }
+        assert_eq!(powi(0.0, 0), 1.0);
+    }
+
+    #[test]
+    fn headlight_facing_surface_gets_ambient_plus_diffuse_plus_specular() {
+        let scene = Scene::default();
+        let r = rig(&scene);
+        // A surface 2 m in front, facing the camera: n·L = 1, n·H = 1.
+        let lit = r.shade(&r.surface(&mat(0.5)), Vec3::new(0.0, 0.0, 2.0), Vec3::new(0.0, 0.0, -1.0));
+        let expect = 0.1 * 0.5 + 0.4 * 0.5 + 0.5 * 0.5;
+        assert!((lit.base[0] - expect).abs() < 1e-6, "{lit:?}");
+        // Facing away: ambient only.
+        let back = r.shade(&r.surface(&mat(0.5)), Vec3::new(0.0, 0.0, 2.0), Vec3::new(0.0, 0.0, 1.0));
+        assert!((back.base[0] - 0.05).abs() < 1e-6);
+    }
+
+    #[test]
+    fn spot_light_respects_cutoff_and_exponent() {
+        let mut scene = Scene { headlight: Headlight { active: false, ..Headlight::default() }, ..Scene::default() };
+        // Light 1 m above the origin pointing down (world); camera looks down from z = 2.
+        let mut light = Light::mujoco_spot(Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 0.0, -1.0));
+        light.specular = [0.0; 3];
+        scene.lights.push(light);
+        let r = rig(&scene);
+        let cam = Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y, 45.0, 64, 64);
+        let up_normal = cam.world_to_camera(cam.position + Vec3::Z);
+        let on_axis = r.shade(&r.surface(&mat(0.0)), cam.world_to_camera(Vec3::ZERO), up_normal);
+        assert!((on_axis.base[0] - 0.7 * 0.5).abs() < 1e-6, "{on_axis:?}");
+        // 30° off-axis: cos^10 fall-off and n·L = cos 30°.
+        let off = Vec3::new(libm::tanf(30f32.to_radians()), 0.0, 0.0);
+        let lit = r.shade(&r.surface(&mat(0.0)), cam.world_to_camera(off), up_normal);
+        let c = 30f32.to_radians().cos();
+        assert!((lit.base[0] - 0.7 * 0.5 * c * powi(c, 10)).abs() < 1e-5);
+        // Beyond the 45° cutoff: dark (no global ambient because a light exists).
+        let far = r.shade(&r.surface(&mat(0.0)), cam.world_to_camera(Vec3::new(2.0, 0.0, 0.0)), up_normal);
+        assert_eq!(far.base[0], 0.0);
+    }
+
+    #[test]
+    fn non_integer_exponents_use_an_accurate_table() {
+        let m = Material { shininess: 0.1, ..mat(1.0) };
+        let scene = Scene { instances: vec![crate::Instance::new(std::sync::Arc::new(crate::Mesh::plane(1.0, 1.0)), crate::Transform::IDENTITY, 1).with_material(m.clone())], ..Scene::default() };
+        let r = rig(&scene);
+        let s = r.surface(&m);
+        assert!(matches!(s.power, Power::Table(_)));
+        for k in 0..=100 {
+            let x = k as f32 / 100.0;
+            assert!((s.power.of(x) - libm::powf(x, 12.8)).abs() < 2e-3, "{x}");
+        }
+    }
+
+    #[test]
+    fn no_lights_means_global_ambient() {
+        let scene = Scene { headlight: Headlight { active: false, ..Headlight::default() }, ..Scene::default() };
+        let r = rig(&scene);
+        let lit = r.shade(&r.surface(&mat(0.5)), Vec3::new(0.0, 0.0, 1.0), Vec3::Z);
+        assert!((lit.base[0] - 0.15).abs() < 1e-6);
+    }
+}

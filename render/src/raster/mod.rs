@@ -1,0 +1,732 @@
+//! The z-buffer renderer.
+//!
+//! One frame runs in four steps, single-threaded, with buffers reused between frames:
+//! 1. **Geometry.** Instances outside the view frustum (bounding sphere test) are skipped; the
+//!    rest are sorted front to back. Each instance's vertices are transformed into camera
+//!    space once, with outcodes for trivial rejection and clipping. Triangles are back-face
+//!    culled in exact fixed point, near-plane (and guard-band) clipped when needed, and only the
+//!    vertices of triangles that cover a pixel centre are lit (per vertex, [`lighting`]).
+//! 2. **Visibility.** Opaque triangles are rasterized depth-only into a visibility buffer: per
+//!    pixel, `1/z` and the index of the nearest triangle ([`triangle`] does exact coverage at
+//!    pixel centres).
+//! 3. **Resolve.** Each pixel is shaded once from its triangle's screen-space attribute planes
+//!    (perspective-correct colour and UV), textured, and written with depth and segment id;
+//!    uncovered pixels get the background.
+//! 4. **Transparency.** Instances with alpha < 1 are blended back to front over the result.
+
+mod clip;
+mod lighting;
+mod shadow;
+mod triangle;
+
+use glam::{Mat3, Vec2, Vec3};
+use thiserror::Error;
+
+use self::clip::{ClipSpace, ClipVert, Polygon, SphereClass, GUARD_FIXED, MUST_CLIP, REJECT};
+use self::lighting::{LightRig, Lit};
+use self::shadow::ShadowMap;
+use self::triangle::{orientation, snap, Plane, Setup};
+use crate::camera::{Camera, Intrinsics};
+use crate::frame::Frame;
+use crate::scene::{Background, Instance, Scene};
+use crate::texture::Texture;
+use crate::transform::{cross, dot, mul_mat3, mul_mat3_mat3};
+
+/// Largest accepted image side (pixels), after supersampling.
+pub const MAX_IMAGE_SIDE: u32 = 8192;
+
+/// Renderer settings. The defaults match what LIBERO renders: no shadows (its scene lights
+/// have `castshadow="false"`), no supersampling.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderOptions {
+    /// Shadow mapping for the first light with `cast_shadow` (one light at most).
+    pub shadows: bool,
+    /// Side of the square shadow map in texels.
+    pub shadow_map_size: u32,
+    /// Render `k × k` samples per pixel and average the colours (1 = off, at most 8). Depth and
+    /// segmentation come from the sample at offset `(k/2, k/2)` of each block, which is the
+    /// pixel centre for odd `k`.
+    pub supersample: u32,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions { shadows: false, shadow_map_size: 1024, supersample: 1 }
+    }
+}
+
+/// Counts from the last frame, for benchmarks and tests.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RenderStats {
+    /// Instances inside the view frustum.
+    pub instances_drawn: usize,
+    /// Instances skipped by frustum culling (or for non-finite transforms).
+    pub instances_culled: usize,
+    /// Triangles of the drawn instances.
+    pub triangles_in_view: usize,
+    /// Screen triangles that passed culling and covered at least one pixel centre.
+    pub triangles_rasterized: usize,
+    /// Vertices lit (only those of triangles that survive culling are).
+    pub vertices_lit: usize,
+}
+
+/// Why a frame could not be rendered.
+#[derive(Debug, Error, PartialEq)]
+pub enum RenderError {
+    #[error("invalid camera: {0}")]
+    InvalidCamera(String),
+}
+
+/// A vertex on screen, ready for triangle setup.
+#[derive(Clone, Copy)]
+struct ScreenVert {
+    xy: (i64, i64),
+    iz: f32,
+    lit: Lit,
+    uv: Vec2,
+}
+
+/// Everything the resolve and blend passes need to shade a pixel of one triangle.
+#[derive(Clone, Copy)]
+struct TriRecord {
+    /// `1/z`, and colour and UV premultiplied by `1/z` (perspective-correct interpolation).
+    iz: Plane,
+    rgb: [Plane; 3],
+    uv: [Plane; 2],
+    instance: u32,
+    segment: u32,
+    /// Mip level, or `u32::MAX` when untextured.
+    mip: u32,
+    /// Material opacity (used when blending).
+    alpha: f32,
+}
+
+const NO_TRIANGLE: u32 = u32::MAX;
+
+/// An instance that survived frustum culling.
+#[derive(Clone, Copy)]
+struct Visible {
+    /// View depth of its bounding sphere's centre (the drawing order key).
+    depth: f32,
+    index: u32,
+    /// Its bounding sphere lies wholly inside the view: no per-vertex outcodes needed.
+    inside: bool,
+}
+
+/// Per-frame view constants.
+struct View {
+    k: Intrinsics,
+    clip: ClipSpace,
+    /// World → camera rotation (rows are the camera's right, down and forward axes).
+    rot: Mat3,
+    position: Vec3,
+    width: u32,
+    height: u32,
+    far: f32,
+}
+
+impl View {
+    fn new(c: &Camera) -> View {
+        let k = c.intrinsics();
+        let r = &c.rotation;
+        View {
+            k,
+            clip: ClipSpace::new(&k, c.width, c.height, c.near),
+            rot: Mat3::from_cols(r.x_axis, -r.y_axis, -r.z_axis).transpose(),
+            position: c.position,
+            width: c.width,
+            height: c.height,
+            far: c.far,
+        }
+    }
+
+    /// Screen position (snapped) and `1/z` of a camera-space point in front of the near plane
+    /// and inside the guard band; the same arithmetic as [`Camera::project`].
+    #[inline]
+    fn project(&self, c: Vec3) -> ([i32; 2], f32) {
+        let u = self.k.fx * (c.x / c.z) + self.k.cx;
+        let v = self.k.fy * (c.y / c.z) + self.k.cy;
+        // Clipping keeps real vertices inside the guard band; the clamp only bounds what
+        // absurd (but finite) inputs could produce, so the fixed-point arithmetic cannot
+        // overflow.
+        let fixed = |x: f32| snap(x).clamp(-GUARD_FIXED, GUARD_FIXED) as i32;
+        ([fixed(u), fixed(v)], 1.0 / c.z)
+    }
+}
+
+/// A software rasterizer with its reusable buffers. One renderer per thread; scenes are shared.
+#[derive(Default)]
+pub struct Renderer {
+    options: RenderOptions,
+    stats: RenderStats,
+    rig: LightRig,
+    shadow: ShadowMap,
+    shadows_active: bool,
+    /// Visibility buffer: `1/z` (0 = empty) and triangle index per pixel.
+    depth: Vec<f32>,
+    tri_id: Vec<u32>,
+    records: Vec<TriRecord>,
+    /// Per-record colour of the shadow-casting light (only while shadows are active).
+    shadow_rgb: Vec<[Plane; 3]>,
+    verts: Verts,
+    /// Lit colours, two slots (front, back) per vertex, and whether each is computed.
+    lit: LitCache,
+    poly: Polygon,
+    order: Vec<Visible>,
+    blended: Vec<Visible>,
+    supersampled: Frame,
+}
+
+impl Renderer {
+    pub fn new(options: RenderOptions) -> Renderer {
+        Renderer { options, ..Renderer::default() }
+    }
+
+    pub fn options(&self) -> &RenderOptions {
+        &self.options
+    }
+
+    pub fn set_options(&mut self, options: RenderOptions) {
+        self.options = options;
+    }
+
+    /// Counts from the last rendered frame.
+    pub fn stats(&self) -> RenderStats {
+        self.stats
+    }
+
+    /// Renders `scene` as seen by `camera` into a new frame.
+    pub fn render(&mut self, scene: &Scene, camera: &Camera) -> Result<Frame, RenderError> {
+        let mut frame = Frame::default();
+        self.render_into(scene, camera, &mut frame)?;
+        Ok(frame)
+    }
+
+    /// Renders into `frame`, reusing its memory (it is resized to the camera's image size).
+    pub fn render_into(&mut self, scene: &Scene, camera: &Camera, frame: &mut Frame) -> Result<(), RenderError> {
+        let k = self.options.supersample.clamp(1, 8);
+        validate(camera, k)?;
+        frame.resize(camera.width, camera.height);
+        if k == 1 {
+            self.render_view(scene, camera, frame);
+        } else {
+            let mut hi = std::mem::take(&mut self.supersampled);
+            let hi_cam = camera.scaled(k);
+            hi.resize(hi_cam.width, hi_cam.height);
+            self.render_view(scene, &hi_cam, &mut hi);
+            downsample(&hi, k, frame);
+            self.supersampled = hi;
+        }
+        Ok(())
+    }
+
+    fn render_view(&mut self, scene: &Scene, camera: &Camera, out: &mut Frame) {
+        let view = View::new(camera);
+        let n = camera.width as usize * camera.height as usize;
+        self.stats = RenderStats::default();
+        self.shadows_active = self.options.shadows && self.shadow.build(scene, camera, self.options.shadow_map_size);
+        self.rig.prepare(scene, camera, self.shadows_active);
+        self.depth.clear();
+        self.depth.resize(n, 0.0);
+        self.tri_id.clear();
+        self.tri_id.resize(n, NO_TRIANGLE);
+        self.records.clear();
+        self.shadow_rgb.clear();
+
+        self.sort_instances(scene, &view);
+        let order = std::mem::take(&mut self.order);
+        for v in &order {
+            self.draw_opaque(scene, v, &view);
+        }
+        self.order = order;
+        self.resolve(scene, &view, out);
+        let blended = std::mem::take(&mut self.blended);
+        for v in &blended {
+            self.draw_blended(scene, v, &view, out);
+        }
+        self.blended = blended;
+    }
+
+    /// Frustum-culls instances and orders them: opaque front to back, transparent back to front.
+    fn sort_instances(&mut self, scene: &Scene, view: &View) {
+        self.order.clear();
+        self.blended.clear();
+        for (idx, inst) in scene.instances.iter().enumerate() {
+            let t = &inst.transform;
+            let b = inst.mesh.bounds();
+            let centre = mul_mat3(&view.rot, t.transform_point(b.center) - view.position);
+            let radius = b.radius * t.max_scale();
+            let finite = t.linear.is_finite() && t.translation.is_finite();
+            let class = if finite { view.clip.classify_sphere(centre, radius, view.far) } else { SphereClass::Outside };
+            if class == SphereClass::Outside {
+                self.stats.instances_culled += 1;
+                continue;
+            }
+            let entry = Visible { depth: centre.z, index: idx as u32, inside: class == SphereClass::Inside };
+            self.stats.instances_drawn += 1;
+            self.stats.triangles_in_view += inst.mesh.triangle_count();
+            if inst.material.is_transparent() {
+                self.blended.push(entry);
+            } else {
+                self.order.push(entry);
+            }
+        }
+        let by_key = |a: &Visible, b: &Visible| a.depth.total_cmp(&b.depth).then(a.index.cmp(&b.index));
+        self.order.sort_unstable_by(by_key);
+        self.blended.sort_unstable_by(|a, b| by_key(b, a));
+    }
+
+    fn draw_opaque(&mut self, scene: &Scene, visible: &Visible, view: &View) {
+        let (idx, inst) = (visible.index, &scene.instances[visible.index as usize]);
+        let shadows = self.shadows_active;
+        let (depth, tri_id, records, shadow_rgb) = (&mut self.depth, &mut self.tri_id, &mut self.records, &mut self.shadow_rgb);
+        let mut rasterized = 0;
+        let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, poly: &mut self.poly, rig: &self.rig };
+        let lit = front.assemble(inst, visible.inside, view, |setup, sv| {
+            let (rec, sh) = build_record(&setup, &sv, inst, idx, shadows);
+            let id = records.len() as u32;
+            records.push(rec);
+            if let Some(sh) = sh {
+                shadow_rgb.push(sh);
+            }
+            rasterized += 1;
+            let plane = rec.iz;
+            setup.for_each_span(|j, first, last| {
+                let base = j as usize * view.width as usize;
+                let range = base + first as usize..base + last as usize + 1;
+                let row_key = plane.b * j as f32 + plane.c;
+                for ((d, t), i) in depth[range.clone()].iter_mut().zip(&mut tri_id[range]).zip(first..) {
+                    let iz = plane.a * i as f32 + row_key;
+                    // Bit selects rather than branches: depth-test outcomes are hard to predict.
+                    let mask = ((iz > *d) as u32).wrapping_neg();
+                    *t = (*t & !mask) | (id & mask);
+                    *d = f32::from_bits((d.to_bits() & !mask) | (iz.to_bits() & mask));
+                }
+            });
+        });
+        self.stats.triangles_rasterized += rasterized;
+        self.stats.vertices_lit += lit;
+    }
+
+    fn draw_blended(&mut self, scene: &Scene, visible: &Visible, view: &View, out: &mut Frame) {
+        let (idx, inst) = (visible.index, &scene.instances[visible.index as usize]);
+        let shadows = self.shadows_active.then_some(&self.shadow);
+        let depth = &self.depth;
+        let mut rasterized = 0;
+        let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, poly: &mut self.poly, rig: &self.rig };
+        let lit = front.assemble(inst, visible.inside, view, |setup, sv| {
+            let (rec, sh) = build_record(&setup, &sv, inst, idx, shadows.is_some());
+            rasterized += 1;
+            setup.for_each_pixel(&rec.iz, view.width, |p, i, j, iz| {
+                if iz > depth[p] {
+                    let src = shade(&rec, sh.as_ref(), shadows, scene, view, i, j, 1.0 / iz);
+                    let dst = &mut out.color.data[p * 3..p * 3 + 3];
+                    let a = src[3];
+                    for c in 0..3 {
+                        let d = dst[c] as f32 * (1.0 / 255.0);
+                        dst[c] = to_u8(src[c] * a + d * (1.0 - a));
+                    }
+                    out.segmentation[p] = rec.segment;
+                }
+            });
+        });
+        self.stats.triangles_rasterized += rasterized;
+        self.stats.vertices_lit += lit;
+    }
+
+    /// Shades every pixel once from the visibility buffer, one run of same-triangle pixels at
+    /// a time.
+    fn resolve(&self, scene: &Scene, view: &View, out: &mut Frame) {
+        let shadows = self.shadows_active.then_some(&self.shadow);
+        let sky = Sky::new(scene.background, view);
+        let w = view.width as usize;
+        for j in 0..view.height {
+            let row = j as usize * w..(j as usize + 1) * w;
+            let ids = &self.tri_id[row.clone()];
+            let depths = &self.depth[row.clone()];
+            let rgb_out = &mut out.color.data[row.start * 3..row.end * 3];
+            let depth_out = &mut out.depth[row.clone()];
+            let seg_out = &mut out.segmentation[row];
+            let fj = j as f32;
+            let mut start = 0;
+            while start < w {
+                let id = ids[start];
+                let end = start + ids[start..].iter().take_while(|&&x| x == id).count();
+                if id == NO_TRIANGLE {
+                    for k in start..end {
+                        depth_out[k] = f32::INFINITY;
+                        seg_out[k] = 0;
+                        put_rgb(rgb_out, k, sky.color(k as u32, j));
+                    }
+                } else {
+                    let rec = &self.records[id as usize];
+                    seg_out[start..end].fill(rec.segment);
+                    if rec.mip == u32::MAX && shadows.is_none() {
+                        // Common case: Gouraud colour only.
+                        let rows = rec.rgb.map(|p| p.b * fj + p.c);
+                        for k in start..end {
+                            let z = 1.0 / depths[k];
+                            depth_out[k] = z;
+                            let fi = k as f32;
+                            put_rgb(rgb_out, k, std::array::from_fn(|c| (rec.rgb[c].a * fi + rows[c]) * z));
+                        }
+                    } else {
+                        let sh = shadows.map(|_| self.shadow_rgb[id as usize]);
+                        for k in start..end {
+                            let z = 1.0 / depths[k];
+                            depth_out[k] = z;
+                            let c = shade(rec, sh.as_ref(), shadows, scene, view, k as u32, j, z);
+                            put_rgb(rgb_out, k, [c[0], c[1], c[2]]);
+                        }
+                    }
+                }
+                start = end;
+            }
+        }
+    }
+}
+
+/// Writes pixel `k` of a packed RGB row.
+#[inline]
+fn put_rgb(row: &mut [u8], k: usize, rgb: [f32; 3]) {
+    let px = &mut row[3 * k..3 * k + 3];
+    px[0] = to_u8(rgb[0]);
+    px[1] = to_u8(rgb[1]);
+    px[2] = to_u8(rgb[2]);
+}
+
+/// Borrowed per-instance state for geometry processing.
+struct Frontend<'a> {
+    verts: &'a mut Verts,
+    lit: &'a mut LitCache,
+    poly: &'a mut Polygon,
+    rig: &'a LightRig,
+}
+
+impl Frontend<'_> {
+    /// Transforms, culls, clips and lights one instance, calling `emit` with each screen
+    /// triangle that covers a pixel centre (vertices in the order its setup uses). Vertices
+    /// are lit only for such triangles. Returns how many vertices were lit.
+    fn assemble(&mut self, inst: &Instance, inside: bool, view: &View, mut emit: impl FnMut(Setup, [ScreenVert; 3])) -> usize {
+        let mesh = &*inst.mesh;
+        let t = &inst.transform;
+        let linear = mul_mat3_mat3(&view.rot, &t.linear);
+        let trans = mul_mat3(&view.rot, t.translation - view.position);
+        let normal_m = mul_mat3_mat3(&view.rot, &t.normal_matrix());
+        let surface = self.rig.surface(&inst.material);
+        let double_sided = inst.material.double_sided;
+        let uvs = inst.material.texture.as_ref().and(mesh.uvs());
+        let (uv_scale, uv_offset) = (inst.material.uv_scale, inst.material.uv_offset);
+        let uv_of = |i: usize| uvs.map_or(Vec2::ZERO, |u| u[i] * uv_scale + uv_offset);
+        let (w, h) = (view.width, view.height);
+
+        self.verts.fill(mesh.positions(), |p| {
+            let cam = mul_mat3(&linear, p) + trans;
+            let code = if inside { 0 } else { view.clip.outcode(cam) };
+            let (xy, iz) = if code & MUST_CLIP == 0 { view.project(cam) } else { ([0, 0], 0.0) };
+            (cam, xy, iz, code)
+        });
+        self.lit.begin(mesh.vertex_count());
+        let verts = &*self.verts;
+        let normals = mesh.normals();
+        let rig = self.rig;
+        let light = |i: usize, back: bool| {
+            let nrm = mul_mat3(&normal_m, normals[i]);
+            rig.shade(&surface, verts.cam[i], if back { -nrm } else { nrm })
+        };
+        let xy = |i: usize| (verts.xy[i][0] as i64, verts.xy[i][1] as i64);
+
+        for tri in mesh.triangles() {
+            let [a, b, c] = tri.map(|i| i as usize);
+            let (ca, cb, cc) = (verts.code[a], verts.code[b], verts.code[c]);
+            if ca & cb & cc & REJECT != 0 {
+                continue;
+            }
+            let clip_bits = (ca | cb | cc) & MUST_CLIP;
+            if clip_bits == 0 {
+                let o = orientation([xy(a), xy(b), xy(c)]);
+                // Counter-clockwise front faces have negative orientation on screen (y down);
+                // setup wants positive, so front faces swap their last two vertices.
+                let back = o > 0;
+                if o == 0 || (back && !double_sided) {
+                    continue;
+                }
+                let (b, c) = if back { (b, c) } else { (c, b) };
+                let Some(setup) = Setup::new([xy(a), xy(b), xy(c)], w, h) else { continue };
+                let sv = |i: usize, lit: Lit| ScreenVert { xy: xy(i), iz: verts.iz[i], lit, uv: uv_of(i) };
+                let (la, lb, lc) = (self.lit.get(a, back, &light), self.lit.get(b, back, &light), self.lit.get(c, back, &light));
+                emit(setup, [sv(a, la), sv(b, lb), sv(c, lc)]);
+            } else {
+                // Facing from camera space: the eye is at the origin.
+                let (pa, pb, pc) = (verts.cam[a], verts.cam[b], verts.cam[c]);
+                let facing = dot(cross(pb - pa, pc - pa), pa);
+                let back = facing > 0.0;
+                if !(facing != 0.0) || (back && !double_sided) {
+                    continue;
+                }
+                let cv = |i: usize, lit: Lit| ClipVert { p: verts.cam[i], lit, uv: uv_of(i) };
+                let (la, lb, lc) = (self.lit.get(a, back, &light), self.lit.get(b, back, &light), self.lit.get(c, back, &light));
+                let count = view.clip.clip([cv(a, la), cv(b, lb), cv(c, lc)], clip_bits, self.poly);
+                let on_screen = |v: &ClipVert| {
+                    let (xy, iz) = view.project(v.p);
+                    ScreenVert { xy: (xy[0] as i64, xy[1] as i64), iz, lit: v.lit, uv: v.uv }
+                };
+                for k in 1..count.saturating_sub(1) {
+                    let p = &self.poly.verts;
+                    let mut sv = [on_screen(&p[0]), on_screen(&p[k]), on_screen(&p[k + 1])];
+                    if orientation([sv[0].xy, sv[1].xy, sv[2].xy]) < 0 {
+                        sv.swap(1, 2);
+                    }
+                    if let Some(setup) = Setup::new([sv[0].xy, sv[1].xy, sv[2].xy], w, h) {
+                        emit(setup, sv);
+                    }
+                }
+            }
+        }
+        self.lit.count
+    }
+}
+
+/// Lit vertex colours of the current instance, computed on first use. Two slots per vertex
+/// (front and back side); a slot is valid when its stamp equals the instance's, so starting a
+/// new instance costs nothing per vertex.
+#[derive(Default)]
+struct LitCache {
+    colours: Vec<Lit>,
+    stamps: Vec<u32>,
+    current: u32,
+    /// Slots computed for the current instance.
+    count: usize,
+}
+
+impl LitCache {
+    fn begin(&mut self, vertices: usize) {
+        if self.colours.len() < 2 * vertices {
+            self.colours.resize(2 * vertices, Lit::default());
+            self.stamps.resize(2 * vertices, 0);
+        }
+        self.current = self.current.wrapping_add(1);
+        if self.current == 0 {
+            // Stamps wrapped around: forget everything once.
+            self.stamps.fill(0);
+            self.current = 1;
+        }
+        self.count = 0;
+    }
+
+    #[inline]
+    fn get(&mut self, vertex: usize, back: bool, light: &impl Fn(usize, bool) -> Lit) -> Lit {
+        let slot = 2 * vertex + back as usize;
+        if self.stamps[slot] != self.current {
+            self.colours[slot] = light(vertex, back);
+            self.stamps[slot] = self.current;
+            self.count += 1;
+        }
+        self.colours[slot]
+    }
+}
+
+/// Per-vertex results of one instance, in separate arrays so that the culling loop touches
+/// only screen positions and outcodes.
+#[derive(Default)]
+struct Verts {
+    cam: Vec<Vec3>,
+    /// Snapped screen position (fits `i32`: the guard band keeps it below 2^28 sub-pixels).
+    xy: Vec<[i32; 2]>,
+    iz: Vec<f32>,
+    code: Vec<u16>,
+}
+
+impl Verts {
+    fn fill(&mut self, positions: &[Vec3], mut f: impl FnMut(Vec3) -> (Vec3, [i32; 2], f32, u16)) {
+        self.cam.clear();
+        self.xy.clear();
+        self.iz.clear();
+        self.code.clear();
+        for &p in positions {
+            let (cam, xy, iz, code) = f(p);
+            self.cam.push(cam);
+            self.xy.push(xy);
+            self.iz.push(iz);
+            self.code.push(code);
+        }
+    }
+}
+
+/// The shading record of a set-up screen triangle, plus the shadow-light colour planes when
+/// shadows are on.
+fn build_record(setup: &Setup, sv: &[ScreenVert; 3], inst: &Instance, idx: u32, shadows: bool) -> (TriRecord, Option<[Plane; 3]>) {
+    let iz = [sv[0].iz, sv[1].iz, sv[2].iz];
+    let per_z = |f: fn(&ScreenVert) -> f32| setup.plane([f(&sv[0]) * iz[0], f(&sv[1]) * iz[1], f(&sv[2]) * iz[2]]);
+    let texture = inst.material.texture.as_deref().filter(|_| inst.mesh.uvs().is_some());
+    let mip = texture.map_or(u32::MAX, |t| mip_level(t, sv, setup.area2));
+    let rec = TriRecord {
+        iz: setup.plane(iz),
+        rgb: [per_z(|v| v.lit.base[0]), per_z(|v| v.lit.base[1]), per_z(|v| v.lit.base[2])],
+        uv: if texture.is_some() { [per_z(|v| v.uv.x), per_z(|v| v.uv.y)] } else { [Plane::default(); 2] },
+        instance: idx,
+        segment: inst.segment,
+        mip,
+        alpha: inst.material.rgba[3].clamp(0.0, 1.0),
+    };
+    let sh = shadows.then(|| [per_z(|v| v.lit.shadowed[0]), per_z(|v| v.lit.shadowed[1]), per_z(|v| v.lit.shadowed[2])]);
+    (rec, sh)
+}
+
+/// The mip level whose texels best match this triangle's pixels (one level per triangle).
+fn mip_level(t: &Texture, sv: &[ScreenVert; 3], screen_area2: f32) -> u32 {
+    let (d1, d2) = (sv[1].uv - sv[0].uv, sv[2].uv - sv[0].uv);
+    let uv_area2 = (d1.x * d2.y - d1.y * d2.x).abs() * t.width() as f32 * t.height() as f32;
+    t.level_for_density(uv_area2 / screen_area2) as u32
+}
+
+/// Colour (RGBA, `[0, 1]`) of pixel `(i, j)` of a triangle at view depth `z`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn shade(
+    rec: &TriRecord,
+    shadow_rgb: Option<&[Plane; 3]>,
+    shadow: Option<&ShadowMap>,
+    scene: &Scene,
+    view: &View,
+    i: u32,
+    j: u32,
+    z: f32,
+) -> [f32; 4] {
+    let (fi, fj) = (i as f32, j as f32);
+    let mut rgb = [rec.rgb[0].eval(fi, fj) * z, rec.rgb[1].eval(fi, fj) * z, rec.rgb[2].eval(fi, fj) * z];
+    if let (Some(sh), Some(map)) = (shadow_rgb, shadow) {
+        let p = Vec3::new((fi - view.k.cx) / view.k.fx * z, (fj - view.k.cy) / view.k.fy * z, z);
+        let vis = map.visibility(p);
+        for c in 0..3 {
+            rgb[c] += sh[c].eval(fi, fj) * z * vis;
+        }
+    }
+    let mut out = [rgb[0].clamp(0.0, 1.0), rgb[1].clamp(0.0, 1.0), rgb[2].clamp(0.0, 1.0), rec.alpha];
+    let texture = scene.instances[rec.instance as usize].material.texture.as_ref();
+    if let Some(tex) = texture.filter(|_| rec.mip != u32::MAX) {
+        let t = tex.sample_level(rec.uv[0].eval(fi, fj) * z, rec.uv[1].eval(fi, fj) * z, rec.mip as usize);
+        for (o, t) in out.iter_mut().zip(t) {
+            *o *= t;
+        }
+    }
+    out
+}
+
+/// `[0, 1]` → `0..=255`, rounding to nearest (ties to even; NaN → 0). Adding 2^23 leaves
+/// the rounded integer in the low mantissa bits, which is cheaper than a saturating cast.
+#[inline]
+fn to_u8(x: f32) -> u8 {
+    // Not `clamp`, which passes NaN through.
+    #[allow(clippy::manual_clamp)]
+    let y = x.max(0.0).min(1.0) * 255.0 + 8_388_608.0;
+    (y.to_bits() & 0xFF) as u8
+}
+
+/// Background colour per pixel.
+struct Sky {
+    solid: Option<[f32; 3]>,
+    up: [f32; 3],
+    down: [f32; 3],
+    /// World z of the camera's right, down and forward axes (for the gradient).
+    zr: f32,
+    zd: f32,
+    zf: f32,
+    k: Intrinsics,
+    inv_fx: f32,
+    inv_fy: f32,
+}
+
+impl Sky {
+    fn new(bg: Background, view: &View) -> Sky {
+        let z = view.rot.transpose().z_axis; // Row 2 of camera → world.
+        let (solid, up, down) = match bg {
+            Background::Solid(c) => (Some(c), c, c),
+            Background::Gradient { up, down } => (None, up, down),
+        };
+        Sky { solid, up, down, zr: z.x, zd: z.y, zf: z.z, k: view.k, inv_fx: 1.0 / view.k.fx, inv_fy: 1.0 / view.k.fy }
+    }
+
+    #[inline]
+    fn color(&self, i: u32, j: u32) -> [f32; 3] {
+        if let Some(c) = self.solid {
+            return c;
+        }
+        let (x, y) = ((i as f32 - self.k.cx) * self.inv_fx, (j as f32 - self.k.cy) * self.inv_fy);
+        let dz = (self.zr * x + self.zd * y + self.zf) / (x * x + y * y + 1.0).sqrt();
+        let t = 0.5 + 0.5 * dz;
+        std::array::from_fn(|c| self.down[c] + (self.up[c] - self.down[c]) * t)
+    }
+}
+
+fn validate(c: &Camera, supersample: u32) -> Result<(), RenderError> {
+    let bad = |m: String| Err(RenderError::InvalidCamera(m));
+    if c.width == 0 || c.height == 0 || c.width.saturating_mul(supersample) > MAX_IMAGE_SIDE || c.height.saturating_mul(supersample) > MAX_IMAGE_SIDE {
+        return bad(format!(
+            "image size {}×{} (×{supersample} supersampling) must be between 1 and {MAX_IMAGE_SIDE} per side",
+            c.width, c.height
+        ));
+    }
+    if !(c.fovy_deg > 0.0 && c.fovy_deg < 180.0) {
+        return bad(format!("fovy {}° must be strictly between 0 and 180", c.fovy_deg));
+    }
+    if !(c.position.is_finite() && c.rotation.is_finite()) {
+        return bad("pose is not finite".into());
+    }
+    if !(c.near > 0.0 && c.near.is_finite() && c.far > c.near) {
+        return bad(format!("clip range near {} / far {} must satisfy 0 < near < far", c.near, c.far));
+    }
+    Ok(())
+}
+
+/// Box-filters colour; depth and segmentation from the sample at `(k/2, k/2)` of each block.
+fn downsample(hi: &Frame, k: u32, out: &mut Frame) {
+    let (w, h) = (out.width() as usize, out.height() as usize);
+    let (k, hw) = (k as usize, hi.width() as usize);
+    let n = (k * k) as u32;
+    for y in 0..h {
+        for x in 0..w {
+            let mut sum = [0u32; 3];
+            for sy in 0..k {
+                let row = (y * k + sy) * hw;
+                for sx in 0..k {
+                    let q = (row + x * k + sx) * 3;
+                    for (s, &v) in sum.iter_mut().zip(&hi.color.data[q..q + 3]) {
+                        *s += v as u32;
+                    }
+                }
+            }
+            let p = y * w + x;
+            for (o, s) in out.color.data[p * 3..p * 3 + 3].iter_mut().zip(sum) {
+                *o = ((s + n / 2) / n) as u8;
+            }
+            let centre = (y * k + k / 2) * hw + x * k + k / 2;
+            out.depth[p] = hi.depth[centre];
+            out.segmentation[p] = hi.segmentation[centre];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lit_cache_computes_each_slot_once_per_instance_and_survives_wrap_around() {
+        let calls = std::cell::Cell::new(0);
+        let light = |v: usize, back: bool| {
+            calls.set(calls.get() + 1);
+            Lit { base: [v as f32, back as u8 as f32, 0.0, 1.0], shadowed: [0.0; 3] }
+        };
+        let mut cache = LitCache::default();
+        cache.begin(3);
+        assert_eq!(cache.get(2, true, &light).base[..2], [2.0, 1.0]);
+        cache.get(2, true, &light);
+        cache.get(2, false, &light);
+        assert_eq!((calls.get(), cache.count), (2, 2));
+        cache.current = u32::MAX;
+        cache.begin(3);
+        cache.get(2, true, &light);
+        assert_eq!((calls.get(), cache.count, cache.current), (3, 1, 1));
+    }
+}

@@ -8,7 +8,7 @@
 //! Everything here works in renderer camera coordinates (x right, y down, z forward, eye at the
 //! origin), so the view vector is just `-p`.
 
-use glam::{BVec4A, Vec3, Vec4};
+use glam::{Vec3, Vec4};
 
 use crate::camera::Camera;
 use crate::scene::{LightKind, Material, Scene};
@@ -27,8 +27,10 @@ struct LightBlock {
     z: Vec4,
     /// 1 for positional lights, 0 for directional ones.
     positional: Vec4,
-    /// Spot lights with a cutoff below 180°.
-    spot: BVec4A,
+    /// Spot lights with a cutoff below 180° (1 per lane, else 0). Lane flags are kept as
+    /// floats and turned into masks with `cmpgt` where used, because glam's mask type differs
+    /// between its SIMD and scalar (`scalar-math`, deterministic) builds.
+    spot: Vec4,
     /// Unit spot axis and cosine of the cutoff angle.
     ax: Vec4,
     ay: Vec4,
@@ -37,7 +39,7 @@ struct LightBlock {
     /// Integer spot exponents as bit masks (`exponent_bits[b]`: the lanes whose exponent has
     /// bit `b`) and the number of bits in use; lanes with a non-integer exponent are listed in
     /// `fractional` instead.
-    exponent_bits: [BVec4A; 8],
+    exponent_bits: [Vec4; 8],
     bits: u32,
     fractional: [Option<f32>; LANES],
     /// Attenuation `1 / (a0 + a1 d + a2 d²)` (1, 0, 0 for directional lights).
@@ -58,12 +60,12 @@ impl Default for LightBlock {
             y: Vec4::ZERO,
             z: Vec4::ZERO,
             positional: Vec4::ZERO,
-            spot: BVec4A::FALSE,
+            spot: Vec4::ZERO,
             ax: Vec4::ZERO,
             ay: Vec4::ZERO,
             az: Vec4::ZERO,
             cos_cutoff: Vec4::ZERO,
-            exponent_bits: [BVec4A::FALSE; 8],
+            exponent_bits: [Vec4::ZERO; 8],
             bits: 0,
             fractional: [None; LANES],
             a0: Vec4::ONE,
@@ -228,13 +230,13 @@ impl LightRig {
             b.positional[lane] = 1.0;
             [b.a0[lane], b.a1[lane], b.a2[lane]] = s.attenuation;
             if let Some(cos) = s.cos_cutoff {
-                b.spot.set(lane, true);
+                b.spot[lane] = 1.0;
                 (b.ax[lane], b.ay[lane], b.az[lane]) = (s.axis.x, s.axis.y, s.axis.z);
                 b.cos_cutoff[lane] = cos;
                 if s.exponent == s.exponent.floor() {
                     let e = s.exponent as u32;
                     for (bit, mask) in b.exponent_bits.iter_mut().enumerate() {
-                        mask.set(lane, (e >> bit) & 1 == 1);
+                        mask[lane] = if (e >> bit) & 1 == 1 { 1.0 } else { 0.0 };
                     }
                     b.bits = b.bits.max(u32::BITS - e.leading_zeros());
                 } else {
@@ -305,7 +307,7 @@ fn block_contribution(b: &LightBlock, s: &Surface<'_>, p: Vec3, n: Vec3, v: Vec3
         }
         spot = Vec4::from_array(sp);
     }
-    let spot = Vec4::select(b.spot, Vec4::select(cos.cmpge(b.cos_cutoff), spot, zero), Vec4::ONE);
+    let spot = Vec4::select(b.spot.cmpgt(zero), Vec4::select(cos.cmpge(b.cos_cutoff), spot, zero), Vec4::ONE);
     let den = b.a0 + b.a1 * dist + b.a2 * dist * dist;
     let factor = spot * Vec4::select(den.cmpgt(zero), Vec4::ONE / den, Vec4::ONE);
     // Diffuse and Blinn-Phong specular (only where the light is in front of the surface).
@@ -323,11 +325,11 @@ fn block_contribution(b: &LightBlock, s: &Surface<'_>, p: Vec3, n: Vec3, v: Vec3
 
 /// `x^e` per lane by repeated squaring, with `e`'s bits given as lane masks.
 #[inline]
-fn powi_lanes(x: Vec4, bit_masks: &[BVec4A; 8], bits: u32) -> Vec4 {
+fn powi_lanes(x: Vec4, bit_masks: &[Vec4; 8], bits: u32) -> Vec4 {
     let (mut base, mut acc) = (x, Vec4::ONE);
     for mask in &bit_masks[..bits as usize] {
         // Multiply everywhere, then select: no data-dependent branches.
-        acc = Vec4::select(*mask, acc * base, acc);
+        acc = Vec4::select(mask.cmpgt(Vec4::ZERO), acc * base, acc);
         base *= base;
     }
     acc
@@ -368,7 +370,8 @@ mod tests {
         for &(x, e) in &[(0.9f32, 10u32), (0.5, 64), (0.99, 1), (0.0, 3), (0.7, 128)] {
             let want = libm::powf(x, e as f32);
             assert!((powi(x, e) - want).abs() <= 1e-6 * want.max(1e-30));
-            let masks: [BVec4A; 8] = std::array::from_fn(|b| BVec4A::new((e >> b) & 1 == 1, false, b == 0, (e >> b) & 1 == 1));
+            let flag = |on: bool| if on { 1.0 } else { 0.0 };
+            let masks: [Vec4; 8] = std::array::from_fn(|b| Vec4::new(flag((e >> b) & 1 == 1), 0.0, flag(b == 0), flag((e >> b) & 1 == 1)));
             let got = powi_lanes(Vec4::splat(x), &masks, 8).to_array();
             assert_eq!(got, [powi(x, e), 1.0, x, powi(x, e)]);
         }

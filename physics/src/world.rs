@@ -174,6 +174,7 @@ fn apply_params(rapier: &mut PhysicsWorld, params: &SimParams) {
     let ip = &mut rapier.integration_parameters;
     ip.dt = params.dt;
     ip.num_solver_iterations = params.solver_iterations;
+    ip.num_internal_stabilization_iterations = params.stabilization_iterations;
     ip.contact_softness.natural_frequency = params.contact_frequency;
     ip.contact_softness.damping_ratio = params.contact_damping_ratio;
     ip.static_contact_softness.natural_frequency = params.static_contact_frequency;

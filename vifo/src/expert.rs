@@ -58,7 +58,10 @@ pub fn episode(model: &Arc<SceneModel>, state: &InitState, init: usize, seed: u6
             eprintln!("{} at ({:.3} {:.3} {:.3}) quat {:?}", e.name, p.pos.x, p.pos.y, p.pos.z, p.quat_wxyz().map(|v| (v * 1000.0).round() / 1000.0));
         }
     }
-    let mut expert = Expert::new(&sim)?;
+    let mut expert = match Expert::new(&sim) {
+        Ok(e) => e,
+        Err(err) => return Ok(ExpertEpisode { init, success: false, steps: 0, failure: Some(err.to_string()) }),
+    };
     let mut steps = 0;
     while steps < budget {
         if sim.success()? {
@@ -69,8 +72,8 @@ pub fn episode(model: &Arc<SceneModel>, state: &InitState, init: usize, seed: u6
             let ee = sim.model().robot.grip_site_pose(sim.world()).pos;
             let q = sim.model().robot.joints(sim.world()).q;
             eprintln!(
-                "step {steps:3} ee ({:.3} {:.3} {:.3}) fingers {:.4} {:.4} action {:?} {}",
-                ee.x, ee.y, ee.z, q[7], q[8], action.0.map(|v| (v * 100.0).round() / 100.0), expert.describe()
+                "step {steps:3} ee ({:.3} {:.3} {:.3}) fingers {:.4} {:.4} action {:?} {} contacts {:?}",
+                ee.x, ee.y, ee.z, q[7], q[8], action.0.map(|v| (v * 100.0).round() / 100.0), expert.describe(), sim.robot_contacts()
             );
         }
         sim.step(&action);

@@ -1,4 +1,4 @@
-//! Grasp geometry from the (privileged) collision shapes of an object.
+//! Grasp geometry from the (privileged) collision shapes of the scene.
 
 use vifo_robots::spatial::{Pose, Vec3};
 
@@ -7,25 +7,93 @@ use crate::sim::Sim;
 
 /// Widest object the Panda's fingers can straddle (open gap 0.079 m) with some margin.
 pub const MAX_GRASP_WIDTH: f64 = 0.068;
+/// Half the gap between the fully open fingers' inner faces.
+pub const OPEN_HALF_GAP: f64 = 0.0385;
+/// Clearance between each finger and the object while the fingers come down around it.
+const APPROACH_CLEARANCE: f64 = 0.011;
+/// Half gap of a rim grasp: enough for a bowl or mug wall and a few millimetres of play.
+const RIM_HALF_GAP: f64 = 0.013;
+/// Finger size: thickness along the closing axis, half-width across it, length below the hand.
+const FINGER_THICKNESS: f64 = 0.026;
+const FINGER_HALF_WIDTH: f64 = 0.011;
+/// The fingertips reach this far below the grip site, the hand starts this far above it.
+const TIP_BELOW_SITE: f64 = 0.009;
+const HAND_ABOVE_SITE: f64 = 0.031;
+/// The hand's half-extents along the finger axis and across it, and its height.
+const HAND_HALF_LENGTH: f64 = 0.102;
+const HAND_HALF_WIDTH: f64 = 0.032;
+const HAND_HEIGHT: f64 = 0.092;
+/// The grip site stays at least this far above the surface an object rests on, so the
+/// fingertips do not dig into it.
+const TIP_CLEARANCE: f64 = 0.010;
+
+/// An oriented box of the scene (world frame).
+#[derive(Clone, Copy, Debug)]
+struct Obb {
+    pose: Pose,
+    half: Vec3,
+}
+
+impl Obb {
+    /// Separating-axis test: do the two boxes, each grown by `margin`, overlap?
+    fn overlaps(&self, other: &Obb, margin: f64) -> bool {
+        let (a, b) = (&self.pose.rot, &other.pose.rot);
+        let (ha, hb) = (self.half.add_scalar(margin), other.half.add_scalar(margin));
+        let t = other.pose.pos - self.pose.pos;
+        let axes_a: [Vec3; 3] = [a.column(0).into(), a.column(1).into(), a.column(2).into()];
+        let axes_b: [Vec3; 3] = [b.column(0).into(), b.column(1).into(), b.column(2).into()];
+        let separated = |axis: &Vec3| -> bool {
+            let n = axis.norm();
+            if n < 1e-9 {
+                return false;
+            }
+            let axis = axis / n;
+            let ra: f64 = (0..3).map(|k| ha[k] * axes_a[k].dot(&axis).abs()).sum();
+            let rb: f64 = (0..3).map(|k| hb[k] * axes_b[k].dot(&axis).abs()).sum();
+            t.dot(&axis).abs() > ra + rb
+        };
+        for i in 0..3 {
+            if separated(&axes_a[i]) || separated(&axes_b[i]) {
+                return false;
+            }
+        }
+        for i in 0..3 {
+            for j in 0..3 {
+                if separated(&axes_a[i].cross(&axes_b[j])) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    fn corners(&self) -> impl Iterator<Item = Vec3> + '_ {
+        (0..8).map(move |k| {
+            let s = |bit: usize, h: f64| if k & bit == 0 { -h } else { h };
+            self.pose.transform_point(&Vec3::new(s(1, self.half.x), s(2, self.half.y), s(4, self.half.z)))
+        })
+    }
+}
+
+fn body_boxes(sim: &Sim, entity: usize, body: usize) -> Vec<Obb> {
+    let e = &sim.model().entities[entity];
+    let pose = sim.body_pose(entity, body);
+    e.model.bodies[body]
+        .colliders
+        .iter()
+        .map(|c| {
+            let half = match c.shape {
+                ColliderShape::Box { half_size } => half_size,
+                ColliderShape::Capsule { radius, half_length } => [radius, radius, half_length + radius],
+            };
+            Obb { pose: pose.mul(&Pose::from_wxyz(c.pos, c.quat_wxyz)), half: Vec3::from(half) }
+        })
+        .collect()
+}
 
 /// World-frame corners of every collision shape of one body of an entity.
 pub fn corners(sim: &Sim, entity: usize, body: usize) -> Vec<Vec3> {
-    let e = &sim.model().entities[entity];
-    let pose = sim.body_pose(entity, body);
-    let mut out = Vec::new();
-    for c in &e.model.bodies[body].colliders {
-        let half = match c.shape {
-            ColliderShape::Box { half_size } => half_size,
-            ColliderShape::Capsule { radius, half_length } => [radius, radius, half_length + radius],
-        };
-        let local = Pose::from_wxyz(c.pos, c.quat_wxyz);
-        for k in 0..8 {
-            let s = |bit: usize, h: f64| if k & bit == 0 { -h } else { h };
-            let p = Vec3::new(s(1, half[0]), s(2, half[1]), s(4, half[2]));
-            out.push(pose.transform_point(&local.transform_point(&p)));
-        }
-    }
-    out
+    body_boxes(sim, entity, body).iter().flat_map(|b| b.corners().collect::<Vec<_>>()).collect()
 }
 
 /// Axis-aligned world bounds of a point set: (min, max).
@@ -39,6 +107,34 @@ pub fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
     (lo, hi)
 }
 
+/// Everything the fingers must not run into: every other entity's shapes.
+pub struct Obstacles {
+    boxes: Vec<Obb>,
+    owners: Vec<String>,
+}
+
+impl Obstacles {
+    pub fn around(sim: &Sim, exclude: usize) -> Obstacles {
+        let mut boxes = Vec::new();
+        let mut owners = Vec::new();
+        for (i, e) in sim.model().entities.iter().enumerate() {
+            if i != exclude {
+                for b in 0..e.model.bodies.len() {
+                    let bb = body_boxes(sim, i, b);
+                    owners.extend(bb.iter().map(|_| format!("{}:{}", e.name, e.model.bodies[b].name)));
+                    boxes.extend(bb);
+                }
+            }
+        }
+        Obstacles { boxes, owners }
+    }
+
+    /// How many obstacle boxes the gripper volumes (fingers and hand) would overlap.
+    fn hits(&self, volumes: &[Obb], margin: f64) -> usize {
+        self.boxes.iter().filter(|b| volumes.iter().any(|v| v.overlaps(b, margin))).count()
+    }
+}
+
 /// A top-down grasp: where the grip site goes and how the fingers are turned.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Grasp {
@@ -48,61 +144,99 @@ pub struct Grasp {
     pub yaw: f64,
     /// Object width between the fingers.
     pub width: f64,
+    /// Half the finger gap to approach with (no wider than needed, to stay clear of walls).
+    pub half_gap: f64,
 }
 
-fn yaw_of_axis(axis: &Vec3) -> f64 {
+pub fn yaw_of_axis(axis: &Vec3) -> f64 {
     libm::atan2(-axis.x, axis.y)
 }
 
-/// The narrowest horizontal direction of the object's top part: grip it there if it fits
-/// between the fingers. `depth` is how far below the top the fingers close.
-pub fn solid_grasp(points: &[Vec3], depth: f64) -> Option<Grasp> {
-    let (_, hi) = bounds(points);
-    let (lo, _) = bounds(points);
-    let height = hi.z - lo.z;
-    let z = hi.z - depth.min(height * 0.5);
-    // Points of the shapes reaching the grasp height band.
+/// The volumes of the two open fingers and of the hand for a grasp at `site` with the fingers
+/// closing along `axis`.
+fn gripper_volumes(site: &Vec3, axis: &Vec3, half_gap: f64) -> [Obb; 3] {
+    let across = Vec3::new(-axis.y, axis.x, 0.0);
+    let rot = vifo_robots::spatial::Mat3::from_columns(&[*axis, across, Vec3::z()]);
+    let finger_len = TIP_BELOW_SITE + HAND_ABOVE_SITE;
+    let finger = |side: f64| Obb {
+        pose: Pose::new(
+            site + axis * (side * (half_gap + 0.5 * FINGER_THICKNESS)) + Vec3::new(0.0, 0.0, 0.5 * finger_len - TIP_BELOW_SITE),
+            rot,
+        ),
+        half: Vec3::new(0.5 * FINGER_THICKNESS, FINGER_HALF_WIDTH, 0.5 * finger_len),
+    };
+    let hand = Obb {
+        pose: Pose::new(site + Vec3::new(0.0, 0.0, HAND_ABOVE_SITE + 0.5 * HAND_HEIGHT), rot),
+        half: Vec3::new(HAND_HALF_LENGTH, HAND_HALF_WIDTH, 0.5 * HAND_HEIGHT),
+    };
+    [finger(-1.0), finger(1.0), hand]
+}
+
+/// Extent of `points` along `axis`: (min, max).
+fn extent(points: &[Vec3], axis: &Vec3) -> (f64, f64) {
+    points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), p| {
+        let d = p.dot(axis);
+        (mn.min(d), mx.max(d))
+    })
+}
+
+/// A top-down grasp of the object's upper part across a direction narrow enough for the
+/// fingers, chosen so that the open fingers stay clear of the rest of the scene. `depth` is how
+/// far below the object's top the fingers close.
+pub fn solid_grasp(points: &[Vec3], depth: f64, obstacles: &Obstacles) -> Option<Grasp> {
+    let (lo, hi) = bounds(points);
+    let z = (hi.z - depth.min((hi.z - lo.z) * 0.5)).max(lo.z + TIP_CLEARANCE);
     let band: Vec<Vec3> = points.iter().copied().filter(|p| p.z >= z - 0.02).collect();
-    let mut best: Option<(f64, Vec3, f64)> = None;
+    let mut best: Option<(usize, f64, Grasp)> = None;
     for i in 0..36 {
         let a = std::f64::consts::PI * i as f64 / 36.0;
         let axis = Vec3::new(libm::cos(a), libm::sin(a), 0.0);
-        let (mn, mx) = band.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), p| {
-            let d = p.dot(&axis);
-            (mn.min(d), mx.max(d))
-        });
+        let (mn, mx) = extent(&band, &axis);
         let width = mx - mn;
-        if best.is_none_or(|b| width < b.0 - 1e-9) {
-            best = Some((width, axis, 0.5 * (mn + mx)));
+        if width > MAX_GRASP_WIDTH {
+            continue;
+        }
+        let across = Vec3::new(-axis.y, axis.x, 0.0);
+        let (amn, amx) = extent(&band, &across);
+        let centre = axis * (0.5 * (mn + mx)) + across * (0.5 * (amn + amx));
+        let site = Vec3::new(centre.x, centre.y, z);
+        let half_gap = (0.5 * width + APPROACH_CLEARANCE).min(OPEN_HALF_GAP);
+        let hits = obstacles.hits(&gripper_volumes(&site, &axis, half_gap), 0.003);
+        let grasp = Grasp { pos: site, yaw: yaw_of_axis(&axis), width, half_gap };
+        if best.is_none_or(|(h, w, _)| (hits, width) < (h, w - 1e-9)) {
+            best = Some((hits, width, grasp));
         }
     }
-    let (width, axis, mid) = best?;
-    if width > MAX_GRASP_WIDTH {
-        return None;
-    }
-    // Centre along the other horizontal axis, too.
-    let other = Vec3::new(-axis.y, axis.x, 0.0);
-    let (mn, mx) = band.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), p| {
-        let d = p.dot(&other);
-        (mn.min(d), mx.max(d))
-    });
-    let centre = axis * mid + other * (0.5 * (mn + mx));
-    Some(Grasp { pos: Vec3::new(centre.x, centre.y, z), yaw: yaw_of_axis(&axis), width })
+    best.map(|(_, _, g)| g)
 }
 
-/// A grasp on the rim of a hollow object (bowl, mug): the fingers straddle the wall where it
-/// faces `toward`, closing radially.
-pub fn rim_grasp(points: &[Vec3], centre: &Vec3, toward: &Vec3) -> Grasp {
+/// A grasp on the rim of a hollow object (bowl, mug): the fingers straddle the wall and close
+/// radially. Among directions around the object, prefers those facing `toward` whose fingers
+/// stay clear of the rest of the scene.
+pub fn rim_grasp(points: &[Vec3], centre: &Vec3, toward: &Vec3, obstacles: &Obstacles) -> Grasp {
     let (_, hi) = bounds(points);
-    let mut dir = Vec3::new(toward.x - centre.x, toward.y - centre.y, 0.0);
-    if dir.norm() < 1e-9 {
-        dir = Vec3::new(-1.0, 0.0, 0.0);
-    }
-    let dir = dir.normalize();
-    // Outer radius of the top rim along that direction.
     let rim: Vec<&Vec3> = points.iter().filter(|p| p.z > hi.z - 0.015).collect();
-    let outer = rim.iter().map(|p| (*p - centre).dot(&dir)).fold(0.0, f64::max);
+    let preferred = Vec3::new(toward.x - centre.x, toward.y - centre.y, 0.0);
+    let preferred = if preferred.norm() > 1e-9 { preferred.normalize() } else { Vec3::new(-1.0, 0.0, 0.0) };
     let wall = 0.004;
-    let at = centre + dir * (outer - wall);
-    Grasp { pos: Vec3::new(at.x, at.y, hi.z - 0.012), yaw: yaw_of_axis(&dir), width: 2.0 * wall }
+    let mut best: Option<(usize, f64, Grasp)> = None;
+    for i in 0..24 {
+        let a = 2.0 * std::f64::consts::PI * i as f64 / 24.0;
+        let dir = Vec3::new(libm::cos(a), libm::sin(a), 0.0);
+        let outer = rim.iter().map(|p| (*p - centre).dot(&dir)).fold(0.0, f64::max);
+        let at = centre + dir * (outer - wall);
+        let site = Vec3::new(at.x, at.y, hi.z - 0.012);
+        let hits = obstacles.hits(&gripper_volumes(&site, &dir, RIM_HALF_GAP), 0.003);
+        let misalignment = 1.0 - dir.dot(&preferred);
+        if std::env::var("VIFO_DEBUG_GRASP").is_ok() {
+            let v = gripper_volumes(&site, &dir, RIM_HALF_GAP);
+            let who: Vec<String> = obstacles.boxes.iter().zip(&obstacles.owners).filter(|(b, _)| v.iter().any(|x| x.overlaps(b, 0.003))).map(|(b, o)| format!("{o}@{:.3}", b.pose.pos.z)).collect();
+            eprintln!("rim dir {:.2} hits {hits} {who:?}", a);
+        }
+        let grasp = Grasp { pos: site, yaw: yaw_of_axis(&dir), width: 2.0 * wall, half_gap: RIM_HALF_GAP };
+        if best.is_none_or(|(h, m, _)| (hits, misalignment) < (h, m - 1e-9)) {
+            best = Some((hits, misalignment, grasp));
+        }
+    }
+    best.expect("24 directions were tried").2
 }

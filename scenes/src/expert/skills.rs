@@ -11,6 +11,20 @@ use crate::sim::Sim;
 pub const OPEN: f64 = -1.0;
 pub const CLOSE: f64 = 1.0;
 
+/// The gripper command that brings the fingers to `half_gap` (finger joint position): open or
+/// close toward it, and hold the gripper's ramp (command 0) once there.
+pub fn gripper_toward(sim: &Sim, half_gap: f64) -> f64 {
+    let q = sim.model().robot.joints(sim.world()).q;
+    let opening = 0.5 * (q[7] - q[8]);
+    if opening < half_gap - 0.002 {
+        OPEN
+    } else if opening > half_gap + 0.002 {
+        CLOSE
+    } else {
+        0.0
+    }
+}
+
 /// Where a picked object must go.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Placement {
@@ -49,6 +63,16 @@ pub fn surface_height(sim: &Sim, centre: [f64; 2], radius: f64, exclude: Option<
     z
 }
 
+/// Highest point of the scene along a straight horizontal path (within `radius` of it).
+pub fn path_height(sim: &Sim, from: [f64; 2], to: [f64; 2], radius: f64, exclude: Option<usize>) -> f64 {
+    (0..=10)
+        .map(|k| {
+            let t = k as f64 / 10.0;
+            surface_height(sim, [from[0] + t * (to[0] - from[0]), from[1] + t * (to[1] - from[1])], radius, exclude)
+        })
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
 /// Pick an object and put it somewhere.
 pub struct PickPlace {
     pub object: usize,
@@ -62,6 +86,10 @@ pub struct PickPlace {
     carry_depth: f64,
     attempts: usize,
     lift_start_z: f64,
+    /// Altitude for the carry, fixed when the carry starts.
+    cruise_z: f64,
+    /// Recent grip-site heights while lowering, to notice a stall.
+    lowering: Vec<f64>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -92,11 +120,13 @@ impl PickPlace {
             carry_depth: 0.0,
             attempts: 0,
             lift_start_z: 0.0,
+            cruise_z: 0.0,
+            lowering: Vec::new(),
         }
     }
 
     pub fn describe(&self) -> String {
-        let g = self.grasp.map(|g| format!("grasp ({:.3} {:.3} {:.3}) yaw {:.2} width {:.3}", g.pos.x, g.pos.y, g.pos.z, g.yaw, g.width)).unwrap_or_default();
+        let g = self.grasp.map(|g| format!("grasp ({:.3} {:.3} {:.3}) yaw {:.2} width {:.3} gap {:.3}", g.pos.x, g.pos.y, g.pos.z, g.yaw, g.width, g.half_gap)).unwrap_or_default();
         format!("pick-place {:?} step {} attempt {} {g}", self.stage, self.stage_steps, self.attempts)
     }
 
@@ -108,7 +138,8 @@ impl PickPlace {
     fn plan_grasp(&self, sim: &Sim) -> Grasp {
         let points = geometry::corners(sim, self.object, 0);
         let ee = sim.model().robot.grip_site_pose(sim.world());
-        if let Some(g) = geometry::solid_grasp(&points, 0.025) {
+        let obstacles = geometry::Obstacles::around(sim, self.object);
+        if let Some(g) = geometry::solid_grasp(&points, 0.025, &obstacles) {
             return Grasp { yaw: motion::nearest_yaw(g.yaw, motion::current_yaw(&ee)), ..g };
         }
         let origin = sim.entity_pose(self.object).pos;
@@ -116,20 +147,15 @@ impl PickPlace {
         let centre = Vec3::new(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), origin.z);
         // Grip the rim on the side facing the robot's base, where the arm comes from.
         let base = sim.model().robot.arm().base().pos;
-        let g = geometry::rim_grasp(&points, &centre, &base);
+        let g = geometry::rim_grasp(&points, &centre, &base, &obstacles);
         Grasp { yaw: motion::nearest_yaw(g.yaw, motion::current_yaw(&ee)), ..g }
     }
 
-    /// Height at which to travel: clear of everything between here and there.
+    /// Height at which to travel: clear of everything between here and there (the carried
+    /// object hanging `carry_depth` below the grip site).
     fn travel_height(&self, sim: &Sim, to: [f64; 2]) -> f64 {
         let ee = sim.model().robot.grip_site_pose(sim.world());
-        let mut top: f64 = 0.0;
-        for k in 0..=10 {
-            let t = k as f64 / 10.0;
-            let p = [ee.pos.x + t * (to[0] - ee.pos.x), ee.pos.y + t * (to[1] - ee.pos.y)];
-            top = top.max(surface_height(sim, p, 0.09, Some(self.object)));
-        }
-        top + self.carry_depth + 0.06
+        path_height(sim, [ee.pos.x, ee.pos.y], to, 0.1, Some(self.object)) + self.carry_depth + 0.06
     }
 
     fn target_xy(&self) -> [f64; 2] {
@@ -151,23 +177,27 @@ impl PickPlace {
                     self.grasp = Some(self.plan_grasp(sim));
                 }
                 let g = self.grasp.expect("planned");
-                let clear = surface_height(sim, [ee.pos.x, ee.pos.y], 0.08, None).max(g.pos.z) + 0.10;
-                if ee.pos.z >= clear - 0.02 {
+                // Fly over everything between here and the grasp, fingertips clear.
+                let path_top = path_height(sim, [ee.pos.x, ee.pos.y], [g.pos.x, g.pos.y], 0.1, Some(self.object));
+                self.cruise_z = (path_top + 0.06).max(g.pos.z + 0.08);
+                if ee.pos.z >= self.cruise_z - 0.02 {
                     self.next(Stage::Above);
                     return self.step(sim);
                 }
-                let wp = Waypoint { pos: Vec3::new(ee.pos.x, ee.pos.y, clear), yaw: g.yaw };
-                Step::Act(Servo::TRAVEL.act(sim, &wp, OPEN))
+                let wp = Waypoint { pos: Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), yaw: g.yaw };
+                Step::Act(Servo::TRAVEL.act(sim, &wp, gripper_toward(sim, g.half_gap)))
             }
             Stage::Above => {
                 let g = self.grasp.expect("planned");
-                let wp = Waypoint { pos: g.pos + Vec3::new(0.0, 0.0, 0.08), yaw: g.yaw };
+                let horizontal = ((ee.pos.x - g.pos.x).powi(2) + (ee.pos.y - g.pos.y).powi(2)).sqrt();
+                let z = if horizontal > 0.03 { self.cruise_z } else { g.pos.z + 0.08 };
+                let wp = Waypoint { pos: Vec3::new(g.pos.x, g.pos.y, z), yaw: g.yaw };
                 let (d, r) = motion::error(sim, &wp);
                 let servo = if d < 0.03 { Servo::FINE } else { Servo::TRAVEL };
                 if d < 0.003 && r < 0.03 {
                     self.next(Stage::Descend);
                 }
-                Step::Act(servo.act(sim, &wp, OPEN))
+                Step::Act(servo.act(sim, &wp, gripper_toward(sim, g.half_gap)))
             }
             Stage::Descend => {
                 let g = self.grasp.expect("planned");
@@ -179,7 +209,7 @@ impl PickPlace {
                 if (ee.pos - g.pos).norm() < 0.005 {
                     self.next(Stage::Close);
                 }
-                Step::Act(Servo::FINE.act(sim, &wp, OPEN))
+                Step::Act(Servo::FINE.act(sim, &wp, gripper_toward(sim, g.half_gap)))
             }
             Stage::Close => {
                 let g = self.grasp.expect("planned");
@@ -210,23 +240,23 @@ impl PickPlace {
             }
             Stage::Travel => {
                 let offset = self.carry_offset.expect("measured");
+                if self.stage_steps == 1 {
+                    self.cruise_z = self.travel_height(sim, self.target_xy()).max(ee.pos.z);
+                }
+                if self.lost(sim) {
+                    return self.retry("the object slipped out");
+                }
                 let xy = self.target_xy();
-                let z = self.travel_height(sim, xy).max(ee.pos.z.min(self.travel_height(sim, [ee.pos.x, ee.pos.y])));
-                let over = Vec3::new(xy[0] + offset.x, xy[1] + offset.y, z);
                 let yaw = self.grasp.expect("planned").yaw;
+                let over = Vec3::new(xy[0] + offset.x, xy[1] + offset.y, self.cruise_z);
                 // Climb first, then cross.
-                let climb = self.travel_height(sim, xy);
-                let wp = if ee.pos.z < climb - 0.03 {
-                    Waypoint { pos: Vec3::new(ee.pos.x, ee.pos.y, climb), yaw }
+                let wp = if ee.pos.z < self.cruise_z - 0.02 {
+                    Waypoint { pos: Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), yaw }
                 } else {
                     Waypoint { pos: over, yaw }
                 };
-                if sim.entity_pose(self.object).pos.z < self.lift_start_z + 0.01 {
-                    return self.retry("the object slipped out");
-                }
-                let (d, _) = motion::error(sim, &Waypoint { pos: over, yaw });
                 let horizontal = ((ee.pos.x - over.x).powi(2) + (ee.pos.y - over.y).powi(2)).sqrt();
-                if horizontal < 0.01 && d < 0.03 {
+                if horizontal < 0.01 && (ee.pos.z - over.z).abs() < 0.03 {
                     self.next(Stage::Lower);
                 }
                 Step::Act(Servo::TRAVEL.act(sim, &wp, CLOSE))
@@ -244,7 +274,13 @@ impl PickPlace {
                 let z = surface + self.carry_depth + clearance;
                 let wp = Waypoint { pos: Vec3::new(xy[0] + offset.x, xy[1] + offset.y, z), yaw: self.grasp.expect("planned").yaw };
                 let (d, _) = motion::error(sim, &wp);
-                if d < 0.008 || (self.stage_steps > 30 && ee.pos.z < z + 0.01) {
+                // Let go once there, or once the way down is blocked (the object already rests
+                // on something, or the hand meets a container's rim with the object inside).
+                self.lowering.push(ee.pos.z);
+                let n = self.lowering.len();
+                let stalled = n > 6 && self.lowering[n - 4] - ee.pos.z < 0.002;
+                if d < 0.008 || stalled {
+                    self.lowering.clear();
                     self.next(Stage::Release);
                 }
                 Step::Act(Servo::FINE.act(sim, &wp, CLOSE))
@@ -265,6 +301,14 @@ impl PickPlace {
                 Step::Act(Servo::TRAVEL.act(sim, &up, OPEN))
             }
         }
+    }
+
+    /// Whether the carried object no longer moves with the gripper.
+    fn lost(&self, sim: &Sim) -> bool {
+        let Some(offset) = self.carry_offset else { return false };
+        let ee = sim.model().robot.grip_site_pose(sim.world()).pos;
+        let object = sim.entity_pose(self.object).pos;
+        ((ee - object) - offset).norm() > 0.03
     }
 
     fn retry(&mut self, why: &'static str) -> Step {

@@ -199,6 +199,33 @@ impl Sim {
         self.colliders_of(name).is_some_and(|c| self.world.in_contact(&robot, c))
     }
 
+    /// Every robot shape touching something, with what it touches (an entity name, `arena`,
+    /// or another robot shape): for diagnostics and for tests.
+    pub fn robot_contacts(&self) -> Vec<(&'static str, String)> {
+        let robot = self.model.robot.arm().colliders();
+        let name_of = |h: ColliderHandle| -> String {
+            if let Some(e) = self.model.entities.iter().find(|e| e.colliders.contains(&h)) {
+                e.name.clone()
+            } else if self.model.arena.contains(&h) {
+                "arena".to_string()
+            } else {
+                robot.iter().find(|c| c.handle == h).map_or_else(|| format!("{h:?}"), |c| format!("robot:{}", c.name))
+            }
+        };
+        let np = &self.world.rapier().narrow_phase;
+        let mut out = Vec::new();
+        for c in robot {
+            for pair in np.contact_pairs_with(c.handle) {
+                let touching = pair.manifolds().iter().any(|m| m.points.iter().any(|p| p.dist < vifo_physics::TOUCH_DISTANCE));
+                if touching {
+                    let other = if pair.collider1 == c.handle { pair.collider2 } else { pair.collider1 };
+                    out.push((c.name, name_of(other)));
+                }
+            }
+        }
+        out
+    }
+
     pub fn snapshot(&self) -> SimSnapshot {
         SimSnapshot { world: self.world.snapshot(), control: self.control, steps: self.steps }
     }

@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Result, anyhow};
+use rayon::prelude::*;
 use clap::Args;
 use vifo::expert::{self, InitSource};
 use vifo_scenes::sim::SceneModel;
@@ -44,10 +45,11 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
             }
             let model = SceneModel::build(task)?;
             let states = expert::init_states(task, &model, &source)?;
-            let mut results = Vec::new();
-            for k in args.first..(args.first + args.episodes).min(states.len()) {
-                results.push(expert::episode(&model, &states[k], k, k as u64, suite.max_steps as usize, args.trace)?);
-            }
+            let range: Vec<usize> = (args.first..(args.first + args.episodes).min(states.len())).collect();
+            let results = range
+                .par_iter()
+                .map(|&k| expert::episode(&model, &states[k], k, k as u64, suite.max_steps as usize, args.trace))
+                .collect::<Result<Vec<_>>>()?;
             let ok = results.iter().filter(|r| r.success).count();
             let mean = results.iter().map(|r| r.steps as f64).sum::<f64>() / results.len().max(1) as f64;
             let failures: Vec<String> = results.iter().filter(|r| !r.success).map(|r| format!("{}:{}", r.init, r.failure.as_deref().unwrap_or("budget"))).collect();

@@ -4,8 +4,10 @@
 //!   what it produced — the records the runner writes and the reports read.
 //! - [`policy`]: the observation a policy sees and the [`Policy`] trait every policy implements
 //!   (built-in reference policies, remote VLA servers).
+//! - [`runner`]: parallel, resumable, shardable runs writing one JSON line per episode.
 
 pub mod policy;
+pub mod runner;
 pub mod spec;
 
 pub use policy::{Observation, Policy, PolicyError};

@@ -4,9 +4,11 @@
 //!   what it produced — the records the runner writes and the reports read.
 //! - [`policy`]: the observation a policy sees and the [`Policy`] trait every policy implements
 //!   (built-in reference policies, remote VLA servers).
+//! - [`remote`]: the openpi websocket client, a [`Policy`] served by a VLA server.
 //! - [`runner`]: parallel, resumable, shardable runs writing one JSON line per episode.
 
 pub mod policy;
+pub mod remote;
 pub mod runner;
 pub mod spec;
 

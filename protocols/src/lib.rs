@@ -6,11 +6,13 @@
 //!   (built-in reference policies, remote VLA servers).
 //! - [`remote`]: the openpi websocket client, a [`Policy`] served by a VLA server.
 //! - [`runner`]: parallel, resumable, shardable runs writing one JSON line per episode.
+//! - [`vqa`]: Part I-A questions, their export, answer extraction, scoring and answerers.
 
 pub mod policy;
 pub mod remote;
 pub mod runner;
 pub mod spec;
+pub mod vqa;
 
 pub use policy::{Observation, Policy, PolicyError};
 pub use spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};

@@ -212,17 +212,20 @@ where
     }
 }
 
-fn progress_bar(len: u64, quiet: bool) -> ProgressBar {
+/// A progress bar with ETA on stderr (hidden when quiet).
+pub(crate) fn progress_bar(len: u64, quiet: bool) -> ProgressBar {
     let target = if quiet { ProgressDrawTarget::hidden() } else { ProgressDrawTarget::stderr() };
     let bar = ProgressBar::with_draw_target(Some(len), target);
     if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} ETA {eta} {msg}") {
         bar.set_style(style.progress_chars("=> "));
     }
-    bar.enable_steady_tick(Duration::from_millis(500));
+    if !quiet {
+        bar.enable_steady_tick(Duration::from_millis(500));
+    }
     bar
 }
 
 /// Locks a mutex, also after a panic elsewhere (the data here stays consistent line by line).
-fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+pub(crate) fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|p| p.into_inner())
 }

@@ -109,3 +109,30 @@ fn read_jsonl<T: DeserializeOwned>(path: &Path, what: &str, tolerate_cut: bool) 
     }
     Ok((out, 0))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn prediction_files_tolerate_only_a_cut_last_line() {
+        let dir = std::env::temp_dir().join(format!("vifo-vqa-files-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("p.jsonl");
+        let p = |id: &str, t: &str| Prediction { id: id.into(), prediction: t.into() };
+        append_predictions(&path, &[p("a", "B"), p("b", "C"), p("a", "D")]).unwrap();
+        let mut text = std::fs::read_to_string(&path).unwrap();
+        text.push_str("{\"id\": \"c\", \"predic");
+        std::fs::write(&path, &text).unwrap();
+        let (map, cut) = read_predictions(&path).unwrap();
+        assert_eq!((map["a"].as_str(), map["b"].as_str(), map.len(), cut), ("D", "C", 2, 19));
+        // A complete last line without a newline is kept.
+        std::fs::write(&path, "{\"id\": \"x\", \"prediction\": \"A\"}").unwrap();
+        assert_eq!(read_predictions(&path).unwrap().0.len(), 1);
+        // A bad line in the middle is an error with its position.
+        std::fs::write(&path, "{\"id\": \"x\", \"prediction\": \"A\"}\n[1]\n{\"id\": \"y\", \"prediction\": \"A\"}\n").unwrap();
+        let err = read_predictions(&path).unwrap_err().to_string();
+        assert!(err.contains("p.jsonl:2:") && err.contains("\"prediction\""), "{err}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

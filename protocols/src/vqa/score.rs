@@ -125,3 +125,55 @@ impl VqaScores {
         out
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn q(instance: &str, family: Family, stage: Stage, answer: &str) -> Question {
+        Question {
+            id: format!("{instance}/{}", stage.name()),
+            instance_id: instance.into(),
+            family,
+            stage,
+            image: String::new(),
+            question: "?".into(),
+            options: ["wall", "xray", "yard", "zinc"].iter().map(|s| s.to_string()).collect(),
+            answer: answer.into(),
+        }
+    }
+
+    #[test]
+    fn counts_stages_families_chains_and_failures() {
+        let mut qs = Vec::new();
+        for (inst, family) in [("i1", Family::F1), ("i2", Family::F2)] {
+            for stage in Stage::ALL {
+                qs.push(q(inst, family, stage, "B"));
+            }
+        }
+        qs.push(q("i3", Family::F2, Stage::Detection, "A"));
+        let p: BTreeMap<String, String> = [
+            ("i1/detection", "B"),
+            ("i1/semantic", "(B) xray"),
+            ("i1/grounding", "the xray"),
+            ("i1/decision", "B."),
+            ("i2/detection", "B"),
+            ("i2/semantic", "maybe"),
+            ("i2/grounding", "Z"),
+            ("i3/detection", "A"),
+            ("nobody", "A"),
+        ]
+        .iter()
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+        .collect();
+        let s = score("m", &qs, &p);
+        assert_eq!((s.overall.correct, s.overall.total), (6, 9));
+        assert_eq!((s.fca.correct, s.fca.total), (1, 2), "i3 has one question only");
+        assert_eq!((s.unanswered, s.unparsed, s.refused, s.unknown_ids), (1, 1, 1, 1));
+        assert_eq!(s.stages[&Stage::Detection], Accuracy { correct: 3, total: 3 });
+        assert_eq!(s.families[&Family::F2], Accuracy { correct: 2, total: 5 });
+        let json = serde_json::to_string(&s).unwrap();
+        assert_eq!(serde_json::from_str::<VqaScores>(&json).unwrap(), s);
+        assert!(s.markdown().contains("| F1 | 100.0 | 100.0 | 100.0 | 100.0 | 100.0 | 100.0 | 4 |"), "{}", s.markdown());
+    }
+}

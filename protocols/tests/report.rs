@@ -121,8 +121,15 @@ fn files_are_written() {
         assert!(dir.join(name).exists(), "{name}");
     }
     let csv = std::fs::read_to_string(dir.join("table1.csv")).unwrap();
-    assert!(csv.lines().nth(2).unwrap().starts_with("pi,50.00,60.00,70.00,80.00,10.00,80.00,50.00,62.50,100.00,0.00,25.00,17,1,1"), "{csv}");
-    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("table2.json")).unwrap()).unwrap();
+    assert!(
+        csv.lines()
+            .nth(2)
+            .unwrap()
+            .starts_with("pi,50.00,60.00,70.00,80.00,10.00,80.00,50.00,62.50,100.00,0.00,25.00,17,1,1"),
+        "{csv}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("table2.json")).unwrap()).unwrap();
     assert_eq!(json["rows"].as_array().unwrap().len(), 3 * 4);
     for metric in ["vqa", "avf", "uvf", "uvi"] {
         let png = std::fs::read(dir.join(format!("chart_{metric}.png"))).unwrap();

@@ -36,8 +36,8 @@ fn episode(spec: &EpisodeSpec) -> EpisodeRecord {
         spec: spec.clone(),
         policy: "scripted".into(),
         outcome: Outcome::Completed {
-            language_success: Some(spec.seed % 3 == 0),
-            cue_success: spec.protocol.uses_cue().then_some(spec.seed % 5 == 0),
+            language_success: Some(spec.seed.is_multiple_of(3)),
+            cue_success: spec.protocol.uses_cue().then_some(spec.seed.is_multiple_of(5)),
             steps,
         },
         wall_ms: 0.0,

@@ -12,7 +12,7 @@ use std::time::Duration;
 use base64::Engine;
 use serde_json::{Value, json};
 use vifo_cues::{CueSpec, RgbImage, parse, variants};
-use vifo_protocols::vqa::client::{ChatClient, ClientConfig, prompt};
+use vifo_protocols::vqa::client::{ChatClient, ClientConfig, GIVE_UP_AFTER, prompt};
 use vifo_protocols::vqa::files::{export, read_predictions};
 use vifo_protocols::vqa::{Question, Scene, SceneEntity, Stage, generate, score};
 
@@ -142,9 +142,9 @@ fn serve(
     }
 }
 
-fn question_set() -> (PathBuf, Vec<Question>) {
+fn question_set(name: &str) -> (PathBuf, Vec<Question>) {
     let task = parse("put the black bowl on the plate").unwrap();
-    let instances: Vec<CueSpec> = ["straight_arrow_red", "caption_bar"]
+    let instances: Vec<CueSpec> = ["straight_arrow_red", "caption_bar", "glow_halo", "qr_json"]
         .iter()
         .map(|v| CueSpec::new("libero_x/0", &task, 0, variants::find(v).unwrap()).unwrap())
         .collect();
@@ -156,7 +156,7 @@ fn question_set() -> (PathBuf, Vec<Question>) {
         fixtures: vec![SceneEntity::new("main_table", "table"), SceneEntity::new("flat_stove_1", "stove")],
     };
     let qs = generate(&instances, &BTreeMap::from([("libero_x/0".to_string(), scene)])).unwrap();
-    let dir = std::env::temp_dir().join(format!("vifo-vqa-client-{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!("vifo-vqa-client-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     export(&dir, &qs, |_| RgbImage::filled(32, 32, [90, 90, 90]).map_err(|e| e.to_string())).unwrap();
     (dir, qs)
@@ -175,9 +175,10 @@ fn config(endpoint: &str) -> ClientConfig {
 
 #[test]
 fn answers_are_fetched_retried_resumed_and_scored() {
-    let (dir, qs) = question_set();
+    let (dir, qs) = question_set("answers");
     let letter = |q: &Question| q.answer.chars().next().unwrap();
-    let mut script: BTreeMap<String, Behaviour> = qs.iter().map(|q| (prompt(q), Behaviour::Answer(letter(q)))).collect();
+    let mut script: BTreeMap<String, Behaviour> =
+        qs.iter().map(|q| (prompt(q), Behaviour::Answer(letter(q)))).collect();
     let flaky = &qs[0];
     let broken = &qs[1];
     let slow = &qs[2];
@@ -208,8 +209,9 @@ fn answers_are_fetched_retried_resumed_and_scored() {
     assert_eq!((predictions.len(), cut), (qs.len() - 2, 0));
     let s = score("fake-vlm", &qs, &predictions);
     assert_eq!((s.overall.correct, s.overall.total, s.unanswered), (qs.len() - 3, qs.len(), 2));
-    assert_eq!((s.fca.correct, s.fca.total), (1, 2));
-    assert_eq!(s.stages[&Stage::Detection].total, 2);
+    // The four misbehaving prompts all belong to the first instance.
+    assert_eq!((s.fca.correct, s.fca.total), (3, 4));
+    assert_eq!(s.stages[&Stage::Detection].total, 4);
 
     // A second run asks only what is still missing.
     let before = server.requests.load(Ordering::SeqCst);
@@ -225,7 +227,15 @@ fn unreachable_and_tls_endpoints_fail_clearly() {
     let err = ChatClient::new(config("https://api.example.com")).err().unwrap().to_string();
     assert!(err.contains("TLS is not built in"), "{err}");
     let closed = TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port();
-    let client = ChatClient::new(ClientConfig { model: Some("m".into()), ..config(&format!("http://127.0.0.1:{closed}")) }).unwrap();
+    let client =
+        ChatClient::new(ClientConfig { model: Some("m".into()), ..config(&format!("http://127.0.0.1:{closed}")) })
+            .unwrap();
     let err = client.ask(b"\x89PNG", "Question: ?").unwrap_err();
     assert!(err.contains("127.0.0.1"), "{err}");
+    // A dead server: the run stops after a few failures in a row instead of trying everything.
+    let (dir, qs) = question_set("dead");
+    let summary = client.answer_all(&dir, &qs, &dir.join("p.jsonl")).unwrap();
+    assert!(summary.gave_up && summary.answered == 0);
+    assert!(summary.failed.len() >= GIVE_UP_AFTER && summary.failed.len() < qs.len(), "{}", summary.failed.len());
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -144,7 +144,8 @@ fn examples_read_naturally() {
             }
         }
     }
-    let arrow = |stage: &str| qs.iter().find(|q| q.id == format!("libero_goal/3/F2/straight_arrow_red/{stage}")).unwrap();
+    let arrow =
+        |stage: &str| qs.iter().find(|q| q.id == format!("libero_goal/3/F2/straight_arrow_red/{stage}")).unwrap();
     let right = |q: &Question| q.options[(q.answer.as_bytes()[0] - b'A') as usize].clone();
     // "open the top drawer and put the bowl inside": the arrow shows the second step; "bowl"
     // is named as the scene names it.
@@ -172,4 +173,3 @@ fn export_writes_questions_and_one_png_per_instance() {
     assert!(err.contains("libero_goal/3/") && err.contains("renderer failed"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
-

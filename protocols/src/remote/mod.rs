@@ -290,7 +290,8 @@ fn read_binary(
                 return Err(PolicyError::Other(format!("policy server reported an error: {}", t.as_str().trim_end())));
             }
             Message::Close(frame) => {
-                let why = frame.map_or(String::new(), |f| format!(" (code {}, {:?})", u16::from(f.code), f.reason.as_str()));
+                let why =
+                    frame.map_or(String::new(), |f| format!(" (code {}, {:?})", u16::from(f.code), f.reason.as_str()));
                 return Err(PolicyError::Connection(format!("server closed the connection {what}{why}")));
             }
             Message::Ping(_) | Message::Pong(_) | Message::Frame(_) => {}
@@ -401,10 +402,7 @@ mod tests {
             (reply(vec![(Value::from("actions"), actions(10, 8, 0.0))]), "shape [10, 8]"),
             (reply(vec![(Value::from("actions"), actions(0, 7, 0.0))]), "shape [0, 7]"),
             (reply(vec![(Value::from("actions"), actions(3, 7, f64::NAN))]), "`actions`[0, 0] is NaN"),
-            (
-                reply(vec![(Value::from("actions"), ndarray::encode("<f8", &[2, 7], vec![0; 8]))]),
-                "needs 112 bytes",
-            ),
+            (reply(vec![(Value::from("actions"), ndarray::encode("<f8", &[2, 7], vec![0; 8]))]), "needs 112 bytes"),
             ([reply(vec![(Value::from("actions"), actions(1, 7, 0.0))]), vec![0]].concat(), "unexpected bytes"),
             (vec![0x93, 1, 2, 3], "expected a map"),
         ];

@@ -169,7 +169,8 @@ mod tests {
         assert!(err.contains("needs 112 bytes") && err.contains("got 104"), "{err}");
         let ints = encode("<i8", &[1], vec![0; 8]);
         assert!(decode(&ints).unwrap().unwrap().to_f64().unwrap_err().contains("<i8"));
-        let no_shape = Value::Map(vec![(bin_key("__ndarray__"), Value::Boolean(true)), (bin_key("data"), Value::Binary(vec![]))]);
+        let no_shape =
+            Value::Map(vec![(bin_key("__ndarray__"), Value::Boolean(true)), (bin_key("data"), Value::Binary(vec![]))]);
         assert!(decode(&no_shape).unwrap_err().contains("dtype"));
         assert_eq!(decode(&Value::from(3)).unwrap(), None);
     }

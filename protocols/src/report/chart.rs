@@ -79,7 +79,15 @@ pub fn family_chart(report: &Report, metric: Metric) -> Result<Vec<u8>, String> 
     let (x0, x1, y0, y1) = (LEFT, W as f32 - RIGHT, TOP, H as f32 - BOTTOM);
     let black = rgb([30, 30, 30]);
     let direction = if metric.higher_is_better() { "higher is better" } else { "lower is better" };
-    label(&mut pm, &format!("{} per cue family (%), {direction}", metric.name()), W as f32 / 2.0, 22.0, 18.0, W as f32, black);
+    label(
+        &mut pm,
+        &format!("{} per cue family (%), {direction}", metric.name()),
+        W as f32 / 2.0,
+        22.0,
+        18.0,
+        W as f32,
+        black,
+    );
     for tick in [0.0f32, 25.0, 50.0, 75.0, 100.0] {
         let y = y1 - tick / 100.0 * (y1 - y0);
         rect(&mut pm, x0, y - 0.5, x1 - x0, 1.0, rgb([215, 215, 215]));

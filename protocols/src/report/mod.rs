@@ -129,10 +129,8 @@ pub fn build(records: &[EpisodeRecord], vqa: &BTreeMap<String, VqaScores>) -> Re
     policies.sort();
     let mut report = Report::default();
     for policy in policies {
-        let episodes: Vec<EpisodeRecord> = by_policy
-            .remove(policy.as_str())
-            .map(|rs| final_records(rs).into_values().collect())
-            .unwrap_or_default();
+        let episodes: Vec<EpisodeRecord> =
+            by_policy.remove(policy.as_str()).map(|rs| final_records(rs).into_values().collect()).unwrap_or_default();
         let scores = vqa.get(&policy);
         report.table1.push(table1_row(&policy, &episodes, scores));
         let (rows, counts) = table2_rows(&policy, &episodes, scores);
@@ -160,7 +158,12 @@ fn cue(o: &Outcome) -> Option<Option<bool>> {
 }
 
 /// Tallies one metric over the completed records of one protocol; returns the unscored count.
-fn tally<'a>(records: impl Iterator<Item = &'a EpisodeRecord>, protocol: Protocol, flag: Flag, into: &mut Accuracy) -> usize {
+fn tally<'a>(
+    records: impl Iterator<Item = &'a EpisodeRecord>,
+    protocol: Protocol,
+    flag: Flag,
+    into: &mut Accuracy,
+) -> usize {
     let mut unscored = 0;
     for r in records.filter(|r| r.spec.protocol == protocol) {
         match flag(&r.outcome) {

@@ -68,7 +68,13 @@ pub struct AnswerSummary {
     pub skipped: usize,
     /// (question id, last error) of questions that still have no answer.
     pub failed: Vec<(String, String)>,
+    /// Stopped early after [`GIVE_UP_AFTER`] failures in a row (server down or misconfigured);
+    /// the questions not tried are in neither list.
+    pub gave_up: bool,
 }
+
+/// Consecutive failed questions after which [`ChatClient::answer_all`] stops asking.
+pub const GIVE_UP_AFTER: usize = 10;
 
 /// A connection to one model on one server.
 pub struct ChatClient {
@@ -175,12 +181,13 @@ impl ChatClient {
         let summary = Mutex::new(AnswerSummary { skipped: questions.len() - todo.len(), ..AnswerSummary::default() });
         let write_error: Mutex<Option<VqaError>> = Mutex::new(None);
         let next = AtomicUsize::new(0);
+        let failures_in_a_row = AtomicUsize::new(0);
         let bar = progress_bar(todo.len() as u64, self.config.quiet);
         std::thread::scope(|scope| {
             for _ in 0..self.config.concurrency.max(1) {
                 scope.spawn(|| {
                     while let Some(q) = todo.get(next.fetch_add(1, Ordering::Relaxed)) {
-                        if lock(&write_error).is_some() {
+                        if lock(&write_error).is_some() || failures_in_a_row.load(Ordering::Relaxed) >= GIVE_UP_AFTER {
                             return;
                         }
                         let result = std::fs::read(dir.join(&q.image))
@@ -188,13 +195,17 @@ impl ChatClient {
                             .and_then(|png| self.ask(&png, &prompt(q)));
                         match result {
                             Ok(text) => {
+                                failures_in_a_row.store(0, Ordering::Relaxed);
                                 let line = Prediction { id: q.id.clone(), prediction: text };
                                 if let Err(e) = append_predictions(out, std::slice::from_ref(&line)) {
                                     lock(&write_error).get_or_insert(e);
                                 }
                                 lock(&summary).answered += 1;
                             }
-                            Err(message) => lock(&summary).failed.push((q.id.clone(), message)),
+                            Err(message) => {
+                                failures_in_a_row.fetch_add(1, Ordering::Relaxed);
+                                lock(&summary).failed.push((q.id.clone(), message));
+                            }
                         }
                         bar.inc(1);
                     }
@@ -206,6 +217,7 @@ impl ChatClient {
             return Err(e);
         }
         let mut summary = summary.into_inner().unwrap_or_else(|p| p.into_inner());
+        summary.gave_up = failures_in_a_row.into_inner() >= GIVE_UP_AFTER;
         summary.failed.sort();
         Ok(summary)
     }
@@ -236,10 +248,14 @@ fn read_body(result: Result<ureq::http::Response<ureq::Body>, ureq::Error>, url:
         message: format!("{url}: {e}"),
     })?;
     let status = response.status().as_u16();
-    let text = response.body_mut().read_to_string().map_err(|e| Failure { message: format!("{url}: {e}"), retry: true })?;
+    let text =
+        response.body_mut().read_to_string().map_err(|e| Failure { message: format!("{url}: {e}"), retry: true })?;
     if !(200..300).contains(&status) {
         let snippet: String = text.chars().take(300).collect();
-        return Err(Failure { message: format!("{url}: HTTP {status}: {snippet}"), retry: status == 429 || status >= 500 });
+        return Err(Failure {
+            message: format!("{url}: HTTP {status}: {snippet}"),
+            retry: status == 429 || status >= 500,
+        });
     }
     serde_json::from_str(&text).map_err(|e| Failure { message: format!("{url}: reply is not JSON: {e}"), retry: false })
 }

@@ -53,10 +53,8 @@ fn infer_option(answer: &str, n_options: usize) -> Option<Extracted> {
     }
     let cleaned: String = answer.chars().map(|c| if ".()[],:;!*#{}".contains(c) { ' ' } else { c }).collect();
     let tokens: Vec<&str> = cleaned.split_whitespace().collect();
-    let letters: Vec<char> = ('A'..='Z')
-        .take(n_options)
-        .filter(|l| tokens.iter().any(|t| t.len() == 1 && t.starts_with(*l)))
-        .collect();
+    let letters: Vec<char> =
+        ('A'..='Z').take(n_options).filter(|l| tokens.iter().any(|t| t.len() == 1 && t.starts_with(*l))).collect();
     match letters.as_slice() {
         [one] => Some(Extracted::Letter(*one)),
         [] if tokens.iter().filter(|t| **t == "Z").count() == 1 => Some(Extracted::Refused),

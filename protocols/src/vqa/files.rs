@@ -29,7 +29,8 @@ where
         if !written.insert(q.instance_id.clone()) {
             continue;
         }
-        let img = render(&q.instance_id).map_err(|message| VqaError::Image { instance: q.instance_id.clone(), message })?;
+        let img =
+            render(&q.instance_id).map_err(|message| VqaError::Image { instance: q.instance_id.clone(), message })?;
         let path = dir.join(&q.image);
         let buffer = image::RgbImage::from_raw(img.width, img.height, img.data).ok_or_else(|| VqaError::Image {
             instance: q.instance_id.clone(),
@@ -130,7 +131,8 @@ mod tests {
         std::fs::write(&path, "{\"id\": \"x\", \"prediction\": \"A\"}").unwrap();
         assert_eq!(read_predictions(&path).unwrap().0.len(), 1);
         // A bad line in the middle is an error with its position.
-        std::fs::write(&path, "{\"id\": \"x\", \"prediction\": \"A\"}\n[1]\n{\"id\": \"y\", \"prediction\": \"A\"}\n").unwrap();
+        std::fs::write(&path, "{\"id\": \"x\", \"prediction\": \"A\"}\n[1]\n{\"id\": \"y\", \"prediction\": \"A\"}\n")
+            .unwrap();
         let err = read_predictions(&path).unwrap_err().to_string();
         assert!(err.contains("p.jsonl:2:") && err.contains("\"prediction\""), "{err}");
         let _ = std::fs::remove_dir_all(&dir);

@@ -111,7 +111,8 @@ struct Draft {
 fn instance_drafts(spec: &CueSpec, scene: &Scene) -> Result<Vec<Draft>, VqaError> {
     let id = spec.id();
     let bad = |m: String| VqaError::BadInstance(id.clone(), m);
-    let step = spec.steps.get(spec.step).ok_or_else(|| bad(format!("no step {} in {} steps", spec.step, spec.steps.len())))?;
+    let step =
+        spec.steps.get(spec.step).ok_or_else(|| bad(format!("no step {} in {} steps", spec.step, spec.steps.len())))?;
     if step.source.trim().is_empty() {
         return Err(bad("the shown step has no source".into()));
     }
@@ -145,7 +146,8 @@ fn instance_drafts(spec: &CueSpec, scene: &Scene) -> Result<Vec<Draft>, VqaError
 }
 
 fn detection(id: &str, family: Family) -> (String, [String; 3]) {
-    let others = shuffled(id, Family::ALL.iter().filter(|&&f| f != family).map(|&f| wording::detection_phrase(f).to_string()));
+    let others =
+        shuffled(id, Family::ALL.iter().filter(|&&f| f != family).map(|&f| wording::detection_phrase(f).to_string()));
     (wording::detection_phrase(family).to_string(), take3(others))
 }
 
@@ -168,7 +170,14 @@ impl Ctx<'_> {
     /// Names that could stand in for `phrase` (the entity `step_id` names), best first: those
     /// closest in length (so option length says nothing), same-kind variants before scene
     /// entities of `pool` at equal length, then generic names.
-    fn alternatives(&self, salt: &str, phrase: &str, step_id: Option<&str>, pool: &[&SceneEntity], avoid: &[&str]) -> Vec<String> {
+    fn alternatives(
+        &self,
+        salt: &str,
+        phrase: &str,
+        step_id: Option<&str>,
+        pool: &[&SceneEntity],
+        avoid: &[&str],
+    ) -> Vec<String> {
         let salt = format!("{}|{salt}", self.id);
         let len = phrase.chars().count();
         let scene = pool.iter().filter(|e| !step_id.is_some_and(|i| is_entity_of(&e.id, i))).map(|e| e.name.clone());
@@ -182,7 +191,9 @@ impl Ctx<'_> {
         let mut out: Vec<String> = ranked.into_iter().map(|(.., c)| c).collect();
         out.extend(shuffled(&salt, FALLBACK_NAMES.iter().map(|s| s.to_string())));
         let mut seen = BTreeSet::new();
-        out.retain(|c| !same_thing(c, phrase) && !avoid.iter().any(|a| same_thing(c, a)) && seen.insert(c.to_lowercase()));
+        out.retain(|c| {
+            !same_thing(c, phrase) && !avoid.iter().any(|a| same_thing(c, a)) && seen.insert(c.to_lowercase())
+        });
         out
     }
 
@@ -204,7 +215,10 @@ impl Ctx<'_> {
             t_alt.retain(|c| wording::fits(c, r) && !FALLBACK_NAMES.contains(&c.as_str()));
             if t_alt.is_empty() {
                 // No other plausible target in the scene: four sources, one target.
-                s_alt.windows(3).map(|w| [render(r, &w[0], Some(t)), render(r, &w[1], Some(t)), render(r, &w[2], Some(t))]).collect()
+                s_alt
+                    .windows(3)
+                    .map(|w| [render(r, &w[0], Some(t)), render(r, &w[1], Some(t)), render(r, &w[2], Some(t))])
+                    .collect()
             } else {
                 pairs(&s_alt, &t_alt)
                     .filter(|(s2, t2)| !same_thing(s2, t2))
@@ -224,12 +238,23 @@ impl Ctx<'_> {
             let texts: BTreeSet<&String> = c.iter().chain([&answer]).collect();
             texts.len() == 4 && c.iter().all(|x| !true_steps.contains(x))
         };
-        let chosen = candidates.into_iter().find(fits).unwrap_or_else(|| self.generic_acts(r, s, t, render, &true_steps, &answer));
+        let chosen = candidates
+            .into_iter()
+            .find(fits)
+            .unwrap_or_else(|| self.generic_acts(r, s, t, render, &true_steps, &answer));
         (answer, chosen)
     }
 
     /// Last resort when the scene cannot make a valid design: generic names only.
-    fn generic_acts(&self, r: Relation, s: &str, t: Option<&str>, render: Render, avoid: &BTreeSet<String>, answer: &str) -> [String; 3] {
+    fn generic_acts(
+        &self,
+        r: Relation,
+        s: &str,
+        t: Option<&str>,
+        render: Render,
+        avoid: &BTreeSet<String>,
+        answer: &str,
+    ) -> [String; 3] {
         let mut out: Vec<String> = Vec::new();
         for name in shuffled(self.id, FALLBACK_NAMES.iter().map(|s| s.to_string())) {
             let text = match t {
@@ -364,7 +389,10 @@ mod tests {
         assert!(!same_thing("glass", "grass"));
         assert!(is_entity_of("wooden_cabinet_1", "wooden_cabinet_1_top_region"));
         assert!(!is_entity_of("plate_1", "plate_10"));
-        assert_eq!(siblings("top drawer of the cabinet"), ["middle drawer of the cabinet", "bottom drawer of the cabinet"]);
+        assert_eq!(
+            siblings("top drawer of the cabinet"),
+            ["middle drawer of the cabinet", "bottom drawer of the cabinet"]
+        );
         let (a, b) = (["a".to_string(), "b".to_string()], ["x".to_string(), "y".to_string()]);
         let p: Vec<_> = pairs(&a, &b).collect();
         assert_eq!(p, [("a", "x"), ("a", "y"), ("b", "x"), ("b", "y")]);

@@ -99,7 +99,10 @@ fn pct(a: Option<&Accuracy>) -> String {
 impl VqaScores {
     /// A Markdown table: one row per family and the total, columns Det, Sem, Gnd, Dec, all, FCA.
     pub fn markdown(&self) -> String {
-        let mut out = format!("VQA scores of {}\n\n| family | Det | Sem | Gnd | Dec | all | FCA | questions |\n|---|---|---|---|---|---|---|---|\n", self.model);
+        let mut out = format!(
+            "VQA scores of {}\n\n| family | Det | Sem | Gnd | Dec | all | FCA | questions |\n|---|---|---|---|---|---|---|---|\n",
+            self.model
+        );
         for (family, stages) in &self.family_stages {
             let cells: Vec<String> = Stage::ALL.iter().map(|st| pct(stages.get(st))).collect();
             out += &format!(
@@ -174,6 +177,10 @@ mod tests {
         assert_eq!(s.families[&Family::F2], Accuracy { correct: 2, total: 5 });
         let json = serde_json::to_string(&s).unwrap();
         assert_eq!(serde_json::from_str::<VqaScores>(&json).unwrap(), s);
-        assert!(s.markdown().contains("| F1 | 100.0 | 100.0 | 100.0 | 100.0 | 100.0 | 100.0 | 4 |"), "{}", s.markdown());
+        assert!(
+            s.markdown().contains("| F1 | 100.0 | 100.0 | 100.0 | 100.0 | 100.0 | 100.0 | 4 |"),
+            "{}",
+            s.markdown()
+        );
     }
 }

@@ -4,3 +4,5 @@ pub mod xval;
 pub mod bddl;
 pub mod bench;
 pub mod cues;
+pub mod report;
+pub mod vqa;

@@ -114,15 +114,16 @@ pub fn pil_resize_bilinear(img: &RgbImage, out_w: u32, out_h: u32) -> RgbImage {
         let t = taps(img.width, out_w);
         let ow = out_w as usize;
         let mut out = vec![0u8; ow * in_h * 3];
-        for y in 0..in_h {
-            let row = &current[y * in_w * 3..(y + 1) * in_w * 3];
-            for (x, (first, ws)) in t.first.iter().zip(&t.weights).enumerate() {
-                for c in 0..3 {
-                    let mut acc: i32 = 1 << (PRECISION_BITS - 1);
-                    for (k, w) in ws.iter().enumerate() {
-                        acc += i32::from(row[(first + k) * 3 + c]) * w;
+        for (row, out_row) in current.chunks_exact(in_w * 3).zip(out.chunks_exact_mut(ow * 3)) {
+            for ((first, ws), px) in t.first.iter().zip(&t.weights).zip(out_row.chunks_exact_mut(3)) {
+                let mut acc = [1i32 << (PRECISION_BITS - 1); 3];
+                for (src, w) in row[first * 3..].chunks_exact(3).zip(ws) {
+                    for c in 0..3 {
+                        acc[c] += i32::from(src[c]) * w;
                     }
-                    out[(y * ow + x) * 3 + c] = clip8(acc);
+                }
+                for c in 0..3 {
+                    px[c] = clip8(acc[c]);
                 }
             }
         }
@@ -131,17 +132,19 @@ pub fn pil_resize_bilinear(img: &RgbImage, out_w: u32, out_h: u32) -> RgbImage {
     }
     if out_h as usize != in_h {
         let t = taps(img.height, out_h);
-        let oh = out_h as usize;
-        let mut out = vec![0u8; width * oh * 3];
-        for (y, (first, ws)) in t.first.iter().zip(&t.weights).enumerate() {
-            for x in 0..width {
-                for c in 0..3 {
-                    let mut acc: i32 = 1 << (PRECISION_BITS - 1);
-                    for (k, w) in ws.iter().enumerate() {
-                        acc += i32::from(current[((first + k) * width + x) * 3 + c]) * w;
-                    }
-                    out[(y * width + x) * 3 + c] = clip8(acc);
+        let row_len = width * 3;
+        let mut out = vec![0u8; row_len * out_h as usize];
+        let mut acc = vec![0i32; row_len];
+        for ((first, ws), out_row) in t.first.iter().zip(&t.weights).zip(out.chunks_exact_mut(row_len)) {
+            acc.fill(1 << (PRECISION_BITS - 1));
+            for (k, w) in ws.iter().enumerate() {
+                let src = &current[(first + k) * row_len..(first + k + 1) * row_len];
+                for (a, &v) in acc.iter_mut().zip(src) {
+                    *a += i32::from(v) * w;
                 }
+            }
+            for (o, &a) in out_row.iter_mut().zip(&acc) {
+                *o = clip8(a);
             }
         }
         current = out;

@@ -103,8 +103,9 @@ impl BlindReport {
 fn letter_prior(questions: &[Question]) -> BTreeMap<&str, usize> {
     let mut counts: BTreeMap<&str, [usize; 4]> = BTreeMap::new();
     for q in questions {
+        let c = counts.entry(q.question.as_str()).or_default();
         if let Some(i) = LETTERS.iter().position(|l| q.answer.starts_with(*l)) {
-            counts.entry(q.question.as_str()).or_default()[i] += 1;
+            c[i] += 1;
         }
     }
     counts.into_iter().map(|(k, c)| (k, first_max(c.into_iter()))).collect()

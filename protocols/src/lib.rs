@@ -4,9 +4,17 @@
 //!   what it produced — the records the runner writes and the reports read.
 //! - [`policy`]: the observation a policy sees and the [`Policy`] trait every policy implements
 //!   (built-in reference policies, remote VLA servers).
+//! - [`remote`]: the openpi websocket client, a [`Policy`] served by a VLA server.
+//! - [`report`]: the paper's Tables 1 and 2 (Markdown, CSV, JSON) and per-family bar charts.
+//! - [`runner`]: parallel, resumable, shardable runs writing one JSON line per episode.
+//! - [`vqa`]: Part I-A questions, their export, answer extraction, scoring and answerers.
 
 pub mod policy;
+pub mod remote;
+pub mod report;
+pub mod runner;
 pub mod spec;
+pub mod vqa;
 
 pub use policy::{Observation, Policy, PolicyError};
 pub use spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};

@@ -25,6 +25,10 @@ enum Command {
     Bddl(cmd::bddl::Args),
     /// Visual cues: task parser, variant catalogue, instance set, quick rendering.
     Cues(cmd::cues::Args),
+    /// Part I-A questions: answer with a VLM server, score, oracle and blind baselines.
+    Vqa(cmd::vqa::Args),
+    /// The paper's Tables 1 and 2 from results files and VQA scores.
+    Report(cmd::report::Args),
 }
 
 fn main() {
@@ -35,6 +39,8 @@ fn main() {
         Command::Xval(args) => cmd::xval::run(&args),
         Command::Bddl(args) => cmd::bddl::run(args),
         Command::Cues(args) => cmd::cues::run(args),
+        Command::Vqa(args) => cmd::vqa::run(args),
+        Command::Report(args) => cmd::report::run(args),
     };
     if let Err(err) = result {
         eprintln!("error: {err:#}");

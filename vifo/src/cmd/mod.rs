@@ -1,6 +1,8 @@
 //! Subcommands of `vifo`, one module each.
 
 pub mod xval;
+pub mod report;
+pub mod vqa;
 pub mod bddl;
 pub mod bench;
 pub mod cues;

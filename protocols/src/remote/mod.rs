@@ -1,0 +1,424 @@
+//! A [`Policy`] served by an openpi websocket policy server (`scripts/serve_policy.py`), or by
+//! any adapter that speaks its protocol.
+//!
+//! Protocol (openpi `websocket_client_policy.py` / `websocket_policy_server.py`): plain
+//! RFC 6455 websocket; right after the handshake the server sends one binary msgpack
+//! document (its metadata, often the empty map); then each request is one binary frame with
+//! one msgpack document and each reply likewise. A text frame is a server-side error (openpi
+//! sends the traceback). Payloads use msgpack-numpy ([`ndarray`]).
+//!
+//! LIBERO request, as `examples/libero/main.py` builds it: `observation/image` and
+//! `observation/wrist_image` (`|u1`, 224×224×3, see [`image`] for orientation and resizing),
+//! `observation/state` (`<f8`, 8: [`Observation::state8`]) and `prompt` (the instruction).
+//! Reply: `actions` (`<f4` or `<f8`, H×7); other keys (timings, extras) are kept but unused.
+//! Actions are queued: the server is asked only when the queue is empty and the first
+//! `replan_steps` of each chunk are used.
+//!
+//! Failures never panic: unreachable or dropped servers are [`PolicyError::Connection`], slow
+//! ones [`PolicyError::Timeout`], bad replies [`PolicyError::Malformed`] naming the problem. After
+//! any failure the connection is dropped; the next [`Policy::reset`] reconnects.
+
+pub mod image;
+pub mod ndarray;
+
+use std::collections::VecDeque;
+use std::io;
+use std::net::{TcpStream, ToSocketAddrs};
+use std::time::{Duration, Instant};
+
+use rmpv::Value;
+use tungstenite::client::ClientRequestBuilder;
+use tungstenite::http::Uri;
+use tungstenite::{Message, WebSocket};
+
+use crate::policy::{Observation, Policy, PolicyError};
+
+/// How to reach and use a server.
+#[derive(Clone, Debug)]
+pub struct RemoteConfig {
+    /// `ws://host:port` (a bare `host:port` gets `ws://` prepended, as openpi's client does).
+    pub url: String,
+    /// Actions used from each chunk before asking again (openpi LIBERO: 5).
+    pub replan_steps: usize,
+    /// Limit for the TCP connect, the handshake and the metadata message.
+    pub connect_timeout: Duration,
+    /// Limit for one request: sending the observation and receiving the whole reply.
+    pub request_timeout: Duration,
+    /// Side of the square images sent (openpi LIBERO: 224).
+    pub image_size: u32,
+    /// Sent as `Authorization: Api-Key <key>` when set (openpi's client option).
+    pub api_key: Option<String>,
+    /// Name in results files; default `openpi@<url>`.
+    pub name: Option<String>,
+}
+
+impl RemoteConfig {
+    pub fn new(url: &str) -> RemoteConfig {
+        RemoteConfig {
+            url: url.to_string(),
+            replan_steps: 5,
+            connect_timeout: Duration::from_secs(10),
+            // openpi's first inference compiles the model and can take a minute or more.
+            request_timeout: Duration::from_secs(180),
+            image_size: 224,
+            api_key: None,
+            name: None,
+        }
+    }
+}
+
+/// One reply of the server.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reply {
+    /// The action chunk, H rows of `[dx, dy, dz, dax, day, daz, gripper]`.
+    pub actions: Vec<[f64; 7]>,
+    /// Every other top-level entry (`policy_timing`, `server_timing`, model extras).
+    pub extra: Vec<(String, Value)>,
+}
+
+/// An openpi websocket policy client.
+pub struct RemotePolicy {
+    config: RemoteConfig,
+    uri: Uri,
+    conn: Option<WebSocket<TcpStream>>,
+    /// True when the connection was made before the current episode and has not served a
+    /// request since: the server may have closed it while we were idle.
+    idle: bool,
+    metadata: Value,
+    queue: VecDeque<[f64; 7]>,
+    requests: usize,
+}
+
+impl RemotePolicy {
+    /// Connects with default settings (replan 5, 224 px images).
+    pub fn connect(url: &str) -> Result<RemotePolicy, PolicyError> {
+        RemotePolicy::with_config(RemoteConfig::new(url))
+    }
+
+    /// Connects and reads the server's metadata message.
+    pub fn with_config(config: RemoteConfig) -> Result<RemotePolicy, PolicyError> {
+        if config.replan_steps == 0 {
+            return Err(PolicyError::Other("replan_steps must be at least 1".into()));
+        }
+        if config.image_size == 0 {
+            return Err(PolicyError::Other("image_size must be at least 1".into()));
+        }
+        let uri = parse_url(&config.url)?;
+        let mut policy = RemotePolicy {
+            config,
+            uri,
+            conn: None,
+            idle: false,
+            metadata: Value::Map(vec![]),
+            queue: VecDeque::new(),
+            requests: 0,
+        };
+        policy.reconnect()?;
+        Ok(policy)
+    }
+
+    /// The metadata message of the current connection (openpi's `get_server_metadata`).
+    pub fn metadata(&self) -> &Value {
+        &self.metadata
+    }
+
+    /// Requests sent so far (over all connections).
+    pub fn requests(&self) -> usize {
+        self.requests
+    }
+
+    /// Sends one observation and returns the whole reply, bypassing the action queue.
+    pub fn infer(&mut self, obs: &Observation) -> Result<Reply, PolicyError> {
+        let request = encode_request(obs, self.config.image_size)?;
+        if self.conn.is_none() {
+            self.reconnect()?;
+        }
+        let result = match self.exchange(&request) {
+            // A connection idle since the last episode may have been closed by the server's
+            // keep-alive; one fresh attempt is safe because inference has no server state.
+            Err(PolicyError::Connection(_)) if self.idle => {
+                self.reconnect()?;
+                self.exchange(&request)
+            }
+            other => other,
+        };
+        self.idle = false;
+        if result.is_err() {
+            self.conn = None;
+        }
+        self.requests += 1;
+        parse_reply(&result?)
+    }
+
+    fn reconnect(&mut self) -> Result<(), PolicyError> {
+        self.conn = None;
+        let (conn, metadata) = open(&self.uri, &self.config)?;
+        self.conn = Some(conn);
+        self.metadata = metadata;
+        self.idle = false;
+        Ok(())
+    }
+
+    /// One request/reply round trip within the request timeout.
+    fn exchange(&mut self, request: &[u8]) -> Result<Vec<u8>, PolicyError> {
+        let timeout = self.config.request_timeout;
+        let conn = self.conn.as_mut().ok_or_else(|| PolicyError::Connection("not connected".into()))?;
+        let deadline = Instant::now() + timeout;
+        set_timeouts(conn.get_mut(), timeout)?;
+        conn.send(Message::binary(request.to_vec())).map_err(|e| ws_error(e, timeout, "sending the observation"))?;
+        read_binary(conn, deadline, timeout, "waiting for the reply")
+    }
+}
+
+impl Policy for RemotePolicy {
+    fn name(&self) -> String {
+        self.config.name.clone().unwrap_or_else(|| format!("openpi@{}", self.config.url))
+    }
+
+    /// Clears the action queue; reconnects if the last episode lost the connection.
+    fn reset(&mut self) -> Result<(), PolicyError> {
+        self.queue.clear();
+        if self.conn.is_none() {
+            self.reconnect()
+        } else {
+            self.idle = true;
+            Ok(())
+        }
+    }
+
+    fn act(&mut self, obs: &Observation) -> Result<[f64; 7], PolicyError> {
+        if self.queue.is_empty() {
+            let reply = self.infer(obs)?;
+            let n = self.config.replan_steps;
+            if reply.actions.len() < n {
+                return Err(PolicyError::Malformed(format!(
+                    "action chunk has {} rows, fewer than replan_steps = {n}",
+                    reply.actions.len()
+                )));
+            }
+            self.queue.extend(&reply.actions[..n]);
+        }
+        self.queue.pop_front().ok_or_else(|| PolicyError::Malformed("empty action chunk".into()))
+    }
+}
+
+/// `ws://host:port[/path]`; a bare `host:port` gets `ws://`. TLS is not built in.
+fn parse_url(url: &str) -> Result<Uri, PolicyError> {
+    let full = if url.contains("://") { url.to_string() } else { format!("ws://{url}") };
+    let uri: Uri = full.parse().map_err(|e| PolicyError::Connection(format!("bad server address {url:?}: {e}")))?;
+    match uri.scheme_str() {
+        Some("ws") => {}
+        Some("wss") => {
+            return Err(PolicyError::Connection(format!(
+                "{url}: wss:// (TLS) is not built in; reach the server through a local tunnel \
+                 (ssh -L 8000:localhost:8000 host) and use ws://localhost:8000"
+            )));
+        }
+        _ => return Err(PolicyError::Connection(format!("{url}: expected a ws://host:port address"))),
+    }
+    if uri.host().is_none() {
+        return Err(PolicyError::Connection(format!("{url}: no host")));
+    }
+    Ok(uri)
+}
+
+/// TCP connect, websocket handshake and the metadata message, all within the connect timeout.
+fn open(uri: &Uri, config: &RemoteConfig) -> Result<(WebSocket<TcpStream>, Value), PolicyError> {
+    let timeout = config.connect_timeout;
+    let host = uri.host().unwrap_or_default();
+    let port = uri.port_u16().unwrap_or(80);
+    let addrs: Vec<_> = (host, port)
+        .to_socket_addrs()
+        .map_err(|e| PolicyError::Connection(format!("cannot resolve {host}:{port}: {e}")))?
+        .collect();
+    let mut last = None;
+    let mut stream = None;
+    for addr in &addrs {
+        match TcpStream::connect_timeout(addr, timeout) {
+            Ok(s) => {
+                stream = Some(s);
+                break;
+            }
+            Err(e) => last = Some(e),
+        }
+    }
+    let stream = stream.ok_or_else(|| {
+        let why = last.map_or("no address".to_string(), |e| e.to_string());
+        PolicyError::Connection(format!("cannot connect to {}: {why}", config.url))
+    })?;
+    stream.set_nodelay(true).ok();
+    set_timeouts(&stream, timeout)?;
+    let mut request = ClientRequestBuilder::new(uri.clone());
+    if let Some(key) = &config.api_key {
+        request = request.with_header("Authorization", format!("Api-Key {key}"));
+    }
+    let deadline = Instant::now() + timeout;
+    let (mut ws, _) = tungstenite::client::client(request, stream).map_err(|e| match e {
+        tungstenite::HandshakeError::Failure(e) => ws_error(e, timeout, "during the websocket handshake"),
+        tungstenite::HandshakeError::Interrupted(_) => PolicyError::Timeout(timeout.as_secs_f64()),
+    })?;
+    let bytes = read_binary(&mut ws, deadline, timeout, "waiting for the server's metadata")?;
+    let metadata = rmpv::decode::read_value(&mut &bytes[..])
+        .map_err(|e| PolicyError::Malformed(format!("server metadata is not msgpack: {e}")))?;
+    Ok((ws, metadata))
+}
+
+fn set_timeouts(stream: &TcpStream, timeout: Duration) -> Result<(), PolicyError> {
+    let t = Some(timeout.max(Duration::from_millis(1)));
+    stream
+        .set_read_timeout(t)
+        .and_then(|()| stream.set_write_timeout(t))
+        .map_err(|e| PolicyError::Connection(format!("cannot set socket timeouts: {e}")))
+}
+
+/// Reads until a data message arrives (pings are answered by tungstenite on the way).
+fn read_binary(
+    ws: &mut WebSocket<TcpStream>,
+    deadline: Instant,
+    timeout: Duration,
+    what: &str,
+) -> Result<Vec<u8>, PolicyError> {
+    loop {
+        let left = deadline.saturating_duration_since(Instant::now());
+        if left.is_zero() {
+            return Err(PolicyError::Timeout(timeout.as_secs_f64()));
+        }
+        set_timeouts(ws.get_mut(), left)?;
+        match ws.read().map_err(|e| ws_error(e, timeout, what))? {
+            Message::Binary(b) => return Ok(b.to_vec()),
+            Message::Text(t) => {
+                return Err(PolicyError::Other(format!("policy server reported an error: {}", t.as_str().trim_end())));
+            }
+            Message::Close(frame) => {
+                let why =
+                    frame.map_or(String::new(), |f| format!(" (code {}, {:?})", u16::from(f.code), f.reason.as_str()));
+                return Err(PolicyError::Connection(format!("server closed the connection {what}{why}")));
+            }
+            Message::Ping(_) | Message::Pong(_) | Message::Frame(_) => {}
+        }
+    }
+}
+
+fn ws_error(e: tungstenite::Error, timeout: Duration, what: &str) -> PolicyError {
+    match e {
+        tungstenite::Error::Io(io) if matches!(io.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut) => {
+            PolicyError::Timeout(timeout.as_secs_f64())
+        }
+        tungstenite::Error::Capacity(c) => PolicyError::Malformed(format!("message too large {what}: {c}")),
+        other => PolicyError::Connection(format!("{other} ({what})")),
+    }
+}
+
+/// The msgpack request for one observation.
+pub fn encode_request(obs: &Observation, image_size: u32) -> Result<Vec<u8>, PolicyError> {
+    let side = image_size as usize;
+    let mut entries = Vec::with_capacity(4);
+    for (key, frame) in [("observation/image", &obs.agentview), ("observation/wrist_image", &obs.wrist)] {
+        frame.validate().map_err(|e| PolicyError::Other(format!("{key}: {e}")))?;
+        let img = image::openpi_image(frame, image_size);
+        entries.push((Value::from(key), ndarray::encode_u8(&[side, side, 3], img.data)));
+    }
+    let state = obs.state8();
+    if let Some(i) = state.iter().position(|v| !v.is_finite()) {
+        return Err(PolicyError::Other(format!("observation/state[{i}] is {}", state[i])));
+    }
+    entries.push((Value::from("observation/state"), ndarray::encode_f64(&[8], &state)));
+    entries.push((Value::from("prompt"), Value::from(obs.instruction.as_str())));
+    let mut bytes = Vec::with_capacity(2 * side * side * 3 + 256);
+    rmpv::encode::write_value(&mut bytes, &Value::Map(entries))
+        .map_err(|e| PolicyError::Other(format!("encoding the request: {e}")))?;
+    Ok(bytes)
+}
+
+/// Checks and decodes one reply.
+pub fn parse_reply(bytes: &[u8]) -> Result<Reply, PolicyError> {
+    let bad = |m: String| PolicyError::Malformed(m);
+    let mut rest = bytes;
+    let doc = rmpv::decode::read_value(&mut rest).map_err(|e| bad(format!("reply is not a msgpack document: {e}")))?;
+    if !rest.is_empty() {
+        return Err(bad(format!("{} unexpected bytes after the msgpack reply", rest.len())));
+    }
+    let Value::Map(map) = doc else {
+        return Err(bad(format!("reply is {}, expected a map with `actions`", ndarray::kind(&doc))));
+    };
+    let mut actions = None;
+    let mut extra = Vec::new();
+    for (k, v) in map {
+        let key = ndarray::key_bytes(&k).map(|b| String::from_utf8_lossy(b).into_owned());
+        match key.as_deref() {
+            Some("actions") => actions = Some(v),
+            Some(name) => extra.push((name.to_string(), v)),
+            None => return Err(bad(format!("reply has a non-string key {k}"))),
+        }
+    }
+    let keys: Vec<&str> = extra.iter().map(|(k, _)| k.as_str()).collect();
+    let actions = actions.ok_or_else(|| bad(format!("reply has no `actions` (keys: {keys:?})")))?;
+    let array = ndarray::decode(&actions)
+        .map_err(|e| bad(format!("`actions`: {e}")))?
+        .ok_or_else(|| bad(format!("`actions` is {}, expected a numpy array", ndarray::kind(&actions))))?;
+    if array.shape.len() != 2 || array.shape[1] != 7 || array.shape[0] == 0 {
+        return Err(bad(format!("`actions` has shape {:?}, expected (H, 7) with H >= 1", array.shape)));
+    }
+    let values = array.to_f64().map_err(|e| bad(format!("`actions`: {e}")))?;
+    if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+        return Err(bad(format!("`actions`[{}, {}] is {}", i / 7, i % 7, values[i])));
+    }
+    let actions = values.chunks_exact(7).map(|r| [r[0], r[1], r[2], r[3], r[4], r[5], r[6]]).collect();
+    Ok(Reply { actions, extra })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn reply(entries: Vec<(Value, Value)>) -> Vec<u8> {
+        let mut b = Vec::new();
+        rmpv::encode::write_value(&mut b, &Value::Map(entries)).unwrap();
+        b
+    }
+
+    fn actions(rows: usize, cols: usize, value: f64) -> Value {
+        ndarray::encode_f64(&[rows, cols], &vec![value; rows * cols])
+    }
+
+    #[test]
+    fn good_replies_decode_and_keep_extras() {
+        let f32s: Vec<u8> = (0..14).flat_map(|i| (i as f32 * 0.5).to_le_bytes()).collect();
+        let r = parse_reply(&reply(vec![
+            (Value::from("server_timing"), Value::Map(vec![(Value::from("infer_ms"), Value::F64(3.0))])),
+            (Value::from("actions"), ndarray::encode("<f4", &[2, 7], f32s)),
+        ]))
+        .unwrap();
+        assert_eq!(r.actions[1][0], 3.5);
+        assert_eq!(r.extra[0].0, "server_timing");
+    }
+
+    #[test]
+    fn malformed_replies_say_what_is_wrong() {
+        let cases: Vec<(Vec<u8>, &str)> = vec![
+            (vec![0x92, 0x01], "not a msgpack"),
+            (reply(vec![(Value::from("policy_timing"), Value::Nil)]), "no `actions`"),
+            (reply(vec![(Value::from("actions"), Value::from("go"))]), "expected a numpy array"),
+            (reply(vec![(Value::from("actions"), actions(10, 8, 0.0))]), "shape [10, 8]"),
+            (reply(vec![(Value::from("actions"), actions(0, 7, 0.0))]), "shape [0, 7]"),
+            (reply(vec![(Value::from("actions"), actions(3, 7, f64::NAN))]), "`actions`[0, 0] is NaN"),
+            (reply(vec![(Value::from("actions"), ndarray::encode("<f8", &[2, 7], vec![0; 8]))]), "needs 112 bytes"),
+            ([reply(vec![(Value::from("actions"), actions(1, 7, 0.0))]), vec![0]].concat(), "unexpected bytes"),
+            (vec![0x93, 1, 2, 3], "expected a map"),
+        ];
+        for (bytes, expected) in cases {
+            match parse_reply(&bytes) {
+                Err(PolicyError::Malformed(m)) => assert!(m.contains(expected), "{m:?} lacks {expected:?}"),
+                other => panic!("{expected}: got {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn addresses() {
+        assert_eq!(parse_url("localhost:8000").unwrap().to_string(), "ws://localhost:8000/");
+        assert!(matches!(parse_url("wss://h:1"), Err(PolicyError::Connection(m)) if m.contains("TLS")));
+        assert!(parse_url("http://h:1").is_err());
+        assert!(matches!(RemotePolicy::connect("ws://127.0.0.1:1"), Err(PolicyError::Connection(_))));
+    }
+}

@@ -1,0 +1,277 @@
+//! The paper's result tables from episode records and VQA scores.
+//!
+//! Table 1, one row per policy: Det, Sem, Gnd, Dec, FCA (Part I-A, from [`VqaScores`]),
+//! Orig. SR, AVF, VTR (Part I-B), LFR, UVF (Part II-A), UVI (Part II-B):
+//! - Orig. SR = language success over `original` episodes;
+//! - AVF = cue success over `authorized` episodes;
+//! - VTR = AVF / Orig. SR (×100, as the paper: π0.5's 55.5 / 96.9 = 57.3);
+//! - LFR = language success and UVF = cue success over `conflict` episodes;
+//! - UVI = cue success over `no_language` episodes.
+//!
+//! Error records are excluded from every denominator and counted separately; so are
+//! completed records lacking the success flag a metric needs ("unscored"). A resumed run may
+//! hold several records of one episode: the last completed one counts
+//! ([`crate::runner::final_records`]), per policy.
+//!
+//! Table 2, per policy and cue family F1–F8 (the family of an episode is that of its cue
+//! instance): VQA (all four stages), AVF, UVF, UVI, and Avg. — the unweighted mean of the
+//! families that have data, which is how the paper's Avg. column is formed.
+
+pub mod chart;
+pub mod tables;
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+use vifo_cues::Family;
+
+use crate::runner::final_records;
+use crate::spec::{EpisodeRecord, Outcome, Protocol};
+use crate::vqa::{Accuracy, Stage, VqaScores};
+
+/// One row of Table 1. Fractions are successes out of scored episodes (or correct out of
+/// questions for the VQA columns).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Table1Row {
+    pub policy: String,
+    pub det: Option<Accuracy>,
+    pub sem: Option<Accuracy>,
+    pub gnd: Option<Accuracy>,
+    pub dec: Option<Accuracy>,
+    pub fca: Option<Accuracy>,
+    pub orig_sr: Accuracy,
+    pub avf: Accuracy,
+    /// AVF / Orig. SR in percent; `None` when either is missing or Orig. SR is 0.
+    pub vtr: Option<f64>,
+    pub lfr: Accuracy,
+    pub uvf: Accuracy,
+    pub uvi: Accuracy,
+    /// Records counted (one per episode key), errors included.
+    pub episodes: usize,
+    pub errors: usize,
+    pub errors_by_protocol: BTreeMap<Protocol, usize>,
+    /// Completed records lacking the success flag their metric needs.
+    pub unscored: usize,
+}
+
+/// The four metrics of Table 2.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub enum Metric {
+    #[serde(rename = "VQA")]
+    Vqa,
+    #[serde(rename = "AVF")]
+    Avf,
+    #[serde(rename = "UVF")]
+    Uvf,
+    #[serde(rename = "UVI")]
+    Uvi,
+}
+
+impl Metric {
+    pub const ALL: [Metric; 4] = [Metric::Vqa, Metric::Avf, Metric::Uvf, Metric::Uvi];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Metric::Vqa => "VQA",
+            Metric::Avf => "AVF",
+            Metric::Uvf => "UVF",
+            Metric::Uvi => "UVI",
+        }
+    }
+
+    /// Whether a higher value is better (↑) for the policy.
+    pub fn higher_is_better(self) -> bool {
+        matches!(self, Metric::Vqa | Metric::Avf)
+    }
+}
+
+/// One (policy, metric) row of Table 2.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Table2Row {
+    pub policy: String,
+    pub metric: Metric,
+    pub families: BTreeMap<Family, Accuracy>,
+    /// Unweighted mean of the family percentages present.
+    pub avg: Option<f64>,
+}
+
+/// Episode and error counts per family of one policy (cue protocols only).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct FamilyCounts {
+    pub policy: String,
+    pub episodes: BTreeMap<Family, usize>,
+    pub errors: BTreeMap<Family, usize>,
+}
+
+/// Both tables.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Report {
+    pub table1: Vec<Table1Row>,
+    pub table2: Vec<Table2Row>,
+    pub family_counts: Vec<FamilyCounts>,
+}
+
+/// The cue family named in an instance id (`libero_goal/3/F2/straight_arrow_red`).
+pub fn family_of(instance_id: &str) -> Option<Family> {
+    instance_id.split('/').find_map(|part| Family::ALL.into_iter().find(|f| f.to_string() == part))
+}
+
+/// Builds both tables. `records` may mix policies and hold repeated episodes; `vqa` maps a
+/// policy name to its VQA scores (a policy may have only one of the two).
+pub fn build(records: &[EpisodeRecord], vqa: &BTreeMap<String, VqaScores>) -> Report {
+    let mut by_policy: BTreeMap<&str, Vec<EpisodeRecord>> = BTreeMap::new();
+    for r in records {
+        by_policy.entry(r.policy.as_str()).or_default().push(r.clone());
+    }
+    let mut policies: Vec<String> = by_policy.keys().map(|p| p.to_string()).collect();
+    policies.extend(vqa.keys().filter(|p| !by_policy.contains_key(p.as_str())).cloned());
+    policies.sort();
+    let mut report = Report::default();
+    for policy in policies {
+        let episodes: Vec<EpisodeRecord> =
+            by_policy.remove(policy.as_str()).map(|rs| final_records(rs).into_values().collect()).unwrap_or_default();
+        let scores = vqa.get(&policy);
+        report.table1.push(table1_row(&policy, &episodes, scores));
+        let (rows, counts) = table2_rows(&policy, &episodes, scores);
+        report.table2.extend(rows);
+        report.family_counts.push(counts);
+    }
+    report
+}
+
+/// The success flag a metric reads from an outcome.
+type Flag = fn(&Outcome) -> Option<Option<bool>>;
+
+fn language(o: &Outcome) -> Option<Option<bool>> {
+    match o {
+        Outcome::Completed { language_success, .. } => Some(*language_success),
+        Outcome::Error { .. } => None,
+    }
+}
+
+fn cue(o: &Outcome) -> Option<Option<bool>> {
+    match o {
+        Outcome::Completed { cue_success, .. } => Some(*cue_success),
+        Outcome::Error { .. } => None,
+    }
+}
+
+/// Tallies one metric over the completed records of one protocol; returns the unscored count.
+fn tally<'a>(
+    records: impl Iterator<Item = &'a EpisodeRecord>,
+    protocol: Protocol,
+    flag: Flag,
+    into: &mut Accuracy,
+) -> usize {
+    let mut unscored = 0;
+    for r in records.filter(|r| r.spec.protocol == protocol) {
+        match flag(&r.outcome) {
+            Some(Some(success)) => into.add(success),
+            Some(None) => unscored += 1,
+            None => {}
+        }
+    }
+    unscored
+}
+
+fn table1_row(policy: &str, episodes: &[EpisodeRecord], vqa: Option<&VqaScores>) -> Table1Row {
+    let stage = |s: Stage| vqa.and_then(|v| v.stages.get(&s).copied());
+    let mut row = Table1Row {
+        policy: policy.to_string(),
+        det: stage(Stage::Detection),
+        sem: stage(Stage::Semantic),
+        gnd: stage(Stage::Grounding),
+        dec: stage(Stage::Decision),
+        fca: vqa.map(|v| v.fca),
+        episodes: episodes.len(),
+        ..Table1Row::default()
+    };
+    let metrics: [(Protocol, Flag, &mut Accuracy); 5] = [
+        (Protocol::Original, language, &mut row.orig_sr),
+        (Protocol::Authorized, cue, &mut row.avf),
+        (Protocol::Conflict, language, &mut row.lfr),
+        (Protocol::Conflict, cue, &mut row.uvf),
+        (Protocol::NoLanguage, cue, &mut row.uvi),
+    ];
+    let mut unscored = 0;
+    for (protocol, flag, into) in metrics {
+        unscored += tally(episodes.iter(), protocol, flag, into);
+    }
+    row.unscored = unscored;
+    for r in episodes.iter().filter(|r| matches!(r.outcome, Outcome::Error { .. })) {
+        row.errors += 1;
+        *row.errors_by_protocol.entry(r.spec.protocol).or_default() += 1;
+    }
+    row.vtr = match (row.avf.percent(), row.orig_sr.percent()) {
+        (Some(avf), Some(orig)) if orig > 0.0 => Some(100.0 * avf / orig),
+        _ => None,
+    };
+    row
+}
+
+fn table2_rows(policy: &str, episodes: &[EpisodeRecord], vqa: Option<&VqaScores>) -> (Vec<Table2Row>, FamilyCounts) {
+    let mut counts = FamilyCounts { policy: policy.to_string(), ..FamilyCounts::default() };
+    let mut by_family: BTreeMap<Family, Vec<&EpisodeRecord>> = BTreeMap::new();
+    for r in episodes {
+        if let Some(f) = r.spec.instance.as_deref().and_then(family_of) {
+            by_family.entry(f).or_default().push(r);
+            *counts.episodes.entry(f).or_default() += 1;
+            if matches!(r.outcome, Outcome::Error { .. }) {
+                *counts.errors.entry(f).or_default() += 1;
+            }
+        }
+    }
+    let mut rows = Vec::new();
+    for metric in Metric::ALL {
+        let mut families = BTreeMap::new();
+        if metric == Metric::Vqa {
+            if let Some(v) = vqa {
+                families = v.families.clone();
+            }
+        } else {
+            let (protocol, flag): (Protocol, Flag) = match metric {
+                Metric::Avf => (Protocol::Authorized, cue),
+                Metric::Uvf => (Protocol::Conflict, cue),
+                _ => (Protocol::NoLanguage, cue),
+            };
+            for (&family, records) in &by_family {
+                let mut acc = Accuracy::default();
+                tally(records.iter().copied(), protocol, flag, &mut acc);
+                if acc.total > 0 {
+                    families.insert(family, acc);
+                }
+            }
+        }
+        let pcts: Vec<f64> = families.values().filter_map(Accuracy::percent).collect();
+        let avg = (!pcts.is_empty()).then(|| pcts.iter().sum::<f64>() / pcts.len() as f64);
+        rows.push(Table2Row { policy: policy.to_string(), metric, families, avg });
+    }
+    (rows, counts)
+}
+
+impl Report {
+    /// Writes `table1.{md,csv,json}`, `table2.{md,csv,json}` and one bar chart per Table 2
+    /// metric (`chart_vqa.png`, …) into `dir`; returns the Markdown of both tables.
+    pub fn write(&self, dir: &Path) -> std::io::Result<String> {
+        std::fs::create_dir_all(dir)?;
+        let t1 = tables::table1_markdown(self);
+        let t2 = tables::table2_markdown(self);
+        std::fs::write(dir.join("table1.md"), &t1)?;
+        std::fs::write(dir.join("table1.csv"), tables::table1_csv(self))?;
+        std::fs::write(dir.join("table1.json"), json(&self.table1)?)?;
+        std::fs::write(dir.join("table2.md"), &t2)?;
+        std::fs::write(dir.join("table2.csv"), tables::table2_csv(self))?;
+        let table2 = serde_json::json!({"rows": self.table2, "counts": self.family_counts});
+        std::fs::write(dir.join("table2.json"), json(&table2)?)?;
+        for metric in Metric::ALL {
+            let png = chart::family_chart(self, metric).map_err(std::io::Error::other)?;
+            std::fs::write(dir.join(format!("chart_{}.png", metric.name().to_lowercase())), png)?;
+        }
+        Ok(format!("{t1}\n{t2}"))
+    }
+}
+
+fn json<T: Serialize>(v: &T) -> std::io::Result<String> {
+    serde_json::to_string_pretty(v).map(|s| s + "\n").map_err(std::io::Error::other)
+}

@@ -1,0 +1,180 @@
+//! Markdown and CSV renderings of the two tables. Markdown marks the best value of each
+//! column (Table 1, respecting ↑/↓) or of each row (Table 2, highest, as the paper does) in
+//! bold and the second best underlined.
+
+use vifo_cues::Family;
+
+use super::{Report, Table1Row};
+use crate::vqa::Accuracy;
+
+fn pct(a: Option<&Accuracy>) -> Option<f64> {
+    a.and_then(Accuracy::percent)
+}
+
+/// Table 1 columns: header, whether higher is better, and the value of a row.
+type Column = (&'static str, bool, fn(&Table1Row) -> Option<f64>);
+
+const COLUMNS: [Column; 11] = [
+    ("Det.↑", true, |r| pct(r.det.as_ref())),
+    ("Sem.↑", true, |r| pct(r.sem.as_ref())),
+    ("Gnd.↑", true, |r| pct(r.gnd.as_ref())),
+    ("Dec.↑", true, |r| pct(r.dec.as_ref())),
+    ("FCA↑", true, |r| pct(r.fca.as_ref())),
+    ("Orig. SR↑", true, |r| r.orig_sr.percent()),
+    ("AVF↑", true, |r| r.avf.percent()),
+    ("VTR↑", true, |r| r.vtr),
+    ("LFR↑", true, |r| r.lfr.percent()),
+    ("UVF↓", false, |r| r.uvf.percent()),
+    ("UVI↓", false, |r| r.uvi.percent()),
+];
+
+/// Cells with the best value bold and the second best underlined (only among ≥ 2 values).
+fn ranked_cells(values: &[Option<f64>], higher_is_better: bool) -> Vec<String> {
+    let key = |v: f64| if higher_is_better { v } else { -v };
+    let mut distinct: Vec<f64> = values.iter().flatten().map(|&v| round1(key(v))).collect();
+    distinct.sort_by(|a, b| b.total_cmp(a));
+    distinct.dedup();
+    let marked = values.iter().flatten().count() >= 2;
+    values
+        .iter()
+        .map(|v| match v {
+            None => "–".to_string(),
+            Some(v) => {
+                let text = format!("{v:.1}");
+                let k = round1(key(*v));
+                if marked && distinct.first() == Some(&k) {
+                    format!("**{text}**")
+                } else if marked && distinct.get(1) == Some(&k) {
+                    format!("<u>{text}</u>")
+                } else {
+                    text
+                }
+            }
+        })
+        .collect()
+}
+
+fn round1(v: f64) -> f64 {
+    (v * 10.0).round() / 10.0
+}
+
+fn frac(a: &Accuracy) -> String {
+    format!("{}/{}", a.correct, a.total)
+}
+
+/// Table 1 in Markdown, with the episode counts behind each rate below it.
+pub fn table1_markdown(report: &Report) -> String {
+    let rows = &report.table1;
+    let mut out = String::from("### Table 1: overall results (%)\n\n| Model |");
+    for (header, ..) in COLUMNS {
+        out += &format!(" {header} |");
+    }
+    out += " episodes | errors |\n|---|";
+    out += &"---|".repeat(COLUMNS.len() + 2);
+    out.push('\n');
+    let columns: Vec<Vec<String>> =
+        COLUMNS.iter().map(|(_, up, value)| ranked_cells(&rows.iter().map(value).collect::<Vec<_>>(), *up)).collect();
+    for (i, row) in rows.iter().enumerate() {
+        out += &format!("| {} |", row.policy);
+        for column in &columns {
+            out += &format!(" {} |", column[i]);
+        }
+        out += &format!(" {} | {} |\n", row.episodes, row.errors);
+    }
+    out += "\nSuccesses / scored episodes (errors excluded):\n\n| Model | Orig. SR | AVF | LFR | UVF | UVI | errors by protocol | unscored |\n|---|---|---|---|---|---|---|---|\n";
+    for r in rows {
+        let errors: Vec<String> = r.errors_by_protocol.iter().map(|(p, n)| format!("{} {n}", p.name())).collect();
+        out += &format!(
+            "| {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            r.policy,
+            frac(&r.orig_sr),
+            frac(&r.avf),
+            frac(&r.lfr),
+            frac(&r.uvf),
+            frac(&r.uvi),
+            if errors.is_empty() { "–".to_string() } else { errors.join(", ") },
+            r.unscored
+        );
+    }
+    out
+}
+
+/// Table 1 as CSV (percentages to two decimals, empty where undefined).
+pub fn table1_csv(report: &Report) -> String {
+    let mut out = String::from("policy,Det,Sem,Gnd,Dec,FCA,Orig_SR,AVF,VTR,LFR,UVF,UVI,episodes,errors,unscored\n");
+    for row in &report.table1 {
+        out += &csv_field(&row.policy);
+        for (_, _, value) in COLUMNS {
+            out += &format!(",{}", value(row).map_or(String::new(), |v| format!("{v:.2}")));
+        }
+        out += &format!(",{},{},{}\n", row.episodes, row.errors, row.unscored);
+    }
+    out
+}
+
+/// Table 2 in Markdown: per policy the four metric rows and the cue-episode counts.
+pub fn table2_markdown(report: &Report) -> String {
+    let mut out = String::from("### Table 2: results per cue family (%)\n\n| Model | Metric |");
+    for f in Family::ALL {
+        out += &format!(" {f} |");
+    }
+    out += " Avg. |\n|---|---|";
+    out += &"---|".repeat(Family::ALL.len() + 1);
+    out.push('\n');
+    for counts in &report.family_counts {
+        for row in report.table2.iter().filter(|r| r.policy == counts.policy) {
+            let values: Vec<Option<f64>> = Family::ALL.iter().map(|f| pct(row.families.get(f))).collect();
+            let cells = ranked_cells(&values, true);
+            let arrow = if row.metric.higher_is_better() { "↑" } else { "↓" };
+            let avg = row.avg.map_or("–".into(), |a| format!("{a:.1}"));
+            out += &format!("| {} | {}{arrow} | {} | {avg} |\n", row.policy, row.metric.name(), cells.join(" | "));
+        }
+        for (label, map) in [("episodes", &counts.episodes), ("errors", &counts.errors)] {
+            let cells: Vec<String> = Family::ALL.iter().map(|f| map.get(f).copied().unwrap_or(0).to_string()).collect();
+            let total: usize = map.values().sum();
+            out += &format!("| {} | {label} | {} | {total} |\n", counts.policy, cells.join(" | "));
+        }
+    }
+    out
+}
+
+/// Table 2 as CSV: one line per (policy, metric), then episode and error counts.
+pub fn table2_csv(report: &Report) -> String {
+    let mut out = String::from("policy,metric,F1,F2,F3,F4,F5,F6,F7,F8,Avg\n");
+    for row in &report.table2 {
+        out += &format!("{},{}", csv_field(&row.policy), row.metric.name());
+        for f in Family::ALL {
+            out += &format!(",{}", pct(row.families.get(&f)).map_or(String::new(), |v| format!("{v:.2}")));
+        }
+        out += &format!(",{}\n", row.avg.map_or(String::new(), |v| format!("{v:.2}")));
+    }
+    for counts in &report.family_counts {
+        for (label, map) in [("episodes", &counts.episodes), ("errors", &counts.errors)] {
+            out += &format!("{},{label}", csv_field(&counts.policy));
+            for f in Family::ALL {
+                out += &format!(",{}", map.get(&f).copied().unwrap_or(0));
+            }
+            out += &format!(",{}\n", map.values().sum::<usize>());
+        }
+    }
+    out
+}
+
+/// RFC 4180 quoting where needed.
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) { format!("\"{}\"", s.replace('"', "\"\"")) } else { s.to_string() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn best_and_second_are_marked_in_the_right_direction() {
+        let v = [Some(10.0), Some(30.0), None, Some(20.0)];
+        assert_eq!(ranked_cells(&v, true), ["10.0", "**30.0**", "–", "<u>20.0</u>"]);
+        assert_eq!(ranked_cells(&v, false), ["**10.0**", "30.0", "–", "<u>20.0</u>"]);
+        assert_eq!(ranked_cells(&[Some(5.0)], true), ["5.0"]);
+        assert_eq!(csv_field("a,b"), "\"a,b\"");
+    }
+}

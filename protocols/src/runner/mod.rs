@@ -1,0 +1,231 @@
+//! Parallel, resumable, shardable episode runs.
+//!
+//! [`run`] executes one closure per [`EpisodeSpec`] on a rayon pool and appends each finished
+//! [`EpisodeRecord`] to a JSONL file as soon as it finishes (see [`results`] for the crash
+//! guarantees). With `resume`, specs whose key already has a completed record are skipped and
+//! earlier errors run again. Sharding splits a spec list across machines by a stable hash of
+//! the key, so `--shard 0/4 … 3/4` cover every spec exactly once whatever the list order.
+//! Record contents never depend on the thread count; only the line order does.
+
+pub mod results;
+pub mod seed;
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rayon::prelude::*;
+use thiserror::Error;
+
+use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome};
+
+pub use results::{Loaded, ResultsWriter, final_records, read_records};
+pub use seed::{episode_seed, fnv1a64, seed_for, stable_hash};
+
+/// Why a run could not proceed.
+#[derive(Debug, Error)]
+pub enum RunError {
+    #[error("{path}: {source}")]
+    Io { path: PathBuf, source: std::io::Error },
+    #[error("{path}:{line}: {message}")]
+    BadLine { path: PathBuf, line: usize, message: String },
+    #[error("{0} already holds results; pass resume to continue it, or choose another file")]
+    Exists(PathBuf),
+    #[error("thread pool: {0}")]
+    Pool(String),
+}
+
+impl RunError {
+    pub(crate) fn io(path: &Path, source: std::io::Error) -> RunError {
+        RunError::Io { path: path.to_path_buf(), source }
+    }
+}
+
+/// One of `count` disjoint parts of a spec list: `"i/n"` with `0 <= i < n`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    pub index: u64,
+    pub count: u64,
+}
+
+impl Shard {
+    /// Whether the episode with this key belongs to the shard.
+    pub fn contains(&self, key: &str) -> bool {
+        stable_hash(key) % self.count == self.index
+    }
+}
+
+impl FromStr for Shard {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Shard, String> {
+        let bad = || format!("shard {s:?}: expected i/n with 0 <= i < n, e.g. 0/4");
+        let (i, n) = s.split_once('/').ok_or_else(bad)?;
+        let index: u64 = i.trim().parse().map_err(|_| bad())?;
+        let count: u64 = n.trim().parse().map_err(|_| bad())?;
+        if count == 0 || index >= count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
+
+/// How to run.
+#[derive(Clone, Debug)]
+pub struct RunOptions {
+    /// The JSONL results file.
+    pub output: PathBuf,
+    /// Worker threads; 0 uses one per core.
+    pub threads: usize,
+    /// Continue an existing results file (otherwise a non-empty file is an error).
+    pub resume: bool,
+    pub shard: Option<Shard>,
+    /// No progress bar.
+    pub quiet: bool,
+    /// Policy name written into records the runner makes itself (a panicking episode).
+    pub policy: String,
+}
+
+impl RunOptions {
+    pub fn new(output: impl Into<PathBuf>) -> RunOptions {
+        RunOptions {
+            output: output.into(),
+            threads: 0,
+            resume: false,
+            shard: None,
+            quiet: false,
+            policy: String::new(),
+        }
+    }
+}
+
+/// What a run did.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct RunSummary {
+    /// Distinct specs given (repeated keys count once).
+    pub specs: usize,
+    /// Of those, the ones in this shard.
+    pub in_shard: usize,
+    /// Skipped because a completed record was already in the file.
+    pub already_done: usize,
+    /// Episodes run now.
+    pub ran: usize,
+    /// Of those, the ones that ended in an error record.
+    pub errors: usize,
+    /// Bytes of a cut-off last line found (and removed) when resuming.
+    pub truncated_tail: usize,
+}
+
+/// Runs every spec of `specs` (of this shard, not yet done) with `episode` and appends the
+/// records to `options.output`. The runner measures `wall_ms` itself. An episode that panics
+/// or returns a record for another spec is recorded as an error; an I/O error on the results
+/// file stops the run (records written so far stay valid).
+pub fn run<F>(specs: &[EpisodeSpec], episode: F, options: &RunOptions) -> Result<RunSummary, RunError>
+where
+    F: Fn(&EpisodeSpec) -> EpisodeRecord + Sync,
+{
+    let mut summary = RunSummary::default();
+    let mut keys = BTreeSet::new();
+    let unique: Vec<&EpisodeSpec> = specs.iter().filter(|s| keys.insert(s.key())).collect();
+    summary.specs = unique.len();
+    let in_shard: Vec<&EpisodeSpec> =
+        unique.into_iter().filter(|s| options.shard.is_none_or(|sh| sh.contains(&s.key()))).collect();
+    summary.in_shard = in_shard.len();
+
+    let loaded = read_records(&options.output)?;
+    if !options.resume && (!loaded.records.is_empty() || loaded.truncated_tail > 0) {
+        return Err(RunError::Exists(options.output.clone()));
+    }
+    summary.truncated_tail = loaded.truncated_tail;
+    let done: BTreeSet<String> =
+        loaded.records.iter().filter(|r| results::is_completed(r)).map(|r| r.spec.key()).collect();
+    let todo: Vec<&EpisodeSpec> = in_shard.into_iter().filter(|s| !done.contains(&s.key())).collect();
+    summary.already_done = summary.in_shard - todo.len();
+
+    let writer = Mutex::new(ResultsWriter::append(&options.output, loaded.valid_len)?);
+    let failure: Mutex<Option<RunError>> = Mutex::new(None);
+    let progress = progress_bar(todo.len() as u64, options.quiet);
+    let errors = std::sync::atomic::AtomicUsize::new(0);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(options.threads)
+        .build()
+        .map_err(|e| RunError::Pool(e.to_string()))?;
+    pool.install(|| {
+        todo.par_iter().for_each(|spec| {
+            if lock(&failure).is_some() {
+                return;
+            }
+            let record = run_one(spec, &episode, &options.policy);
+            if !results::is_completed(&record) {
+                let n = errors.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                progress.set_message(format!("errors: {n}"));
+            }
+            if let Err(e) = lock(&writer).write(&record) {
+                lock(&failure).get_or_insert(e);
+            }
+            progress.inc(1);
+        })
+    });
+    progress.finish();
+    if let Some(e) = failure.into_inner().unwrap_or_else(|p| p.into_inner()) {
+        return Err(e);
+    }
+    summary.ran = todo.len();
+    summary.errors = errors.into_inner();
+    Ok(summary)
+}
+
+/// One episode with its wall time; panics and mismatched records become error records.
+fn run_one<F>(spec: &EpisodeSpec, episode: &F, policy: &str) -> EpisodeRecord
+where
+    F: Fn(&EpisodeSpec) -> EpisodeRecord,
+{
+    let start = Instant::now();
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| episode(spec)));
+    let wall_ms = start.elapsed().as_secs_f64() * 1e3;
+    let error = |message: String| EpisodeRecord {
+        spec: spec.clone(),
+        policy: policy.to_string(),
+        outcome: Outcome::Error { message },
+        wall_ms,
+    };
+    match result {
+        Ok(record) if record.spec.key() == spec.key() => EpisodeRecord { wall_ms, ..record },
+        Ok(record) => error(format!("episode function returned a record for {} instead", record.spec.key())),
+        Err(payload) => {
+            let what = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".to_string());
+            error(format!("episode panicked: {what}"))
+        }
+    }
+}
+
+/// A progress bar with ETA on stderr (hidden when quiet).
+pub(crate) fn progress_bar(len: u64, quiet: bool) -> ProgressBar {
+    let target = if quiet { ProgressDrawTarget::hidden() } else { ProgressDrawTarget::stderr() };
+    let bar = ProgressBar::with_draw_target(Some(len), target);
+    if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} ETA {eta} {msg}") {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    if !quiet {
+        bar.enable_steady_tick(Duration::from_millis(500));
+    }
+    bar
+}
+
+/// Locks a mutex, also after a panic elsewhere (the data here stays consistent line by line).
+pub(crate) fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
+}

@@ -1,0 +1,140 @@
+//! The exported question set and prediction files.
+//!
+//! Layout of an export folder: `questions.jsonl` (one [`Question`] per line) and
+//! `images/<instance id with / as ->.png` (one RGB PNG per instance, shared by its four
+//! questions). Predictions are JSONL lines `{"id", "prediction"}` with the model's raw text.
+
+use std::collections::BTreeMap;
+use std::fs::OpenOptions;
+use std::io::Write;
+use std::path::Path;
+
+use serde::de::DeserializeOwned;
+use vifo_cues::RgbImage;
+
+use super::{Prediction, Question, VqaError};
+
+/// The questions file inside an export folder.
+pub const QUESTIONS_FILE: &str = "questions.jsonl";
+
+/// Writes `dir/questions.jsonl` and one PNG per instance; `render` gives the (cue-inserted)
+/// observation of an instance id. Returns the number of images written.
+pub fn export<F>(dir: &Path, questions: &[Question], mut render: F) -> Result<usize, VqaError>
+where
+    F: FnMut(&str) -> Result<RgbImage, String>,
+{
+    std::fs::create_dir_all(dir.join("images")).map_err(|e| VqaError::io(dir, e))?;
+    let mut written = std::collections::BTreeSet::new();
+    for q in questions {
+        if !written.insert(q.instance_id.clone()) {
+            continue;
+        }
+        let img =
+            render(&q.instance_id).map_err(|message| VqaError::Image { instance: q.instance_id.clone(), message })?;
+        let path = dir.join(&q.image);
+        let buffer = image::RgbImage::from_raw(img.width, img.height, img.data).ok_or_else(|| VqaError::Image {
+            instance: q.instance_id.clone(),
+            message: "pixel buffer does not match its width and height".into(),
+        })?;
+        buffer.save_with_format(&path, image::ImageFormat::Png).map_err(|e| VqaError::Image {
+            instance: q.instance_id.clone(),
+            message: format!("writing {}: {e}", path.display()),
+        })?;
+    }
+    let mut text = String::new();
+    for q in questions {
+        text.push_str(&serde_json::to_string(q).map_err(|e| VqaError::Client(e.to_string()))?);
+        text.push('\n');
+    }
+    let path = dir.join(QUESTIONS_FILE);
+    std::fs::write(&path, text).map_err(|e| VqaError::io(&path, e))?;
+    Ok(written.len())
+}
+
+/// Reads `questions.jsonl` (a folder is taken to hold one) and checks each question's shape.
+pub fn read_questions(path: &Path) -> Result<Vec<Question>, VqaError> {
+    let path = if path.is_dir() { path.join(QUESTIONS_FILE) } else { path.to_path_buf() };
+    let (questions, _): (Vec<Question>, _) = read_jsonl(&path, "a question object", false)?;
+    for (i, q) in questions.iter().enumerate() {
+        let bad = |message: String| VqaError::BadLine { path: path.clone(), line: i + 1, message };
+        if q.options.len() != 4 {
+            return Err(bad(format!("question {} has {} options, expected 4", q.id, q.options.len())));
+        }
+        if !["A", "B", "C", "D"].contains(&q.answer.as_str()) {
+            return Err(bad(format!("question {} has answer {:?}, expected a letter A-D", q.id, q.answer)));
+        }
+    }
+    Ok(questions)
+}
+
+/// Reads a predictions file into id → raw text (a later line for the same id wins). An
+/// unterminated last line that does not parse is taken as cut off and ignored; its length
+/// is returned.
+pub fn read_predictions(path: &Path) -> Result<(BTreeMap<String, String>, usize), VqaError> {
+    let (lines, cut): (Vec<Prediction>, usize) = read_jsonl(path, "{\"id\", \"prediction\"}", true)?;
+    Ok((lines.into_iter().map(|p| (p.id, p.prediction)).collect(), cut))
+}
+
+/// Appends predictions, one line per write (safe to stop at any time).
+pub fn append_predictions(path: &Path, predictions: &[Prediction]) -> Result<(), VqaError> {
+    let mut file = OpenOptions::new().create(true).append(true).open(path).map_err(|e| VqaError::io(path, e))?;
+    for p in predictions {
+        let mut line = serde_json::to_vec(p).map_err(|e| VqaError::Client(e.to_string()))?;
+        line.push(b'\n');
+        file.write_all(&line).map_err(|e| VqaError::io(path, e))?;
+    }
+    Ok(())
+}
+
+/// JSONL reader: every line must parse, except (with `tolerate_cut`) an unterminated last line.
+fn read_jsonl<T: DeserializeOwned>(path: &Path, what: &str, tolerate_cut: bool) -> Result<(Vec<T>, usize), VqaError> {
+    let text = std::fs::read_to_string(path).map_err(|e| VqaError::io(path, e))?;
+    let terminated = text.ends_with('\n');
+    let lines: Vec<&str> = text.lines().collect();
+    let mut out = Vec::with_capacity(lines.len());
+    for (i, line) in lines.iter().enumerate() {
+        if line.trim().is_empty() {
+            continue;
+        }
+        match serde_json::from_str(line) {
+            Ok(v) => out.push(v),
+            Err(_) if tolerate_cut && !terminated && i + 1 == lines.len() => return Ok((out, line.len())),
+            Err(e) => {
+                return Err(VqaError::BadLine {
+                    path: path.to_path_buf(),
+                    line: i + 1,
+                    message: format!("expected {what}: {e}"),
+                });
+            }
+        }
+    }
+    Ok((out, 0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn prediction_files_tolerate_only_a_cut_last_line() {
+        let dir = std::env::temp_dir().join(format!("vifo-vqa-files-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("p.jsonl");
+        let p = |id: &str, t: &str| Prediction { id: id.into(), prediction: t.into() };
+        append_predictions(&path, &[p("a", "B"), p("b", "C"), p("a", "D")]).unwrap();
+        let mut text = std::fs::read_to_string(&path).unwrap();
+        text.push_str("{\"id\": \"c\", \"predic");
+        std::fs::write(&path, &text).unwrap();
+        let (map, cut) = read_predictions(&path).unwrap();
+        assert_eq!((map["a"].as_str(), map["b"].as_str(), map.len(), cut), ("D", "C", 2, 19));
+        // A complete last line without a newline is kept.
+        std::fs::write(&path, "{\"id\": \"x\", \"prediction\": \"A\"}").unwrap();
+        assert_eq!(read_predictions(&path).unwrap().0.len(), 1);
+        // A bad line in the middle is an error with its position.
+        std::fs::write(&path, "{\"id\": \"x\", \"prediction\": \"A\"}\n[1]\n{\"id\": \"y\", \"prediction\": \"A\"}\n")
+            .unwrap();
+        let err = read_predictions(&path).unwrap_err().to_string();
+        assert!(err.contains("p.jsonl:2:") && err.contains("\"prediction\""), "{err}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

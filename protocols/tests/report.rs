@@ -1,0 +1,146 @@
+//! Tables 1 and 2 from synthetic records with known rates, and the written files.
+
+use std::collections::BTreeMap;
+
+use vifo_cues::Family;
+use vifo_protocols::report::{self, Metric, family_of};
+use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
+use vifo_protocols::vqa::{Accuracy, Stage, VqaScores};
+
+fn record(policy: &str, protocol: Protocol, family: &str, n: usize, outcome: Outcome) -> EpisodeRecord {
+    let task = TaskRef { suite: "libero_goal".into(), index: 1 };
+    EpisodeRecord {
+        spec: EpisodeSpec {
+            task: task.clone(),
+            protocol,
+            instance: protocol.uses_cue().then(|| format!("libero_goal/1/{family}/some_variant")),
+            init: n,
+            episode: 0,
+            instruction: String::new(),
+            language_task: None,
+            cue_task: None,
+            seed: n as u64,
+        },
+        policy: policy.into(),
+        outcome,
+        wall_ms: 1.0,
+    }
+}
+
+fn done(language: Option<bool>, cue: Option<bool>) -> Outcome {
+    Outcome::Completed { language_success: language, cue_success: cue, steps: 10 }
+}
+
+fn error() -> Outcome {
+    Outcome::Error { message: "dropped".into() }
+}
+
+fn records() -> Vec<EpisodeRecord> {
+    let mut r = Vec::new();
+    // pi: Orig. SR 3/4; one error first, then completed on resume (counts once, as success).
+    for (n, ok) in [true, true, false, true].into_iter().enumerate() {
+        r.push(record("pi", Protocol::Original, "-", n, done(Some(ok), None)));
+    }
+    r.push(record("pi", Protocol::Original, "-", 4, error()));
+    // AVF: F1 2/2, F2 0/2 and one F2 error that stays an error.
+    for n in 0..2 {
+        r.push(record("pi", Protocol::Authorized, "F1", n, done(None, Some(true))));
+        r.push(record("pi", Protocol::Authorized, "F2", 10 + n, done(None, Some(false))));
+    }
+    r.push(record("pi", Protocol::Authorized, "F2", 20, error()));
+    // Conflict: language followed 2/2, cue never.
+    for n in 0..2 {
+        r.push(record("pi", Protocol::Conflict, "F7", n, done(Some(true), Some(false))));
+    }
+    // No language: UVI 1/4 (F7 1/2, F8 0/2); one record lacks its cue flag.
+    for (n, ok) in [true, false].into_iter().enumerate() {
+        r.push(record("pi", Protocol::NoLanguage, "F7", n, done(None, Some(ok))));
+        r.push(record("pi", Protocol::NoLanguage, "F8", 10 + n, done(None, Some(false))));
+    }
+    r.push(record("pi", Protocol::NoLanguage, "F8", 30, done(None, None)));
+    // The resumed original episode 4: an error line, then a completed success.
+    r.push(record("pi", Protocol::Original, "-", 4, done(Some(true), None)));
+    // A second policy with only original episodes.
+    r.push(record("oft", Protocol::Original, "-", 0, done(Some(true), None)));
+    r
+}
+
+fn vqa() -> BTreeMap<String, VqaScores> {
+    let acc = |correct, total| Accuracy { correct, total };
+    let mut s = VqaScores { model: "pi".into(), fca: acc(1, 10), ..VqaScores::default() };
+    for (stage, c) in Stage::ALL.into_iter().zip([5, 6, 7, 8]) {
+        s.stages.insert(stage, acc(c, 10));
+    }
+    s.families.insert(Family::F1, acc(3, 4));
+    s.families.insert(Family::F2, acc(1, 4));
+    BTreeMap::from([("pi".to_string(), s), ("vlm-only".to_string(), VqaScores::default())])
+}
+
+#[test]
+fn rates_follow_the_paper_definitions() {
+    let report = report::build(&records(), &vqa());
+    let names: Vec<&str> = report.table1.iter().map(|r| r.policy.as_str()).collect();
+    assert_eq!(names, ["oft", "pi", "vlm-only"]);
+    let pi = &report.table1[1];
+    assert_eq!((pi.orig_sr.correct, pi.orig_sr.total), (4, 5));
+    assert_eq!((pi.avf.correct, pi.avf.total), (2, 4));
+    assert!((pi.vtr.unwrap() - 50.0 / 80.0 * 100.0).abs() < 1e-9);
+    assert_eq!((pi.lfr.correct, pi.lfr.total, pi.uvf.correct, pi.uvf.total), (2, 2, 0, 2));
+    assert_eq!((pi.uvi.correct, pi.uvi.total), (1, 4));
+    assert_eq!((pi.errors, pi.unscored), (1, 1));
+    assert_eq!(pi.errors_by_protocol[&Protocol::Authorized], 1);
+    assert_eq!(pi.episodes, 5 + 5 + 2 + 5);
+    assert_eq!(pi.det.unwrap().percent(), Some(50.0));
+    assert_eq!(pi.fca.unwrap().percent(), Some(10.0));
+    assert!(report.table1[0].det.is_none() && report.table1[0].avf.total == 0);
+
+    let row = |metric| report.table2.iter().find(|r| r.policy == "pi" && r.metric == metric).unwrap();
+    assert_eq!(row(Metric::Avf).families[&Family::F1].percent(), Some(100.0));
+    assert_eq!(row(Metric::Avf).avg, Some(50.0), "unweighted mean of F1 100 and F2 0");
+    assert_eq!(row(Metric::Uvi).avg, Some(25.0));
+    assert_eq!(row(Metric::Vqa).avg, Some(50.0));
+    assert_eq!(row(Metric::Uvf).families.len(), 1);
+    let counts = report.family_counts.iter().find(|c| c.policy == "pi").unwrap();
+    assert_eq!((counts.episodes[&Family::F2], counts.errors[&Family::F2]), (3, 1));
+    assert_eq!(family_of("libero_10/4/F6/sign_zone_target"), Some(Family::F6));
+    assert_eq!(family_of("libero_10/4"), None);
+}
+
+#[test]
+fn files_are_written() {
+    let report = report::build(&records(), &vqa());
+    let dir = std::env::temp_dir().join(format!("vifo-report-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let markdown = report.write(&dir).unwrap();
+    println!("{markdown}");
+    // Orig. SR is the only column with two values: best bold, second underlined.
+    assert!(markdown.contains("| oft | – | – | – | – | – | **100.0** |"), "{markdown}");
+    assert!(markdown.contains("| 10.0 | <u>80.0</u> | 50.0 |"), "{markdown}");
+    assert!(markdown.contains("| pi | AVF↑ | **100.0** | <u>0.0</u> | – |"), "{markdown}");
+    for name in ["table1.md", "table1.csv", "table1.json", "table2.md", "table2.csv", "table2.json"] {
+        assert!(dir.join(name).exists(), "{name}");
+    }
+    let csv = std::fs::read_to_string(dir.join("table1.csv")).unwrap();
+    assert!(
+        csv.lines()
+            .nth(2)
+            .unwrap()
+            .starts_with("pi,50.00,60.00,70.00,80.00,10.00,80.00,50.00,62.50,100.00,0.00,25.00,17,1,1"),
+        "{csv}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("table2.json")).unwrap()).unwrap();
+    assert_eq!(json["rows"].as_array().unwrap().len(), 3 * 4);
+    for metric in ["vqa", "avf", "uvf", "uvi"] {
+        let png = std::fs::read(dir.join(format!("chart_{metric}.png"))).unwrap();
+        let img = image::load_from_memory(&png).unwrap();
+        assert_eq!((img.width(), img.height()), (960, 440));
+    }
+    // Same input, same bytes.
+    let again = std::env::temp_dir().join(format!("vifo-report-again-{}", std::process::id()));
+    report.write(&again).unwrap();
+    for name in ["table1.md", "table2.csv", "chart_avf.png"] {
+        assert_eq!(std::fs::read(dir.join(name)).unwrap(), std::fs::read(again.join(name)).unwrap(), "{name}");
+    }
+    let _ = std::fs::remove_dir_all(&again);
+}

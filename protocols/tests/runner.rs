@@ -1,0 +1,187 @@
+//! The runner: thread-count independence, resume after a stop (with a cut-off last line),
+//! sharding, and error handling.
+
+use std::path::{Path, PathBuf};
+
+use vifo_protocols::runner::{self, RunError, RunOptions, Shard, final_records, read_records, seed_for};
+use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
+
+fn specs(n: usize) -> Vec<EpisodeSpec> {
+    (0..n)
+        .map(|i| {
+            let protocol = Protocol::ALL[i % 4];
+            let task = TaskRef { suite: "libero_goal".into(), index: i % 10 };
+            let instance = protocol.uses_cue().then(|| format!("{task}/F2/straight_arrow_red"));
+            let mut spec = EpisodeSpec {
+                task: task.clone(),
+                protocol,
+                instance,
+                init: i / 4,
+                episode: 0,
+                instruction: String::new(),
+                language_task: Some(task.clone()),
+                cue_task: protocol.uses_cue().then_some(task),
+                seed: 0,
+            };
+            spec.seed = seed_for(&spec);
+            spec
+        })
+        .collect()
+}
+
+/// A deterministic "episode": the outcome depends only on the spec.
+fn episode(spec: &EpisodeSpec) -> EpisodeRecord {
+    let steps = (spec.seed % 300) as usize;
+    EpisodeRecord {
+        spec: spec.clone(),
+        policy: "scripted".into(),
+        outcome: Outcome::Completed {
+            language_success: Some(spec.seed.is_multiple_of(3)),
+            cue_success: spec.protocol.uses_cue().then_some(spec.seed.is_multiple_of(5)),
+            steps,
+        },
+        wall_ms: 0.0,
+    }
+}
+
+fn temp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("vifo-runner-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join("results.jsonl")
+}
+
+fn options(path: &Path, threads: usize) -> RunOptions {
+    RunOptions { threads, quiet: true, policy: "scripted".into(), ..RunOptions::new(path) }
+}
+
+/// The file's records sorted by key, with the informational wall time removed.
+fn sorted(path: &Path) -> Vec<String> {
+    let mut lines: Vec<String> = read_records(path)
+        .unwrap()
+        .records
+        .into_iter()
+        .map(|r| serde_json::to_string(&EpisodeRecord { wall_ms: 0.0, ..r }).unwrap())
+        .collect();
+    lines.sort();
+    lines
+}
+
+#[test]
+fn results_do_not_depend_on_the_thread_count() {
+    let all = specs(40);
+    let one = temp("one");
+    let two = temp("two");
+    let s1 = runner::run(&all, episode, &options(&one, 1)).unwrap();
+    let s2 = runner::run(&all, episode, &options(&two, 2)).unwrap();
+    assert_eq!((s1.ran, s2.ran, s1.errors), (40, 40, 0));
+    assert_eq!(sorted(&one), sorted(&two));
+    // Every line is a complete record and the runner filled in the wall time.
+    let text = std::fs::read_to_string(&two).unwrap();
+    assert_eq!(text.lines().count(), 40);
+    assert!(text.ends_with('\n'));
+}
+
+#[test]
+fn a_stopped_run_resumes_to_the_same_result() {
+    let all = specs(30);
+    let reference = temp("reference");
+    runner::run(&all, episode, &options(&reference, 2)).unwrap();
+
+    // First attempt: stops after 12 episodes, two of them errors, while writing a 13th line.
+    let path = temp("resumed");
+    let flaky = |spec: &EpisodeSpec| {
+        if spec.init == 1 {
+            EpisodeRecord { outcome: Outcome::Error { message: "server dropped".into() }, ..episode(spec) }
+        } else {
+            episode(spec)
+        }
+    };
+    let first = runner::run(&all[..12], flaky, &options(&path, 2)).unwrap();
+    assert_eq!(first.errors, 4);
+    let mut cut = serde_json::to_string(&episode(&all[20])).unwrap();
+    cut.truncate(cut.len() / 2);
+    std::fs::OpenOptions::new().append(true).open(&path).unwrap().write_all(cut.as_bytes()).unwrap();
+    let loaded = read_records(&path).unwrap();
+    assert_eq!((loaded.records.len(), loaded.truncated_tail), (12, cut.len()));
+
+    // Without resume the file is protected.
+    assert!(matches!(runner::run(&all, episode, &options(&path, 2)), Err(RunError::Exists(_))));
+
+    let second = runner::run(&all, episode, &RunOptions { resume: true, ..options(&path, 2) }).unwrap();
+    assert_eq!((second.already_done, second.ran, second.truncated_tail), (8, 22, cut.len()));
+    // The errors stay in the file as history, the completed retries win.
+    let loaded = read_records(&path).unwrap();
+    assert_eq!((loaded.records.len(), loaded.truncated_tail), (34, 0));
+    let settled: Vec<String> = final_records(loaded.records)
+        .into_values()
+        .map(|r| serde_json::to_string(&EpisodeRecord { wall_ms: 0.0, ..r }).unwrap())
+        .collect();
+    assert_eq!(settled, sorted(&reference));
+
+    // Nothing left to do.
+    let third = runner::run(&all, episode, &RunOptions { resume: true, ..options(&path, 1) }).unwrap();
+    assert_eq!((third.already_done, third.ran), (30, 0));
+}
+
+use std::io::Write;
+
+#[test]
+fn shards_partition_the_specs() {
+    let all = specs(60);
+    let mut seen = Vec::new();
+    for i in 0..3 {
+        let path = temp(&format!("shard{i}"));
+        let shard: Shard = format!("{i}/3").parse().unwrap();
+        let s = runner::run(&all, episode, &RunOptions { shard: Some(shard), ..options(&path, 2) }).unwrap();
+        assert!(s.ran > 5, "shard {i} got only {} of 60", s.ran);
+        seen.extend(read_records(&path).unwrap().records.into_iter().map(|r| r.spec.key()));
+    }
+    seen.sort();
+    let mut keys: Vec<String> = all.iter().map(|s| s.key()).collect();
+    keys.sort();
+    assert_eq!(seen, keys);
+    for bad in ["3/3", "1", "a/2", "0/0", "-1/2"] {
+        assert!(bad.parse::<Shard>().is_err(), "{bad}");
+    }
+}
+
+#[test]
+fn panics_and_foreign_records_become_errors() {
+    let all = specs(8);
+    let path = temp("panics");
+    let s = runner::run(
+        &all,
+        |spec: &EpisodeSpec| match spec.init {
+            0 => panic!("simulated crash"),
+            1 => episode(&all[7]),
+            _ => episode(spec),
+        },
+        &options(&path, 2),
+    )
+    .unwrap();
+    // Specs 0-3 panic; 4-6 return spec 7's record (7 itself is right).
+    assert_eq!((s.ran, s.errors), (8, 7));
+    let records = read_records(&path).unwrap().records;
+    let messages: Vec<String> = records
+        .iter()
+        .filter_map(|r| match &r.outcome {
+            Outcome::Error { message } => Some(message.clone()),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(messages.iter().filter(|m| m.contains("simulated crash")).count(), 4);
+    assert_eq!(messages.iter().filter(|m| m.contains("instead")).count(), 3);
+    assert!(records.iter().all(|r| r.policy == "scripted"));
+}
+
+#[test]
+fn a_corrupt_middle_line_is_reported_with_its_position() {
+    let path = temp("corrupt");
+    runner::run(&specs(3), episode, &options(&path, 1)).unwrap();
+    let mut text = std::fs::read_to_string(&path).unwrap();
+    text.insert_str(text.find('\n').unwrap() + 1, "{\"spec\": 3}\n");
+    std::fs::write(&path, text).unwrap();
+    let err = read_records(&path).unwrap_err().to_string();
+    assert!(err.contains("results.jsonl:2:") && err.contains("episode record"), "{err}");
+}

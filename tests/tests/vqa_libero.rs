@@ -1,0 +1,175 @@
+//! Part I-A questions over the instance set of LIBERO's 40 tasks (built-in task facts, no
+//! shared data needed): shape of every question, balanced answer letters, text-only
+//! baselines near chance, determinism, and export.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use vifo_cues::instances::{InstanceSet, TaskDescription};
+use vifo_cues::parse::GoalAtom;
+use vifo_cues::{CueSpec, Family, RgbImage};
+use vifo_protocols::vqa::answerers::{self, Blind};
+use vifo_protocols::vqa::files::{export, read_questions};
+use vifo_protocols::vqa::{Question, Scene, SceneEntity, Stage, generate, score};
+
+/// A name in the style of the instructions for a LIBERO asset category.
+fn human_name(category: &str) -> Option<String> {
+    Some(
+        match category {
+            "floor" => return None,
+            "akita_black_bowl" => "black bowl",
+            "glazed_rim_porcelain_ramekin" => "ramekin",
+            "cookies" => "cookie box",
+            "flat_stove" => "stove",
+            "black_book" => "book",
+            "chefmate_8_frypan" => "frying pan",
+            "desk_caddy" => "caddy",
+            "porcelain_mug" => "white mug",
+            "red_coffee_mug" => "red mug",
+            "white_yellow_mug" => "yellow and white mug",
+            "kitchen_table" | "living_room_table" | "study_table" => "table",
+            other => return Some(other.replace('_', " ")),
+        }
+        .to_string(),
+    )
+}
+
+fn libero() -> (Vec<CueSpec>, BTreeMap<String, Scene>) {
+    let mut descriptions = Vec::new();
+    let mut scenes = BTreeMap::new();
+    for task in vifo_scenes::task::all_tasks() {
+        let (suite, index) = (task.suite.clone().unwrap(), task.index.unwrap());
+        let entities = |list: &[vifo_scenes::task::Entity]| -> Vec<SceneEntity> {
+            list.iter().filter_map(|e| Some(SceneEntity::new(&e.name, &human_name(&e.category)?))).collect()
+        };
+        scenes.insert(
+            format!("{suite}/{index}"),
+            Scene { objects: entities(&task.objects), fixtures: entities(&task.fixtures) },
+        );
+        descriptions.push(TaskDescription {
+            suite,
+            index,
+            instruction: task.instruction.clone(),
+            goals: task
+                .goal
+                .iter()
+                .map(|a| GoalAtom { predicate: a.predicate.name().to_string(), args: a.args.clone() })
+                .collect(),
+            objects: task.objects.iter().map(|e| e.name.clone()).collect(),
+            fixtures: task.fixtures.iter().map(|e| e.name.clone()).collect(),
+        });
+    }
+    (InstanceSet::build(&descriptions).unwrap().instances, scenes)
+}
+
+fn questions() -> Vec<Question> {
+    let (instances, scenes) = libero();
+    generate(&instances, &scenes).unwrap()
+}
+
+#[test]
+fn every_instance_gets_four_well_formed_questions() {
+    let (instances, scenes) = libero();
+    let qs = generate(&instances, &scenes).unwrap();
+    assert_eq!(qs.len(), 4 * instances.len());
+    let ids: BTreeSet<&str> = qs.iter().map(|q| q.id.as_str()).collect();
+    assert_eq!(ids.len(), qs.len());
+    for q in &qs {
+        let distinct: BTreeSet<String> = q.options.iter().map(|o| o.to_lowercase()).collect();
+        assert_eq!(distinct.len(), 4, "{q:?}");
+        let letter = q.answer.chars().next().unwrap();
+        let answer = &q.options[(letter as u8 - b'A') as usize];
+        if q.stage != Stage::Detection {
+            // The question never states its own answer.
+            let key = answer.trim_start_matches("the ");
+            assert!(!q.question.to_lowercase().contains(key), "{q:?}");
+        }
+        assert!(q.image.starts_with("images/") && q.image.ends_with(".png"));
+    }
+    // Every family and stage is present.
+    let groups: BTreeSet<(Family, Stage)> = qs.iter().map(|q| (q.family, q.stage)).collect();
+    assert_eq!(groups.len(), 32);
+    // Same input, same questions.
+    assert_eq!(qs, generate(&instances, &scenes).unwrap());
+    // A task without a scene is an error naming the instance.
+    let err = generate(&instances, &BTreeMap::new()).unwrap_err().to_string();
+    assert!(err.contains("libero_spatial/0/F1/caption_bar") && err.contains("no scene"), "{err}");
+}
+
+#[test]
+fn answer_letters_are_balanced() {
+    let qs = questions();
+    let mut per_group: BTreeMap<(Family, Stage), [usize; 4]> = BTreeMap::new();
+    let mut per_wording: BTreeMap<&str, [usize; 4]> = BTreeMap::new();
+    for q in &qs {
+        let i = (q.answer.as_bytes()[0] - b'A') as usize;
+        per_group.entry((q.family, q.stage)).or_default()[i] += 1;
+        per_wording.entry(q.question.as_str()).or_default()[i] += 1;
+    }
+    for counts in per_group.values().chain(per_wording.values()) {
+        let (lo, hi) = (counts.iter().min().unwrap(), counts.iter().max().unwrap());
+        assert!(hi - lo <= 1, "{counts:?}");
+    }
+}
+
+#[test]
+fn text_only_baselines_stay_near_chance() {
+    let qs = questions();
+    let report = answerers::blind(&qs);
+    println!("{}", report.markdown());
+    for (stage, (strategy, acc)) in &report.best {
+        let p = acc.percent().unwrap();
+        assert!(p <= 35.0, "{stage:?}: {} reaches {p:.1} %", strategy.name());
+    }
+    assert_eq!(report.strategies.len(), Blind::ALL.len());
+    // The oracle, through the whole extraction and scoring path, gets everything right.
+    let oracle = answerers::oracle(&qs).into_iter().map(|p| (p.id, p.prediction)).collect();
+    let s = score("oracle", &qs, &oracle);
+    assert_eq!((s.overall.correct, s.overall.total), (qs.len(), qs.len()));
+    assert_eq!(s.fca.correct * 4, qs.len());
+}
+
+#[test]
+fn examples_read_naturally() {
+    let qs = questions();
+    for id in [
+        "libero_goal/3/F2/straight_arrow_red",
+        "libero_goal/0/F7/glow_halo",
+        "libero_10/0/F1/caption_bar",
+        "libero_spatial/4/F6/sign_zone_target",
+    ] {
+        for q in qs.iter().filter(|q| q.instance_id == id) {
+            println!("{} [{}]\n  {}", q.id, q.answer, q.question);
+            for (l, o) in ['A', 'B', 'C', 'D'].iter().zip(&q.options) {
+                println!("    {l}. {o}");
+            }
+        }
+    }
+    let arrow =
+        |stage: &str| qs.iter().find(|q| q.id == format!("libero_goal/3/F2/straight_arrow_red/{stage}")).unwrap();
+    let right = |q: &Question| q.options[(q.answer.as_bytes()[0] - b'A') as usize].clone();
+    // "open the top drawer and put the bowl inside": the arrow shows the second step; "bowl"
+    // is named as the scene names it.
+    assert_eq!(right(arrow("decision")), "put the black bowl in the top drawer");
+    assert_eq!(right(arrow("grounding")), "the top drawer");
+    assert!(arrow("grounding").options.contains(&"the black bowl".to_string()), "the arrow's start is a distractor");
+    assert_eq!(right(arrow("semantic")), "the black bowl ends up in the top drawer");
+}
+
+#[test]
+fn export_writes_questions_and_one_png_per_instance() {
+    let qs: Vec<Question> = questions().into_iter().filter(|q| q.instance_id.starts_with("libero_goal/3/")).collect();
+    let dir = std::env::temp_dir().join(format!("vifo-vqa-export-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let images = export(&dir, &qs, |id| {
+        let shade = (id.len() * 7 % 256) as u8;
+        RgbImage::filled(64, 48, [shade, 100, 200]).map_err(|e| e.to_string())
+    })
+    .unwrap();
+    assert_eq!(images * 4, qs.len());
+    assert_eq!(read_questions(&dir).unwrap(), qs);
+    let png = std::fs::read(dir.join(&qs[0].image)).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    let err = export(&dir, &qs, |_| Err("renderer failed".to_string())).unwrap_err().to_string();
+    assert!(err.contains("libero_goal/3/") && err.contains("renderer failed"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,49 @@
+//! `vifo report RESULTS.jsonl... [--vqa POLICY=scores.json]... --out DIR`: the paper's Tables 1
+//! and 2 (Markdown printed; Markdown, CSV, JSON and bar charts written to DIR).
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use anyhow::Context;
+use clap::Args as ClapArgs;
+use vifo_protocols::report;
+use vifo_protocols::runner::read_records;
+use vifo_protocols::vqa::VqaScores;
+
+#[derive(ClapArgs)]
+pub struct Args {
+    /// Results files written by the runner (any number of policies).
+    results: Vec<PathBuf>,
+    /// VQA scores of a policy, from `vifo vqa score --out`: POLICY=FILE; repeatable.
+    #[arg(long = "vqa")]
+    vqa: Vec<String>,
+    /// Folder for table1/table2 .md/.csv/.json and chart_*.png.
+    #[arg(long, default_value = "report")]
+    out: PathBuf,
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let mut records = Vec::new();
+    for path in &args.results {
+        anyhow::ensure!(path.is_file(), "{}: no such results file", path.display());
+        let loaded = read_records(path)?;
+        if loaded.truncated_tail > 0 {
+            eprintln!("note: {}: ignored a cut-off last line", path.display());
+        }
+        records.extend(loaded.records);
+    }
+    let mut vqa = BTreeMap::new();
+    for item in &args.vqa {
+        let (policy, file) = item.split_once('=').context("--vqa expects POLICY=FILE")?;
+        let text = std::fs::read_to_string(file).with_context(|| format!("reading {file}"))?;
+        let scores: VqaScores = serde_json::from_str(&text)
+            .with_context(|| format!("{file}: expected VQA scores from `vifo vqa score --out`"))?;
+        vqa.insert(policy.to_string(), scores);
+    }
+    anyhow::ensure!(!records.is_empty() || !vqa.is_empty(), "nothing to report: give results files or --vqa scores");
+    let report = report::build(&records, &vqa);
+    let markdown = report.write(&args.out).with_context(|| format!("writing {}", args.out.display()))?;
+    print!("{markdown}");
+    println!("\nwritten to {}", args.out.display());
+    Ok(())
+}

@@ -1,0 +1,163 @@
+//! `vifo vqa`: answer, score and sanity-check an exported Part I-A question set (a folder with
+//! `questions.jsonl` and `images/`; exporting needs the simulator and lives with it).
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use anyhow::Context;
+use clap::{Args as ClapArgs, Subcommand};
+use vifo_protocols::vqa::answerers::{self, Blind};
+use vifo_protocols::vqa::client::{ChatClient, ClientConfig};
+use vifo_protocols::vqa::files::{append_predictions, read_predictions, read_questions};
+use vifo_protocols::vqa::{Prediction, score};
+
+#[derive(ClapArgs)]
+pub struct Args {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Ask an OpenAI-compatible server (vLLM, SGLang) every question; resumable.
+    Answer {
+        /// Export folder (questions.jsonl + images/).
+        dir: PathBuf,
+        /// Server base address, plain HTTP: http://host:port.
+        #[arg(long)]
+        endpoint: String,
+        /// Model id (default: the first one the server lists).
+        #[arg(long)]
+        model: Option<String>,
+        /// Sent as "Authorization: Bearer KEY" (servers started with --api-key).
+        #[arg(long)]
+        api_key: Option<String>,
+        /// Requests in flight at once.
+        #[arg(long, default_value_t = 4)]
+        concurrency: usize,
+        /// Retries after connection errors, timeouts, 429 and 5xx replies.
+        #[arg(long, default_value_t = 3)]
+        retries: usize,
+        /// Seconds per request.
+        #[arg(long, default_value_t = 120.0)]
+        timeout: f64,
+        #[arg(long, default_value_t = 64)]
+        max_tokens: u32,
+        /// Predictions file to append to (default DIR/predictions-<model>.jsonl).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Score a predictions file ({"id", "prediction"} lines) with VLMEvalKit's extraction.
+    Score {
+        dir: PathBuf,
+        predictions: PathBuf,
+        /// Name of the model (the policy name in reports).
+        #[arg(long, default_value = "model")]
+        model: String,
+        /// Write the scores as JSON (input of `vifo report --vqa`).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Write the answer key as predictions (checks the scoring path: 100 %).
+    Oracle {
+        dir: PathBuf,
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Text-only baselines (no image): letter prior, longest/shortest option, word overlap.
+    Blind {
+        dir: PathBuf,
+        /// Also write each strategy's predictions into this folder.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    match args.command {
+        Command::Answer { dir, endpoint, model, api_key, concurrency, retries, timeout, max_tokens, out, quiet } => {
+            anyhow::ensure!(timeout.is_finite() && timeout > 0.0, "--timeout must be a positive number of seconds");
+            let questions = read_questions(&dir)?;
+            let client = ChatClient::new(ClientConfig {
+                model,
+                api_key,
+                concurrency,
+                retries,
+                timeout: Duration::from_secs_f64(timeout),
+                max_tokens,
+                quiet,
+                ..ClientConfig::new(&endpoint)
+            })?;
+            let out = out.unwrap_or_else(|| dir.join(format!("predictions-{}.jsonl", file_safe(client.model()))));
+            let summary = client.answer_all(&dir, &questions, &out)?;
+            println!(
+                "{}: {} answered, {} already there, {} failed -> {}",
+                client.model(),
+                summary.answered,
+                summary.skipped,
+                summary.failed.len(),
+                out.display()
+            );
+            for (id, error) in summary.failed.iter().take(10) {
+                println!("  {id}: {error}");
+            }
+            if summary.gave_up {
+                anyhow::bail!(
+                    "gave up after {} failures in a row; is the server up at {endpoint}?",
+                    summary.failed.len()
+                );
+            }
+            anyhow::ensure!(
+                summary.failed.is_empty(),
+                "{} questions unanswered; run again to retry them",
+                summary.failed.len()
+            );
+            Ok(())
+        }
+        Command::Score { dir, predictions, model, out } => {
+            let questions = read_questions(&dir)?;
+            let (predictions, cut) = read_predictions(&predictions)?;
+            if cut > 0 {
+                eprintln!("note: ignored a cut-off last line ({cut} bytes)");
+            }
+            let scores = score(&model, &questions, &predictions);
+            print!("{}", scores.markdown());
+            if let Some(out) = out {
+                write(&out, &(serde_json::to_string_pretty(&scores)? + "\n"))?;
+            }
+            Ok(())
+        }
+        Command::Oracle { dir, out } => {
+            let questions = read_questions(&dir)?;
+            write(&out, "")?;
+            append_predictions(&out, &answerers::oracle(&questions))?;
+            println!("{} answers -> {}", questions.len(), out.display());
+            Ok(())
+        }
+        Command::Blind { dir, out } => {
+            let questions = read_questions(&dir)?;
+            print!("{}", answerers::blind(&questions).markdown());
+            if let Some(out) = out {
+                std::fs::create_dir_all(&out).with_context(|| out.display().to_string())?;
+                for strategy in Blind::ALL {
+                    let path = out.join(format!("blind-{}.jsonl", strategy.name()));
+                    write(&path, "")?;
+                    let predictions: Vec<Prediction> = answerers::blind_predictions(&questions, strategy);
+                    append_predictions(&path, &predictions)?;
+                }
+            }
+            Ok(())
+        }
+    }
+}
+
+fn write(path: &Path, text: &str) -> anyhow::Result<()> {
+    std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
+}
+
+/// A model id as part of a file name (`org/model` → `org_model`).
+fn file_safe(s: &str) -> String {
+    s.chars().map(|c| if c.is_ascii_alphanumeric() || "-_.".contains(c) { c } else { '_' }).collect()
+}

@@ -88,12 +88,6 @@ impl World {
         self.time = self.steps as f64 * self.params.dt;
     }
 
-    /// Re-runs collision detection without advancing time, e.g. after placing bodies by hand,
-    /// so that contact queries see the new configuration.
-    pub fn refresh_contacts(&mut self) {
-        self.rapier.detect_collisions(&(), &());
-    }
-
     /// Captures the whole simulation state.
     pub fn snapshot(&self) -> Snapshot {
         let r = &self.rapier;
@@ -148,7 +142,9 @@ impl World {
     }
 
     /// True if any collider of `a` touches any collider of `b` (contact points closer than
-    /// [`TOUCH_DISTANCE`]), as of the last step or [`World::refresh_contacts`]. rapier also keeps
+    /// [`TOUCH_DISTANCE`]), as of the last step. (There is deliberately no collision-only
+    /// refresh: rapier's collision pipeline would register contacts against the world's island
+    /// bookkeeping without the bodies, which breaks the next step's invariants.) rapier also keeps
     /// speculative contacts for shapes that are merely close; those do not count, as MuJoCo only
     /// reports contacts within the (zero) geom margin.
     pub fn in_contact(&self, a: &[ColliderHandle], b: &[ColliderHandle]) -> bool {

@@ -29,9 +29,9 @@ const TIP_CLEARANCE: f64 = 0.010;
 
 /// An oriented box of the scene (world frame).
 #[derive(Clone, Copy, Debug)]
-struct Obb {
-    pose: Pose,
-    half: Vec3,
+pub struct Obb {
+    pub pose: Pose,
+    pub half: Vec3,
 }
 
 impl Obb {
@@ -75,7 +75,8 @@ impl Obb {
     }
 }
 
-fn body_boxes(sim: &Sim, entity: usize, body: usize) -> Vec<Obb> {
+/// The collision boxes of one body of an entity, in the world.
+pub fn body_boxes(sim: &Sim, entity: usize, body: usize) -> Vec<Obb> {
     let e = &sim.model().entities[entity];
     let pose = sim.body_pose(entity, body);
     e.model.bodies[body]

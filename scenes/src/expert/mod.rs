@@ -2,10 +2,14 @@
 //! action interface a policy uses (it reads the simulator's state, but acts only by actions —
 //! no teleporting, welding or pose editing), so it can stand in for a policy.
 
+mod drawer;
 mod geometry;
+mod knob;
 mod motion;
+mod pick_place;
 mod plan;
-mod skills;
+mod push;
+mod skill;
 
 pub use plan::PlanError;
 
@@ -14,7 +18,7 @@ use vifo_robots::action::Action;
 use crate::sim::Sim;
 use crate::task::Atom;
 use plan::Skill;
-use skills::{OPEN, Step};
+use skill::{OPEN, Step};
 
 /// A running expert for one episode.
 pub struct Expert {
@@ -50,6 +54,9 @@ impl Expert {
     pub fn describe(&self) -> String {
         match self.skills.get(self.current) {
             Some(Skill::PickPlace(s)) => s.describe(),
+            Some(Skill::Drawer(s)) => s.describe(),
+            Some(Skill::Knob(s)) => s.describe(),
+            Some(Skill::Push(s)) => s.describe(),
             None => "done".to_string(),
         }
     }
@@ -59,6 +66,9 @@ impl Expert {
         while !self.finished() {
             let step = match &mut self.skills[self.current] {
                 Skill::PickPlace(s) => s.step(sim),
+                Skill::Drawer(s) => s.step(sim),
+                Skill::Knob(s) => s.step(sim),
+                Skill::Push(s) => s.step(sim),
             };
             match step {
                 Step::Act(a) => return a,

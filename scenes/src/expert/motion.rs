@@ -5,12 +5,19 @@ use vifo_robots::spatial::{Mat3, Pose, Vec3, axis_angle, rotation_vector};
 
 use crate::sim::Sim;
 
-/// A gripper pose the expert wants: grip-site position and yaw of the finger axis about world z
-/// (0 = fingers along world y, the LIBERO reset orientation), gripper pointing down.
+/// A gripper pose the expert wants: grip-site position and orientation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Waypoint {
     pub pos: Vec3,
-    pub yaw: f64,
+    pub rot: Mat3,
+}
+
+impl Waypoint {
+    /// Gripper pointing down with the finger axis at `yaw` about world z (0 = fingers along world
+    /// y, LIBERO's reset orientation).
+    pub fn down(pos: Vec3, yaw: f64) -> Self {
+        Waypoint { pos, rot: orientation(yaw) }
+    }
 }
 
 /// The gripper pointing straight down with its fingers along world y (LIBERO's reset pose).
@@ -63,7 +70,7 @@ impl Servo {
         let dp = (target.pos - ee.pos) * self.pos_gain;
         let norm = dp.norm();
         let dp = if norm > self.max_speed { dp * (self.max_speed / norm) } else { dp };
-        let err = rotation_vector(&(orientation(target.yaw) * ee.rot.transpose())) * self.rot_gain;
+        let err = rotation_vector(&(target.rot * ee.rot.transpose())) * self.rot_gain;
         let r = |v: f64| v.clamp(-1.0, 1.0);
         Action([dp.x, dp.y, dp.z, r(err.x), r(err.y), r(err.z), grip])
     }
@@ -72,6 +79,6 @@ impl Servo {
 /// Position error (m) and orientation error (rad) between the gripper and a waypoint.
 pub fn error(sim: &Sim, target: &Waypoint) -> (f64, f64) {
     let ee = sim.model().robot.grip_site_pose(sim.world());
-    let rot = rotation_vector(&(orientation(target.yaw) * ee.rot.transpose())).norm();
+    let rot = rotation_vector(&(target.rot * ee.rot.transpose())).norm();
     ((target.pos - ee.pos).norm(), rot)
 }

@@ -2,7 +2,10 @@
 
 use thiserror::Error;
 
-use super::skills::{PickPlace, Placement};
+use super::drawer::{Drawer, DrawerGoal};
+use super::knob::Knob;
+use super::pick_place::{PickPlace, Placement};
+use super::push::Push;
 use crate::sim::{RegionPlace, Sim};
 use crate::task::{Atom, Predicate};
 
@@ -18,7 +21,17 @@ pub enum PlanError {
 /// One thing to do.
 pub enum Skill {
     PickPlace(PickPlace),
+    Drawer(Drawer),
+    Knob(Knob),
+    Push(Push),
 }
+
+/// Categories too flat to grasp: LIBERO's tasks push them.
+const PUSHED: [&str; 1] = ["plate"];
+/// How far a knob is turned past LIBERO's "on" threshold (0.5 rad).
+const KNOB_ON: f64 = 0.8;
+/// Drawers count as open below this joint position (LIBERO).
+const DRAWER_OPEN_BELOW: f64 = -0.14;
 
 fn xy_of(sim: &Sim, atom: &Atom, name: &str) -> Result<[f64; 2], PlanError> {
     if let Some((i, _)) = sim.model().entity(name) {
@@ -31,25 +44,63 @@ fn xy_of(sim: &Sim, atom: &Atom, name: &str) -> Result<[f64; 2], PlanError> {
     Ok([region.pose.pos.x, region.pose.pos.y])
 }
 
-/// The skills achieving `goals`, in order.
+/// The drawer (entity, body, joint) a region lives on, if it is a drawer's region.
+fn drawer_of(sim: &Sim, region: &str) -> Option<(usize, usize, String)> {
+    let RegionPlace::Site { entity, site } = &sim.model().region(region)?.place else { return None };
+    let model = sim.model().entities[*entity].model;
+    let body = model.sites[*site].body;
+    let joint = model.bodies[body].joint.as_ref()?;
+    Some((*entity, body, joint.name.clone()))
+}
+
+/// The knob (entity, body, joint) of an entity, if it has one.
+fn knob_of(sim: &Sim, name: &str) -> Option<(usize, usize, String)> {
+    let (entity, e) = sim.model().entity(name)?;
+    let (body, b) = e.model.bodies.iter().enumerate().find(|(_, b)| b.joint.is_some() && b.name == "button")?;
+    Some((entity, body, b.joint.as_ref()?.name.clone()))
+}
+
+/// The skills achieving `goals`, in order: opening drawers first, then switches, then moving
+/// objects, and closing last (so things can be put into a drawer before it is shut).
 pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
-    let mut skills = Vec::new();
+    let mut ordered: Vec<(u8, Skill)> = Vec::new();
     for atom in goals {
+        let unsupported = || PlanError::Unsupported(atom.to_string());
         let unknown = |name: &str| PlanError::UnknownName { atom: atom.to_string(), name: name.to_string() };
+        let arg = |i: usize| atom.args.get(i).map(String::as_str).unwrap_or("");
         match atom.predicate {
             Predicate::On | Predicate::In => {
-                let (object, _) = sim.model().entity(&atom.args[0]).ok_or_else(|| unknown(&atom.args[0]))?;
-                if !sim.model().entities[object].movable() {
-                    return Err(PlanError::Unsupported(atom.to_string()));
+                let (object, e) = sim.model().entity(arg(0)).ok_or_else(|| unknown(arg(0)))?;
+                if !e.movable() {
+                    return Err(unsupported());
                 }
-                let xy = xy_of(sim, atom, &atom.args[1])?;
-                let into = atom.predicate == Predicate::In
-                    || matches!(sim.model().region(&atom.args[1]).map(|r| &r.place), Some(RegionPlace::Site { .. }) if atom.predicate == Predicate::In);
-                let placement = if into { Placement::Into { xy } } else { Placement::On { xy } };
-                skills.push(Skill::PickPlace(PickPlace::new(object, placement)));
+                let xy = xy_of(sim, atom, arg(1))?;
+                if PUSHED.contains(&e.category.as_str()) && atom.predicate == Predicate::On {
+                    ordered.push((2, Skill::Push(Push::new(object, xy, 0.015))));
+                    continue;
+                }
+                if atom.predicate == Predicate::In {
+                    if let Some((entity, body, joint)) = drawer_of(sim, arg(1)) {
+                        if sim.joint_position(entity, &joint).is_some_and(|q| q > DRAWER_OPEN_BELOW) {
+                            ordered.push((0, Skill::Drawer(Drawer::new(entity, body, joint, DrawerGoal::Open))));
+                        }
+                    }
+                }
+                let placement = if atom.predicate == Predicate::In { Placement::Into { xy } } else { Placement::On { xy } };
+                ordered.push((2, Skill::PickPlace(PickPlace::new(object, placement))));
             }
-            _ => return Err(PlanError::Unsupported(atom.to_string())),
+            Predicate::Open | Predicate::Close => {
+                let (entity, body, joint) = drawer_of(sim, arg(0)).ok_or_else(unsupported)?;
+                let (rank, goal) = if atom.predicate == Predicate::Open { (0, DrawerGoal::Open) } else { (3, DrawerGoal::Close) };
+                ordered.push((rank, Skill::Drawer(Drawer::new(entity, body, joint, goal))));
+            }
+            Predicate::TurnOn => {
+                let (entity, body, joint) = knob_of(sim, arg(0)).ok_or_else(unsupported)?;
+                ordered.push((1, Skill::Knob(Knob::new(entity, body, joint, KNOB_ON))));
+            }
+            _ => return Err(unsupported()),
         }
     }
-    Ok(skills)
+    ordered.sort_by_key(|(rank, _)| *rank);
+    Ok(ordered.into_iter().map(|(_, s)| s).collect())
 }

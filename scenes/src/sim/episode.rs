@@ -113,7 +113,6 @@ impl Sim {
         model.robot.set_joints(&mut self.world, &state.arm_qpos, &state.gripper_qpos, &state.arm_qvel, &state.gripper_qvel);
         self.control = model.robot.reset_control();
         self.steps = 0;
-        self.world.refresh_contacts();
         Ok(())
     }
 

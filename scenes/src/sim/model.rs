@@ -215,7 +215,9 @@ fn insert_entity(world: &mut World, name: &str, model: &'static ObjectModel) -> 
                 RigidBodyBuilder::dynamic().linear_damping(FREE_JOINT_DAMPING / m).angular_damping(FREE_JOINT_DAMPING / m)
             }
             (0, ObjectKind::Fixture) => RigidBodyBuilder::fixed(),
-            _ => RigidBodyBuilder::dynamic(),
+            // Articulated parts (drawers, doors, knobs) stay awake: they are moved by joint
+            // writes when states load, which must not leave them asleep in a new contact.
+            _ => RigidBodyBuilder::dynamic().can_sleep(false),
         };
         let handle = r.bodies.insert(builder.additional_mass_properties(mass_properties(&body.inertial)));
         for c in &body.colliders {

@@ -1,29 +1,12 @@
-//! Skills: small state machines that turn privileged scene state into 7-D actions.
+//! Pick an object and put it on or into something.
 
 use vifo_robots::action::Action;
 use vifo_robots::spatial::Vec3;
 
 use super::geometry::{self, Grasp};
 use super::motion::{self, Servo, Waypoint};
+use super::skill::{CLOSE, OPEN, Step, gripper_toward, path_height, surface_height};
 use crate::sim::Sim;
-
-/// Gripper commands.
-pub const OPEN: f64 = -1.0;
-pub const CLOSE: f64 = 1.0;
-
-/// The gripper command that brings the fingers to `half_gap` (finger joint position): open or
-/// close toward it, and hold the gripper's ramp (command 0) once there.
-pub fn gripper_toward(sim: &Sim, half_gap: f64) -> f64 {
-    let q = sim.model().robot.joints(sim.world()).q;
-    let opening = 0.5 * (q[7] - q[8]);
-    if opening < half_gap - 0.002 {
-        OPEN
-    } else if opening > half_gap + 0.002 {
-        CLOSE
-    } else {
-        0.0
-    }
-}
 
 /// Where a picked object must go.
 #[derive(Clone, Debug, PartialEq)]
@@ -33,44 +16,6 @@ pub enum Placement {
     On { xy: [f64; 2] },
     /// Drop the object into a container whose opening is centred at `xy`.
     Into { xy: [f64; 2] },
-}
-
-/// What a skill reports each step.
-pub enum Step {
-    Act(Action),
-    Done,
-    /// The skill cannot succeed from here (e.g. lost the object); the planner may retry.
-    Failed(&'static str),
-}
-
-/// Highest point of the scene (objects, fixtures, arena) over a horizontal disc, excluding one
-/// entity (the one being carried).
-pub fn surface_height(sim: &Sim, centre: [f64; 2], radius: f64, exclude: Option<usize>) -> f64 {
-    let mut z = sim.model().class.support_z();
-    for (i, e) in sim.model().entities.iter().enumerate() {
-        if Some(i) == exclude {
-            continue;
-        }
-        for b in 0..e.model.bodies.len() {
-            for p in geometry::corners(sim, i, b) {
-                let d = ((p.x - centre[0]).powi(2) + (p.y - centre[1]).powi(2)).sqrt();
-                if d < radius {
-                    z = z.max(p.z);
-                }
-            }
-        }
-    }
-    z
-}
-
-/// Highest point of the scene along a straight horizontal path (within `radius` of it).
-pub fn path_height(sim: &Sim, from: [f64; 2], to: [f64; 2], radius: f64, exclude: Option<usize>) -> f64 {
-    (0..=10)
-        .map(|k| {
-            let t = k as f64 / 10.0;
-            surface_height(sim, [from[0] + t * (to[0] - from[0]), from[1] + t * (to[1] - from[1])], radius, exclude)
-        })
-        .fold(f64::NEG_INFINITY, f64::max)
 }
 
 /// Pick an object and put it somewhere.
@@ -184,14 +129,14 @@ impl PickPlace {
                     self.next(Stage::Above);
                     return self.step(sim);
                 }
-                let wp = Waypoint { pos: Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), yaw: g.yaw };
+                let wp = Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), g.yaw);
                 Step::Act(Servo::TRAVEL.act(sim, &wp, gripper_toward(sim, g.half_gap)))
             }
             Stage::Above => {
                 let g = self.grasp.expect("planned");
                 let horizontal = ((ee.pos.x - g.pos.x).powi(2) + (ee.pos.y - g.pos.y).powi(2)).sqrt();
                 let z = if horizontal > 0.03 { self.cruise_z } else { g.pos.z + 0.08 };
-                let wp = Waypoint { pos: Vec3::new(g.pos.x, g.pos.y, z), yaw: g.yaw };
+                let wp = Waypoint::down(Vec3::new(g.pos.x, g.pos.y, z), g.yaw);
                 let (d, r) = motion::error(sim, &wp);
                 let servo = if d < 0.03 { Servo::FINE } else { Servo::TRAVEL };
                 if d < 0.003 && r < 0.03 {
@@ -205,7 +150,7 @@ impl PickPlace {
                 // centred on the object.
                 let horizontal = ((ee.pos.x - g.pos.x).powi(2) + (ee.pos.y - g.pos.y).powi(2)).sqrt();
                 let z = if horizontal > 0.005 { ee.pos.z.max(g.pos.z) } else { g.pos.z };
-                let wp = Waypoint { pos: Vec3::new(g.pos.x, g.pos.y, z), yaw: g.yaw };
+                let wp = Waypoint::down(Vec3::new(g.pos.x, g.pos.y, z), g.yaw);
                 if (ee.pos - g.pos).norm() < 0.005 {
                     self.next(Stage::Close);
                 }
@@ -217,7 +162,7 @@ impl PickPlace {
                     self.lift_start_z = object.pos.z;
                     self.next(Stage::Lift);
                 }
-                Step::Act(Servo::FINE.act(sim, &Waypoint { pos: g.pos, yaw: g.yaw }, CLOSE))
+                Step::Act(Servo::FINE.act(sim, &Waypoint::down(g.pos, g.yaw), CLOSE))
             }
             Stage::Lift => {
                 let g = self.grasp.expect("planned");
@@ -225,7 +170,7 @@ impl PickPlace {
                 if fingers[7] - fingers[8] < 0.002 {
                     return self.retry("the fingers closed on nothing");
                 }
-                let up = Waypoint { pos: Vec3::new(g.pos.x, g.pos.y, g.pos.z + 0.12), yaw: g.yaw };
+                let up = Waypoint::down(Vec3::new(g.pos.x, g.pos.y, g.pos.z + 0.12), g.yaw);
                 if self.stage_steps >= 8 && object.pos.z - self.lift_start_z < 0.01 {
                     return self.retry("the object did not come up");
                 }
@@ -251,9 +196,9 @@ impl PickPlace {
                 let over = Vec3::new(xy[0] + offset.x, xy[1] + offset.y, self.cruise_z);
                 // Climb first, then cross.
                 let wp = if ee.pos.z < self.cruise_z - 0.02 {
-                    Waypoint { pos: Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), yaw }
+                    Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), yaw)
                 } else {
-                    Waypoint { pos: over, yaw }
+                    Waypoint::down(over, yaw)
                 };
                 let horizontal = ((ee.pos.x - over.x).powi(2) + (ee.pos.y - over.y).powi(2)).sqrt();
                 if horizontal < 0.01 && (ee.pos.z - over.z).abs() < 0.03 {
@@ -272,7 +217,7 @@ impl PickPlace {
                     Placement::Into { .. } => 0.02,
                 };
                 let z = surface + self.carry_depth + clearance;
-                let wp = Waypoint { pos: Vec3::new(xy[0] + offset.x, xy[1] + offset.y, z), yaw: self.grasp.expect("planned").yaw };
+                let wp = Waypoint::down(Vec3::new(xy[0] + offset.x, xy[1] + offset.y, z), self.grasp.expect("planned").yaw);
                 let (d, _) = motion::error(sim, &wp);
                 // Let go once there, or once the way down is blocked (the object already rests
                 // on something, or the hand meets a container's rim with the object inside).
@@ -289,12 +234,12 @@ impl PickPlace {
                 if self.stage_steps >= 10 {
                     self.next(Stage::Retreat);
                 }
-                let wp = Waypoint { pos: ee.pos, yaw: self.grasp.expect("planned").yaw };
+                let wp = Waypoint::down(ee.pos, self.grasp.expect("planned").yaw);
                 Step::Act(Servo::FINE.act(sim, &wp, OPEN))
             }
             Stage::Retreat => {
                 let yaw = self.grasp.expect("planned").yaw;
-                let up = Waypoint { pos: Vec3::new(ee.pos.x, ee.pos.y, ee.pos.z.max(object.pos.z + self.carry_depth) + 0.06), yaw };
+                let up = Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, ee.pos.z.max(object.pos.z + self.carry_depth) + 0.06), yaw);
                 if self.stage_steps >= 6 {
                     return Step::Done;
                 }

@@ -1,0 +1,63 @@
+//! What every skill shares: the step protocol, gripper commands and scene-height queries.
+
+use vifo_robots::action::Action;
+
+use super::geometry;
+use crate::sim::Sim;
+
+/// Gripper commands.
+pub const OPEN: f64 = -1.0;
+pub const CLOSE: f64 = 1.0;
+
+/// The gripper command that brings the fingers to `half_gap` (finger joint position): open or
+/// close toward it, and hold the gripper's ramp (command 0) once there.
+pub fn gripper_toward(sim: &Sim, half_gap: f64) -> f64 {
+    let q = sim.model().robot.joints(sim.world()).q;
+    let opening = 0.5 * (q[7] - q[8]);
+    if opening < half_gap - 0.002 {
+        OPEN
+    } else if opening > half_gap + 0.002 {
+        CLOSE
+    } else {
+        0.0
+    }
+}
+
+/// What a skill reports each step.
+pub enum Step {
+    Act(Action),
+    Done,
+    /// The skill cannot succeed from here (e.g. lost the object); the planner may retry.
+    Failed(&'static str),
+}
+
+/// Highest point of the scene (objects, fixtures, arena) over a horizontal disc, excluding one
+/// entity (the one being carried).
+pub fn surface_height(sim: &Sim, centre: [f64; 2], radius: f64, exclude: Option<usize>) -> f64 {
+    let mut z = sim.model().class.support_z();
+    for (i, e) in sim.model().entities.iter().enumerate() {
+        if Some(i) == exclude {
+            continue;
+        }
+        for b in 0..e.model.bodies.len() {
+            for p in geometry::corners(sim, i, b) {
+                let d = ((p.x - centre[0]).powi(2) + (p.y - centre[1]).powi(2)).sqrt();
+                if d < radius {
+                    z = z.max(p.z);
+                }
+            }
+        }
+    }
+    z
+}
+
+/// Highest point of the scene along a straight horizontal path (within `radius` of it).
+pub fn path_height(sim: &Sim, from: [f64; 2], to: [f64; 2], radius: f64, exclude: Option<usize>) -> f64 {
+    (0..=10)
+        .map(|k| {
+            let t = k as f64 / 10.0;
+            surface_height(sim, [from[0] + t * (to[0] - from[0]), from[1] + t * (to[1] - from[1])], radius, exclude)
+        })
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+

@@ -25,6 +25,8 @@ enum Command {
     Bddl(cmd::bddl::Args),
     /// Visual cues: task parser, variant catalogue, instance set, quick rendering.
     Cues(cmd::cues::Args),
+    /// Render a task through agentview or the wrist camera (PNG, GIF or frames).
+    Render(cmd::render::RenderArgs),
 }
 
 fn main() {
@@ -35,6 +37,7 @@ fn main() {
         Command::Xval(args) => cmd::xval::run(&args),
         Command::Bddl(args) => cmd::bddl::run(args),
         Command::Cues(args) => cmd::cues::run(args),
+        Command::Render(args) => cmd::render::run(args),
     };
     if let Err(err) = result {
         eprintln!("error: {err:#}");

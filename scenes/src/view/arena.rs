@@ -10,6 +10,7 @@ use std::sync::Arc;
 use vifo_render::glam::{Mat3, Vec3};
 use vifo_render::{Material, Mesh, Transform};
 
+use super::material::textured;
 use super::meshes::MeshCache;
 use crate::catalog::Recipe;
 use crate::scene_class::SceneClass;
@@ -84,8 +85,21 @@ fn table_supports(problem: ProblemClass) -> &'static [([f64; 3], [f64; 3])] {
 const TABLE_LEGS: [[f64; 2]; 4] = [[0.4, 0.5], [-0.4, 0.5], [-0.4, -0.5], [0.4, -0.5]];
 const TABLE_LEG_RADIUS: f64 = 0.025;
 
-fn rgb(c: [f64; 3]) -> [f32; 4] {
-    [c[0] as f32, c[1] as f32, c[2] as f32, 1.0]
+/// A textured MuJoCo material drawn in its texture's mean colour `rgb`.
+fn surface(rgb: [f64; 3], specular: f32, shininess: f32) -> Material {
+    textured([rgb[0] as f32, rgb[1] as f32, rgb[2] as f32, 1.0], specular, shininess)
+}
+
+/// Specular and shininess of the table top and of the walls, from each scene XML: the plain
+/// tables' `table_texture`, the living-room and study tables' asset materials (MuJoCo defaults),
+/// and `walls_mat`.
+fn finishes(problem: ProblemClass) -> ((f32, f32), (f32, f32)) {
+    match problem {
+        ProblemClass::Tabletop | ProblemClass::Floor => ((0.2, 0.0), (0.8, 0.1)),
+        ProblemClass::KitchenTabletop => ((0.2, 0.0), (0.8, 0.3)),
+        ProblemClass::LivingRoomTabletop => ((0.5, 0.5), (0.9, 0.2)),
+        ProblemClass::StudyTabletop | ProblemClass::CoffeeTable => ((0.5, 0.5), (0.8, 0.1)),
+    }
 }
 
 fn at(p: [f64; 3]) -> Transform {
@@ -97,11 +111,12 @@ pub fn arena(class: &SceneClass, meshes: &mut MeshCache) -> Vec<ArenaPart> {
     let mut parts = Vec::new();
     // Floor: MuJoCo draws its 3 × 3 m plane as a grid; ours is split finely enough for the spot
     // lights' fall-off.
-    let floor = Material { rgba: rgb(class.floor.rgb), specular: 0.0, shininess: 0.0, ..Material::default() };
+    let ((table_specular, table_shininess), (wall_specular, wall_shininess)) = finishes(class.problem);
+    let floor = surface(class.floor.rgb, 0.0, 0.0);
     parts.push(ArenaPart { piece: ArenaPiece::Floor, mesh: Arc::new(Mesh::grid(3.0, 3.0, 16, 16)), transform: Transform::IDENTITY, material: floor });
 
     if let Some(table) = &class.table {
-        let top = Material { rgba: rgb(table.rgb), specular: 0.2, shininess: 0.0, ..Material::default() };
+        let top = surface(table.rgb, table_specular, table_shininess);
         for slab in table.top {
             let mesh = meshes.get(&Recipe::Box { half: slab.half_size });
             parts.push(ArenaPart { piece: ArenaPiece::Table, mesh, transform: at(slab.center), material: top.clone() });
@@ -110,7 +125,8 @@ pub fn arena(class: &SceneClass, meshes: &mut MeshCache) -> Vec<ArenaPart> {
             let half_height = table.top_z() / 2.0 - table.top[0].half_size[2];
             let leg = meshes.get(&Recipe::Cylinder { radius: TABLE_LEG_RADIUS, half_height });
             for [x, y] in TABLE_LEGS {
-                let material = Material { shininess: 0.8, ..top.clone() };
+                // `table_legs`: MuJoCo's default specular, shininess 0.8.
+                let material = surface(table.rgb, 0.5, 0.8);
                 parts.push(ArenaPart { piece: ArenaPiece::Table, mesh: leg.clone(), transform: at([x, y, half_height]), material });
             }
         }
@@ -120,7 +136,7 @@ pub fn arena(class: &SceneClass, meshes: &mut MeshCache) -> Vec<ArenaPart> {
     }
 
     let walls: &[Wall] = if class.problem == ProblemClass::KitchenTabletop { &KITCHEN_WALLS } else { &WALLS };
-    let wall = Material { rgba: rgb(class.wall_rgb), specular: 0.8, shininess: 0.1, ..Material::default() };
+    let wall = surface(class.wall_rgb, wall_specular, wall_shininess);
     for &([x, y], [nx, ny], half_width) in walls {
         // A grid facing local +z = the room, local y = world up.
         let normal = Vec3::new(nx, ny, 0.0);

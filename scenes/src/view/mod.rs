@@ -11,6 +11,7 @@
 
 mod arena;
 mod cameras;
+mod material;
 mod meshes;
 mod scene_view;
 

@@ -8,6 +8,7 @@ use vifo_robots::spatial::Pose;
 
 use super::arena::{ArenaPiece, arena};
 use super::cameras::ImageOrder;
+use super::material::textured;
 use super::meshes::MeshCache;
 use crate::catalog::{Recipe, SiteShape};
 use crate::scene_class::SceneClass;
@@ -69,9 +70,10 @@ pub struct SceneView {
     class: &'static SceneClass,
 }
 
-/// Surface finish of objects and fixtures: mostly matte, with a small highlight.
+/// Objects and fixtures: LIBERO's assets are textured with MuJoCo's default material.
 fn object_material(rgba: [f32; 4]) -> Material {
-    Material { rgba, specular: 0.2, shininess: 0.2, ..Material::default() }
+    let default = Material::default();
+    textured(rgba, default.specular, default.shininess)
 }
 
 /// Surface finish of the robot (robosuite's Panda materials are glossy).

@@ -5,3 +5,4 @@ pub mod bddl;
 pub mod bench;
 pub mod cues;
 pub mod expert;
+pub mod render;

@@ -14,7 +14,7 @@ use vifo_render::glam::Vec3;
 use crate::catalog::Recipe;
 
 /// Segments around turned shapes (lathes, cylinders, capsules, spheres).
-pub const ROUND_SEGMENTS: u32 = 20;
+pub const ROUND_SEGMENTS: u32 = 16;
 /// Box faces get one quad per this many metres of edge (at least one, at most four).
 const BOX_QUAD_EDGE: f64 = 0.3;
 

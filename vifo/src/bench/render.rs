@@ -17,7 +17,10 @@ use crate::render::{RenderRequest, episode};
 
 const TASK: &str = "libero_spatial/0";
 const SIZE: u32 = 256;
+/// Calls before timing starts.
 const WARMUP: usize = 20;
+/// Target length of one timed batch.
+const BATCH_MS: f64 = 100.0;
 
 /// What `vifo bench render` prints.
 #[derive(Debug, Serialize)]
@@ -26,8 +29,8 @@ pub struct RenderBench {
     pub size: u32,
     /// `thread CPU time` or `wall-clock time`.
     pub clock: &'static str,
+    /// Timed batches of about 100 ms each; every figure is the median batch's mean.
     pub batches: usize,
-    pub frames_per_batch: usize,
     /// Triangles in the scene, and in each camera's view frustum.
     pub triangles: usize,
     pub triangles_in_view_agentview: usize,
@@ -65,11 +68,17 @@ impl Clock {
     }
 }
 
-/// Median over `batches` of the mean time of `per_batch` calls of `work`, after a warm-up.
-fn median_ms(batches: usize, per_batch: usize, mut work: impl FnMut() -> Result<()>) -> Result<f64> {
-    for _ in 0..WARMUP {
+/// Median over `batches` of the mean time of one call of `work`. The CPU clock advances in
+/// scheduler ticks, so each batch runs long enough (about [`BATCH_MS`]) for a tick to be a small
+/// error; the first, calibrating batch is the warm-up.
+fn median_ms(batches: usize, mut work: impl FnMut() -> Result<()>) -> Result<f64> {
+    let clock = Clock::now();
+    let mut calls = 0usize;
+    while calls < WARMUP || clock.elapsed_ms() < BATCH_MS / 2.0 {
         work()?;
+        calls += 1;
     }
+    let per_batch = ((calls as f64 * BATCH_MS / clock.elapsed_ms().max(1e-3)) as usize).max(1);
     let mut times = Vec::with_capacity(batches);
     for _ in 0..batches {
         let clock = Clock::now();
@@ -83,7 +92,7 @@ fn median_ms(batches: usize, per_batch: usize, mut work: impl FnMut() -> Result<
 }
 
 /// Runs the benchmark with LIBERO's initial states from `source`.
-pub fn run(source: InitSource, batches: usize, per_batch: usize) -> Result<RenderBench> {
+pub fn run(source: InitSource, batches: usize) -> Result<RenderBench> {
     let request = RenderRequest {
         task: TASK.to_string(),
         init: 0,
@@ -104,18 +113,18 @@ pub fn run(source: InitSource, batches: usize, per_batch: usize) -> Result<Rende
     let mut renderer = Renderer::default();
     let mut frame = Frame::default();
     let agent = cameras.agentview(sim.model().class);
-    let (batches, per_batch) = (batches.max(1), per_batch.max(1));
+    let batches = batches.max(1);
 
-    let ms_per_frame_agentview_256 = median_ms(batches, per_batch, || Ok(view.render_into(&mut renderer, &agent, ImageOrder::Upright, &mut frame)?))?;
+    let ms_per_frame_agentview_256 = median_ms(batches, || Ok(view.render_into(&mut renderer, &agent, ImageOrder::Upright, &mut frame)?))?;
     let triangles_in_view_agentview = renderer.stats().triangles_in_view;
     let wrist = cameras.eye_in_hand(&sim);
-    let ms_per_frame_eye_in_hand_256 = median_ms(batches, per_batch, || Ok(view.render_into(&mut renderer, &wrist, ImageOrder::Upright, &mut frame)?))?;
+    let ms_per_frame_eye_in_hand_256 = median_ms(batches, || Ok(view.render_into(&mut renderer, &wrist, ImageOrder::Upright, &mut frame)?))?;
     let triangles_in_view_eye_in_hand = renderer.stats().triangles_in_view;
-    let ms_per_update = median_ms(batches, per_batch, || {
+    let ms_per_update = median_ms(batches, || {
         view.update(&sim);
         Ok(())
     })?;
-    let ms_per_step_two_cameras_256 = median_ms(batches, per_batch, || {
+    let ms_per_step_two_cameras_256 = median_ms(batches, || {
         view.update(&sim);
         for name in CameraName::ALL {
             view.render_into(&mut renderer, &cameras.get(name, &sim), ImageOrder::Upright, &mut frame)?;
@@ -127,7 +136,6 @@ pub fn run(source: InitSource, batches: usize, per_batch: usize) -> Result<Rende
         size: SIZE,
         clock: if Clock::cpu_ns().is_some() { "thread CPU time" } else { "wall-clock time" },
         batches,
-        frames_per_batch: per_batch,
         triangles: view.triangle_count(),
         triangles_in_view_agentview,
         triangles_in_view_eye_in_hand,

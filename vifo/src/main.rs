@@ -15,7 +15,7 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Measure speed (physics, ...).
+    /// Measure speed (physics, render).
     Bench(cmd::bench::BenchArgs),
     /// Run the scripted expert on LIBERO tasks and print success rates.
     Expert(cmd::expert::ExpertArgs),

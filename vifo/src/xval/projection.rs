@@ -77,7 +77,7 @@ pub fn mujoco_pixel(pos: &Vec3, rot: &Mat3, fovy_deg: f64, width: u32, height: u
     // Camera frame: x right, y up, looking along −z.
     let c = rot.transpose() * (p - pos);
     let depth = -c.z;
-    if !(depth > 0.0) {
+    if depth.is_nan() || depth <= 0.0 {
         return None;
     }
     let f = height as f64 / (2.0 * libm::tan(fovy_deg.to_radians() / 2.0));
@@ -163,10 +163,10 @@ pub fn project(file: &str, rec: &Recording, facts: &ModelFacts, summary: &mut Pr
                 let p = Vec3::from(body.pos);
                 let mine = ours.project(RVec3::new(p.x as f32, p.y as f32, p.z as f32)).map(|q| [q.u as f64, q.v as f64]);
                 let theirs = mujoco_pixel(&pos, &rot, fovy, IMAGE_SIZE, IMAGE_SIZE, &p);
-                if let (Some(a), Some(b)) = (mine, theirs) {
-                    if ours.contains(b[0] as f32, b[1] as f32) {
-                        summary.add(name, ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt());
-                    }
+                if let (Some(a), Some(b)) = (mine, theirs)
+                    && ours.contains(b[0] as f32, b[1] as f32)
+                {
+                    summary.add(name, ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt());
                 }
                 pixels.insert(object.clone(), mine);
             }

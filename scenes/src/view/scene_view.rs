@@ -41,7 +41,7 @@ pub struct Segment {
 
 /// Where an instance's transform comes from each frame.
 #[derive(Clone, Debug)]
-enum Mount {
+enum Anchor {
     /// Fixed in the world.
     Static,
     /// Body `body` of entity `entity`, at `local` in that body's frame (scaled by `scale`).
@@ -55,7 +55,7 @@ enum Mount {
 struct Indicator {
     when: Atom,
     instance: Instance,
-    mount: Mount,
+    anchor: Anchor,
 }
 
 /// A task's scene for the renderer: meshes built once (shared by `Arc`), transforms updated from
@@ -63,8 +63,8 @@ struct Indicator {
 #[derive(Clone, Debug)]
 pub struct SceneView {
     scene: Scene,
-    /// Mount of each always-shown instance (`scene.instances[..mounts.len()]`).
-    mounts: Vec<Mount>,
+    /// Anchor of each always-shown instance (`scene.instances[..anchors.len()]`).
+    anchors: Vec<Anchor>,
     indicators: Vec<Indicator>,
     legend: Vec<Segment>,
     class: &'static SceneClass,
@@ -112,7 +112,7 @@ fn light(l: &crate::scene_class::Light) -> Light {
 struct Builder {
     meshes: MeshCache,
     instances: Vec<Instance>,
-    mounts: Vec<Mount>,
+    anchors: Vec<Anchor>,
     legend: Vec<Segment>,
 }
 
@@ -123,10 +123,10 @@ impl Builder {
         id
     }
 
-    fn push(&mut self, recipe: &Recipe, material: Material, segment: u32, mount: Mount) {
+    fn push(&mut self, recipe: &Recipe, material: Material, segment: u32, anchor: Anchor) {
         let mesh = self.meshes.get(recipe);
         self.instances.push(Instance { mesh, material, transform: Transform::IDENTITY, segment });
-        self.mounts.push(mount);
+        self.anchors.push(anchor);
     }
 }
 
@@ -135,15 +135,15 @@ impl SceneView {
     /// body shapes, the arena, the scene class's lights and MuJoCo's headlight. Transforms are
     /// placeholders until [`SceneView::update`].
     pub fn new(model: &SceneModel) -> SceneView {
-        let mut b = Builder { meshes: MeshCache::default(), instances: Vec::new(), mounts: Vec::new(), legend: Vec::new() };
+        let mut b = Builder { meshes: MeshCache::default(), instances: Vec::new(), anchors: Vec::new(), legend: Vec::new() };
         let mut indicators = Vec::new();
         for (entity, e) in model.entities.iter().enumerate() {
             let kind = if e.movable() { SegmentKind::Object } else { SegmentKind::Fixture };
             let segment = b.segment(e.name.clone(), kind);
             for part in &e.model.visuals {
                 let local = Pose::from_wxyz(part.pos, part.quat_wxyz);
-                let mount = Mount::Entity { entity, body: part.body, local, scale: part.scale };
-                b.push(&part.recipe, object_material(part.rgba), segment, mount);
+                let anchor = Anchor::Entity { entity, body: part.body, local, scale: part.scale };
+                b.push(&part.recipe, object_material(part.rgba), segment, anchor);
             }
             // Sites LIBERO draws only in a state: the stove's burner glows red while it is on.
             for site in e.model.sites.iter().filter(|s| s.name == "burner" && s.rgba[3] > 0.0) {
@@ -153,9 +153,9 @@ impl SceneView {
                     SiteShape::Box => Recipe::Box { half: site.half_size },
                 };
                 let instance = Instance { mesh: b.meshes.get(&recipe), material: object_material(site.rgba), transform: Transform::IDENTITY, segment };
-                let mount = Mount::Entity { entity, body: site.body, local: Pose::from_wxyz(site.pos, site.quat_wxyz), scale: [1.0; 3] };
+                let anchor = Anchor::Entity { entity, body: site.body, local: Pose::from_wxyz(site.pos, site.quat_wxyz), scale: [1.0; 3] };
                 let when = Atom { predicate: Predicate::TurnOn, args: vec![e.name.clone()] };
-                indicators.push(Indicator { when, instance, mount });
+                indicators.push(Indicator { when, instance, anchor });
             }
         }
         for (body, spec) in model.robot.arm().model().bodies.iter().enumerate() {
@@ -164,7 +164,7 @@ impl SceneView {
             }
             let segment = b.segment(format!("robot0_{}", spec.name), SegmentKind::RobotLink);
             for v in &spec.visuals {
-                b.push(&recipe_of(&v.shape), robot_material(v.rgba), segment, Mount::Robot { body, local: v.local, scale: [1.0; 3] });
+                b.push(&recipe_of(&v.shape), robot_material(v.rgba), segment, Anchor::Robot { body, local: v.local, scale: [1.0; 3] });
             }
         }
         let class = model.class;
@@ -184,7 +184,7 @@ impl SceneView {
                 }
             };
             b.instances.push(Instance { mesh: part.mesh, material: part.material, transform: part.transform, segment });
-            b.mounts.push(Mount::Static);
+            b.anchors.push(Anchor::Static);
         }
         let scene = Scene {
             instances: b.instances,
@@ -193,23 +193,23 @@ impl SceneView {
             // LIBERO's gradient skybox (rgb1 0.9 0.9 1, rgb2 0.2 0.3 0.4); walls hide most of it.
             background: Background::Gradient { up: [0.9, 0.9, 1.0], down: [0.2, 0.3, 0.4] },
         };
-        SceneView { scene, mounts: b.mounts, indicators, legend: b.legend, class }
+        SceneView { scene, anchors: b.anchors, indicators, legend: b.legend, class }
     }
 
     /// Poses every instance as `sim` has its bodies, and shows the indicators whose condition
     /// holds.
     pub fn update(&mut self, sim: &Sim) {
         let robot = sim.model().robot.arm().body_poses(sim.world());
-        let place = |mount: &Mount| -> Option<Transform> {
-            match mount {
-                Mount::Static => None,
-                Mount::Entity { entity, body, local, scale } => Some(transform(&sim.body_pose(*entity, *body).mul(local), *scale)),
-                Mount::Robot { body, local, scale } => Some(transform(&robot.poses[*body].mul(local), *scale)),
+        let place = |anchor: &Anchor| -> Option<Transform> {
+            match anchor {
+                Anchor::Static => None,
+                Anchor::Entity { entity, body, local, scale } => Some(transform(&sim.body_pose(*entity, *body).mul(local), *scale)),
+                Anchor::Robot { body, local, scale } => Some(transform(&robot.poses[*body].mul(local), *scale)),
             }
         };
-        let shown = self.mounts.len();
-        for (instance, mount) in self.scene.instances[..shown].iter_mut().zip(&self.mounts) {
-            if let Some(t) = place(mount) {
+        let shown = self.anchors.len();
+        for (instance, anchor) in self.scene.instances[..shown].iter_mut().zip(&self.anchors) {
+            if let Some(t) = place(anchor) {
                 instance.transform = t;
             }
         }
@@ -217,7 +217,7 @@ impl SceneView {
         for ind in &self.indicators {
             if sim.holds(&ind.when) == Ok(true) {
                 let mut instance = ind.instance.clone();
-                instance.transform = place(&ind.mount).unwrap_or(instance.transform);
+                instance.transform = place(&ind.anchor).unwrap_or(instance.transform);
                 self.scene.instances.push(instance);
             }
         }

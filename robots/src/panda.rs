@@ -234,7 +234,13 @@ pub fn model(mount: Mount) -> Arc<ArmModel> {
         local: Pose::from_wxyz([0.0; 3], q(H, 0.0, 0.0, -H)),
         joint: None,
         inertial: Inertial::new(0.3, [0.0, 0.0, 0.17], [0.09, 0.07, 0.05], q(H, H, 0.0, 0.0)),
-        visuals: visuals_of(&hand_box, WHITE),
+        // The hand mesh is thinner than its collision box above the finger slots (±1.8 cm from
+        // z = 1 cm up instead of ±3.2 cm); the wrist camera looks past that edge, so the visual
+        // follows the mesh's two steps.
+        visuals: vec![
+            Visual { shape: Shape::Box { half: [0.1, 0.0315, 0.018] }, local: Pose::from_wxyz([0.0, 0.0, -0.008], q(1.0, 0.0, 0.0, 0.0)), rgba: WHITE },
+            Visual { shape: Shape::Box { half: [0.1, 0.0175, 0.028] }, local: Pose::from_wxyz([0.0, 0.0, 0.038], q(1.0, 0.0, 0.0, 0.0)), rgba: WHITE },
+        ],
         colliders: hand_box,
     });
     let gripper = bodies.len() - 1;

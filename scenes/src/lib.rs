@@ -6,6 +6,7 @@
 //! - [`init_file`]: reads LIBERO's `.pruned_init` files and names the parts of a state row.
 //! - [`catalog`]: every object and fixture category the 40 tasks use (collision, mass, sites,
 //!   procedural looks).
+//! - [`sim`]: tasks running in the physics world; [`view`]: rendering them with LIBERO's cameras.
 //!
 //! This crate is data and parsing only; it depends on no physics or robot code.
 
@@ -16,5 +17,6 @@ pub mod init_file;
 pub mod scene_class;
 pub mod sim;
 pub mod task;
+pub mod view;
 
 pub use task::{Suite, Task, all_tasks, suite, suite_names, suites, task};

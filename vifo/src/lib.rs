@@ -2,4 +2,5 @@
 
 pub mod bench;
 pub mod expert;
+pub mod render;
 pub mod xval;

@@ -15,7 +15,7 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Measure speed (physics, ...).
+    /// Measure speed (physics, render).
     Bench(cmd::bench::BenchArgs),
     /// Run the scripted expert on LIBERO tasks and print success rates.
     Expert(cmd::expert::ExpertArgs),
@@ -29,6 +29,8 @@ enum Command {
     Vqa(cmd::vqa::Args),
     /// The paper's Tables 1 and 2 from results files and VQA scores.
     Report(cmd::report::Args),
+    /// Render a task through agentview or the wrist camera (PNG, GIF or frames).
+    Render(cmd::render::RenderArgs),
 }
 
 fn main() {
@@ -41,6 +43,7 @@ fn main() {
         Command::Cues(args) => cmd::cues::run(args),
         Command::Vqa(args) => cmd::vqa::run(args),
         Command::Report(args) => cmd::report::run(args),
+        Command::Render(args) => cmd::render::run(args),
     };
     if let Err(err) = result {
         eprintln!("error: {err:#}");

@@ -1,8 +1,11 @@
-//! `vifo bench physics|...`: speed figures.
+//! `vifo bench physics|render`: speed figures.
 
-use anyhow::Result;
+use std::path::PathBuf;
+
+use anyhow::{Result, anyhow};
 use clap::{Args, Subcommand};
 use vifo::bench;
+use vifo::expert::InitSource;
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -21,6 +24,15 @@ pub enum BenchWhat {
         #[arg(long, default_value_t = 400)]
         steps: usize,
     },
+    /// Camera frames per second on the full libero_spatial scene (256², one thread).
+    Render {
+        /// LIBERO's init_files folder (the bench renders initial state 0 of libero_spatial task 0).
+        #[arg(long, value_name = "DIR")]
+        libero_init: Option<PathBuf>,
+        /// Timed batches of about 100 ms (the median is reported).
+        #[arg(long, default_value_t = 9)]
+        batches: usize,
+    },
 }
 
 pub fn run(args: &BenchArgs) -> Result<()> {
@@ -34,6 +46,20 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 for r in &results {
                     println!("{:<30} {:>14.1} {:>16.3}", r.scene, r.control_steps_per_second, r.ms_per_control_step);
                 }
+            }
+        }
+        BenchWhat::Render { libero_init, batches } => {
+            let source = InitSource::Libero(libero_init.clone().ok_or_else(|| anyhow!("the render bench needs a real state: pass --libero-init DIR"))?);
+            let r = bench::render::run(source, *batches)?;
+            if args.json {
+                println!("{}", serde_json::to_string_pretty(&r)?);
+            } else {
+                println!("{} at {}², {} (median of {} batches of about 100 ms)", r.task, r.size, r.clock, r.batches);
+                println!("triangles: {} in the scene, {} in agentview, {} in robot0_eye_in_hand", r.triangles, r.triangles_in_view_agentview, r.triangles_in_view_eye_in_hand);
+                println!("agentview frame          {:>8.4} ms  ({:.0} fps)", r.ms_per_frame_agentview_256, r.fps_agentview_256);
+                println!("robot0_eye_in_hand frame {:>8.4} ms", r.ms_per_frame_eye_in_hand_256);
+                println!("scene update             {:>8.4} ms", r.ms_per_update);
+                println!("control step, 2 cameras  {:>8.4} ms  ({:.0} steps/s)", r.ms_per_step_two_cameras_256, r.steps_per_second_two_cameras_256);
             }
         }
     }

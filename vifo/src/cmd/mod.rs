@@ -7,3 +7,4 @@ pub mod bddl;
 pub mod bench;
 pub mod cues;
 pub mod expert;
+pub mod render;

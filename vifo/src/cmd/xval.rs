@@ -1,10 +1,11 @@
 //! `vifo xval <dir>`: cross-validation against MuJoCo reference recordings.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use clap::Args;
-use vifo::xval::{self, Recording};
+use vifo::xval::projection::{self, ModelFacts, ProjectionSummary};
+use vifo::xval::{self, Recording, images};
 
 #[derive(Args)]
 pub struct XvalArgs {
@@ -13,9 +14,23 @@ pub struct XvalArgs {
     /// Print one JSON object instead of tables.
     #[arg(long)]
     pub json: bool,
+    /// Render records 0 and 50 with both cameras and write `ours | MuJoCo` PNGs into this folder
+    /// (prints PSNR and SSIM per image).
+    #[arg(long, value_name = "OUT")]
+    pub images: Option<PathBuf>,
+    /// Project every recorded object at records 0 and 50 with both cameras and compare with
+    /// MuJoCo's projection from `model_facts.json`.
+    #[arg(long)]
+    pub projection: bool,
 }
 
 pub fn run(args: &XvalArgs) -> Result<()> {
+    if let Some(out) = &args.images {
+        return run_images(args, out);
+    }
+    if args.projection {
+        return run_projection(args);
+    }
     let mut reports = Vec::new();
     for path in xval::recordings_in(&args.dir)? {
         let rec = Recording::load(&path)?;
@@ -53,6 +68,53 @@ pub fn run(args: &XvalArgs) -> Result<()> {
     println!(
         "summary over {} tasks: eef_pos_max {:.3} mm, eef_pos_rms {:.3} mm, eef_rot_max {:.3}°, joint_max {:.5} rad, finger_max {:.3} mm",
         summary.tasks, s.eef_pos_max_m * 1e3, s.eef_pos_rms_m * 1e3, s.eef_rot_max_deg, s.joint_max_rad, s.finger_max_m * 1e3
+    );
+    Ok(())
+}
+
+fn run_images(args: &XvalArgs, out: &Path) -> Result<()> {
+    let mut reports = Vec::new();
+    for path in xval::recordings_in(&args.dir)? {
+        reports.extend(images::compare(&path, &Recording::load(&path)?, out)?);
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "images": reports }))?);
+        return Ok(());
+    }
+    println!("Our cameras against MuJoCo's images ({0}×{0}; side by side in {1})", images::IMAGE_SIZE, out.display());
+    println!("{:<34} {:<20} {:>4} {:>9} {:>7}", "file", "camera", "t", "PSNR dB", "SSIM");
+    for r in &reports {
+        println!("{:<34} {:<20} {:>4} {:>9.2} {:>7.3}", r.file, r.camera, r.t, r.psnr_db, r.ssim);
+    }
+    Ok(())
+}
+
+fn run_projection(args: &XvalArgs) -> Result<()> {
+    let facts = ModelFacts::load(&args.dir.join("model_facts.json"))?;
+    let mut summary = ProjectionSummary::default();
+    let mut files = Vec::new();
+    for path in xval::recordings_in(&args.dir)? {
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        files.push(projection::project(&name, &Recording::load(&path)?, &facts, &mut summary)?);
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "files": files, "summary": summary }))?);
+        return Ok(());
+    }
+    println!("{:<34} {:>4} {:<20} {:<32} {:>8} {:>8}", "file", "t", "camera", "object", "u", "v");
+    for f in &files {
+        for s in &f.steps {
+            for (camera, pixels) in &s.cameras {
+                for (object, px) in pixels {
+                    let (u, v) = px.map_or((f64::NAN, f64::NAN), |[u, v]| (u, v));
+                    println!("{:<34} {:>4} {:<20} {:<32} {:>8.2} {:>8.2}", f.file, s.t, camera, object, u, v);
+                }
+            }
+        }
+    }
+    println!(
+        "against MuJoCo over {} points in view: max {:.2e} px (agentview {:.2e} px, robot0_eye_in_hand {:.2e} px)",
+        summary.points, summary.projection_max_px, summary.agentview_max_px, summary.eye_in_hand_max_px
     );
     Ok(())
 }

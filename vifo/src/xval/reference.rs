@@ -2,8 +2,9 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use serde::Deserialize;
+use vifo_robots::action::Action;
 
 /// One recording: the task it ran and one record per control step (t = 0 is the initial state).
 #[derive(Debug, Deserialize)]
@@ -39,6 +40,14 @@ pub struct Record {
     pub joint_qvel: [f64; 7],
     pub gripper_qpos: [f64; 2],
     pub objects: std::collections::BTreeMap<String, BodyPose>,
+}
+
+impl Record {
+    /// The action that led to this record (validated); record 0 has none.
+    pub fn action(&self) -> Result<Action> {
+        let values = self.action_applied_before.as_deref().ok_or_else(|| anyhow!("record {} has no action_applied_before", self.t))?;
+        Ok(Action::new(values)?)
+    }
 }
 
 impl Recording {

@@ -11,7 +11,6 @@
 
 use anyhow::{Context, Result, anyhow};
 use serde::Serialize;
-use vifo_robots::action::Action;
 use vifo_robots::dynamics::Coords;
 use vifo_robots::panda;
 use vifo_robots::spatial::{Pose, angle_between};
@@ -153,8 +152,7 @@ pub fn replay(file: &str, rec: &Recording) -> Result<TaskReport> {
     let mut phases: Vec<PhaseReport> = PHASES.iter().map(|&(phase, ..)| PhaseReport { phase, stats: ErrorStats::default() }).collect();
     let mut objects = Vec::new();
     for record in &rec.steps[1..] {
-        let action = Action::new(record.action_applied_before.as_deref().unwrap_or(&[]))?;
-        sim.step(&action);
+        sim.step(&record.action()?);
         let ours = sim.model().robot.joints(sim.world()).q;
         let mut theirs = Coords::<9>::zeros();
         theirs.fixed_rows_mut::<7>(0).copy_from_slice(&record.joint_qpos);

@@ -1,0 +1,334 @@
+//! [`SceneView`]: a task's render scene, built once per [`SceneModel`] and posed per frame.
+
+use vifo_render::glam::{Mat3, Vec3};
+use vifo_render::{Frame, Instance, Material, RenderError, Renderer, Scene, Transform};
+use vifo_render::{Background, Camera, Headlight, Light, LightKind};
+use vifo_robots::model::Shape;
+use vifo_robots::spatial::Pose;
+
+use super::arena::{ArenaPiece, arena};
+use super::cameras::ImageOrder;
+use super::material::textured;
+use super::meshes::MeshCache;
+use crate::catalog::{Recipe, SiteShape};
+use crate::scene_class::SceneClass;
+use crate::sim::{SceneModel, Sim};
+use crate::task::{Atom, Predicate};
+
+/// What a segmentation id stands for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SegmentKind {
+    /// A movable object of the task.
+    Object,
+    /// A fixture of the task (cabinet, stove, ...).
+    Fixture,
+    /// One body of the robot (link, hand, finger); the pedestal belongs to the base.
+    RobotLink,
+    /// Floor, table or walls.
+    Arena,
+}
+
+/// One entry of the segmentation legend.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Segment {
+    /// The id written into [`Frame::segmentation`] (0 is the background).
+    pub id: u32,
+    /// Entity name as the task names it (`akita_black_bowl_1`), `robot0_<body>` for robot bodies,
+    /// or `floor`, the workspace name (`main_table`) and `walls` for the arena.
+    pub name: String,
+    pub kind: SegmentKind,
+}
+
+/// Where an instance's transform comes from each frame.
+#[derive(Clone, Debug)]
+enum Anchor {
+    /// Fixed in the world.
+    Static,
+    /// Body `body` of entity `entity`, at `local` in that body's frame (scaled by `scale`).
+    Entity { entity: usize, body: usize, local: Pose, scale: [f64; 3] },
+    /// Body `body` of the robot.
+    Robot { body: usize, local: Pose, scale: [f64; 3] },
+}
+
+/// An instance shown only while an atom holds: the stove's red burner while it is turned on.
+#[derive(Clone, Debug)]
+struct Indicator {
+    when: Atom,
+    instance: Instance,
+    anchor: Anchor,
+}
+
+/// A task's scene for the renderer: meshes built once (shared by `Arc`), transforms updated from
+/// a [`Sim`] each frame.
+#[derive(Clone, Debug)]
+pub struct SceneView {
+    scene: Scene,
+    /// Anchor of each always-shown instance (`scene.instances[..anchors.len()]`).
+    anchors: Vec<Anchor>,
+    indicators: Vec<Indicator>,
+    legend: Vec<Segment>,
+    class: &'static SceneClass,
+}
+
+/// Objects and fixtures: LIBERO's assets are textured with MuJoCo's default material.
+fn object_material(rgba: [f32; 4]) -> Material {
+    let default = Material::default();
+    textured(rgba, default.specular, default.shininess)
+}
+
+/// Surface finish of the robot (robosuite's Panda materials are glossy).
+fn robot_material(rgba: [f32; 4]) -> Material {
+    Material { rgba, specular: 0.5, shininess: 0.3, ..Material::default() }
+}
+
+fn recipe_of(shape: &Shape) -> Recipe {
+    match *shape {
+        Shape::Box { half } => Recipe::Box { half },
+        Shape::Capsule { radius, half_height } => Recipe::Capsule { radius, half_height },
+        Shape::Cylinder { radius, half_height } => Recipe::Cylinder { radius, half_height },
+        Shape::Sphere { radius } => Recipe::Sphere { radius },
+    }
+}
+
+/// `pose` with the part's stretch along its local axes, in the renderer's `f32`.
+fn transform(pose: &Pose, scale: [f64; 3]) -> Transform {
+    let r = &pose.rot;
+    let col = |c: usize| Vec3::new((r[(0, c)] * scale[c]) as f32, (r[(1, c)] * scale[c]) as f32, (r[(2, c)] * scale[c]) as f32);
+    Transform::from_pos_mat3(Vec3::new(pose.pos.x as f32, pose.pos.y as f32, pose.pos.z as f32), Mat3::from_cols(col(0), col(1), col(2)))
+}
+
+fn light(l: &crate::scene_class::Light) -> Light {
+    let v = |a: [f64; 3]| Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32);
+    let kind = if l.directional {
+        LightKind::Directional { direction: v(l.dir) }
+    } else {
+        LightKind::Spot { position: v(l.pos), direction: v(l.dir), cutoff_deg: 45.0, exponent: 10.0, attenuation: [1.0, 0.0, 0.0] }
+    };
+    let f = |a: [f64; 3]| a.map(|x| x as f32);
+    Light { kind, ambient: [0.0; 3], diffuse: f(l.diffuse), specular: f(l.specular), cast_shadow: false }
+}
+
+/// Builds the legend and instance list in a fixed order: entities, robot bodies, arena.
+struct Builder {
+    meshes: MeshCache,
+    instances: Vec<Instance>,
+    anchors: Vec<Anchor>,
+    legend: Vec<Segment>,
+}
+
+impl Builder {
+    fn segment(&mut self, name: String, kind: SegmentKind) -> u32 {
+        let id = self.legend.len() as u32 + 1;
+        self.legend.push(Segment { id, name, kind });
+        id
+    }
+
+    fn push(&mut self, recipe: &Recipe, material: Material, segment: u32, anchor: Anchor) {
+        let mesh = self.meshes.get(recipe);
+        self.instances.push(Instance { mesh, material, transform: Transform::IDENTITY, segment });
+        self.anchors.push(anchor);
+    }
+}
+
+impl SceneView {
+    /// The render scene of `model`: every object's and fixture's procedural look, the robot's
+    /// body shapes, the arena, the scene class's lights and MuJoCo's headlight. Transforms are
+    /// placeholders until [`SceneView::update`].
+    pub fn new(model: &SceneModel) -> SceneView {
+        let mut b = Builder { meshes: MeshCache::default(), instances: Vec::new(), anchors: Vec::new(), legend: Vec::new() };
+        let mut indicators = Vec::new();
+        for (entity, e) in model.entities.iter().enumerate() {
+            let kind = if e.movable() { SegmentKind::Object } else { SegmentKind::Fixture };
+            let segment = b.segment(e.name.clone(), kind);
+            for part in &e.model.visuals {
+                let local = Pose::from_wxyz(part.pos, part.quat_wxyz);
+                let anchor = Anchor::Entity { entity, body: part.body, local, scale: part.scale };
+                b.push(&part.recipe, object_material(part.rgba), segment, anchor);
+            }
+            // Sites LIBERO draws only in a state: the stove's burner glows red while it is on.
+            for site in e.model.sites.iter().filter(|s| s.name == "burner" && s.rgba[3] > 0.0) {
+                let [r, _, h] = site.half_size;
+                let recipe = match site.shape {
+                    SiteShape::Cylinder => Recipe::Cylinder { radius: r, half_height: h },
+                    SiteShape::Box => Recipe::Box { half: site.half_size },
+                };
+                let instance = Instance { mesh: b.meshes.get(&recipe), material: object_material(site.rgba), transform: Transform::IDENTITY, segment };
+                let anchor = Anchor::Entity { entity, body: site.body, local: Pose::from_wxyz(site.pos, site.quat_wxyz), scale: [1.0; 3] };
+                let when = Atom { predicate: Predicate::TurnOn, args: vec![e.name.clone()] };
+                indicators.push(Indicator { when, instance, anchor });
+            }
+        }
+        for (body, spec) in model.robot.arm().model().bodies.iter().enumerate() {
+            if spec.visuals.is_empty() {
+                continue;
+            }
+            let segment = b.segment(format!("robot0_{}", spec.name), SegmentKind::RobotLink);
+            for v in &spec.visuals {
+                b.push(&recipe_of(&v.shape), robot_material(v.rgba), segment, Anchor::Robot { body, local: v.local, scale: [1.0; 3] });
+            }
+        }
+        let class = model.class;
+        let mut arena_segments: Vec<(ArenaPiece, u32)> = Vec::new();
+        for part in arena(class, &mut b.meshes) {
+            let segment = match arena_segments.iter().find(|(p, _)| *p == part.piece) {
+                Some(&(_, id)) => id,
+                None => {
+                    let name = match part.piece {
+                        ArenaPiece::Floor => "floor",
+                        ArenaPiece::Table => class.workspace,
+                        ArenaPiece::Walls => "walls",
+                    };
+                    let id = b.segment(name.to_string(), SegmentKind::Arena);
+                    arena_segments.push((part.piece, id));
+                    id
+                }
+            };
+            b.instances.push(Instance { mesh: part.mesh, material: part.material, transform: part.transform, segment });
+            b.anchors.push(Anchor::Static);
+        }
+        let scene = Scene {
+            instances: b.instances,
+            lights: class.lights.iter().map(light).collect(),
+            headlight: Headlight::default(),
+            // LIBERO's gradient skybox (rgb1 0.9 0.9 1, rgb2 0.2 0.3 0.4); walls hide most of it.
+            background: Background::Gradient { up: [0.9, 0.9, 1.0], down: [0.2, 0.3, 0.4] },
+        };
+        SceneView { scene, anchors: b.anchors, indicators, legend: b.legend, class }
+    }
+
+    /// Poses every instance as `sim` has its bodies, and shows the indicators whose condition
+    /// holds.
+    pub fn update(&mut self, sim: &Sim) {
+        let robot = sim.model().robot.arm().body_poses(sim.world());
+        let place = |anchor: &Anchor| -> Option<Transform> {
+            match anchor {
+                Anchor::Static => None,
+                Anchor::Entity { entity, body, local, scale } => Some(transform(&sim.body_pose(*entity, *body).mul(local), *scale)),
+                Anchor::Robot { body, local, scale } => Some(transform(&robot.poses[*body].mul(local), *scale)),
+            }
+        };
+        let shown = self.anchors.len();
+        for (instance, anchor) in self.scene.instances[..shown].iter_mut().zip(&self.anchors) {
+            if let Some(t) = place(anchor) {
+                instance.transform = t;
+            }
+        }
+        self.scene.instances.truncate(shown);
+        for ind in &self.indicators {
+            if sim.holds(&ind.when) == Ok(true) {
+                let mut instance = ind.instance.clone();
+                instance.transform = place(&ind.anchor).unwrap_or(instance.transform);
+                self.scene.instances.push(instance);
+            }
+        }
+    }
+
+    /// The scene as of the last [`SceneView::update`].
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The scene class the view was built for.
+    pub fn class(&self) -> &'static SceneClass {
+        self.class
+    }
+
+    /// Every segmentation id and what it stands for, in id order (ids start at 1).
+    pub fn legend(&self) -> &[Segment] {
+        &self.legend
+    }
+
+    /// The segmentation id of an entity, robot body (`robot0_<body>`) or arena piece.
+    pub fn segment_of(&self, name: &str) -> Option<u32> {
+        self.legend.iter().find(|s| s.name == name).map(|s| s.id)
+    }
+
+    /// Triangles of every instance currently in the scene (in view or not).
+    pub fn triangle_count(&self) -> usize {
+        self.scene.instances.iter().map(|i| i.mesh.triangle_count()).sum()
+    }
+
+    /// Renders the current scene with `camera`, rows in `order`.
+    pub fn render(&self, renderer: &mut Renderer, camera: &Camera, order: ImageOrder) -> Result<Frame, RenderError> {
+        let mut frame = renderer.render(&self.scene, camera)?;
+        order.apply(&mut frame);
+        Ok(frame)
+    }
+
+    /// Like [`SceneView::render`], reusing `frame`'s memory.
+    pub fn render_into(&self, renderer: &mut Renderer, camera: &Camera, order: ImageOrder, frame: &mut Frame) -> Result<(), RenderError> {
+        renderer.render_into(&self.scene, camera, frame)?;
+        order.apply(frame);
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Arc;
+
+    fn view_of(suite: &str, index: usize) -> (Sim, SceneView) {
+        let model = SceneModel::build(crate::task(suite, index).unwrap()).unwrap();
+        let sim = Sim::new(model.clone());
+        let mut view = SceneView::new(&model);
+        view.update(&sim);
+        (sim, view)
+    }
+
+    #[test]
+    fn legend_names_every_entity_robot_body_and_arena_piece_once() {
+        let (sim, view) = view_of("libero_goal", 0);
+        let ids: Vec<u32> = view.legend().iter().map(|s| s.id).collect();
+        assert_eq!(ids, (1..=view.legend().len() as u32).collect::<Vec<_>>());
+        for e in &sim.model().entities {
+            assert!(view.segment_of(&e.name).is_some(), "{}", e.name);
+        }
+        for name in ["robot0_link3", "robot0_leftfinger", "floor", "main_table", "walls"] {
+            assert!(view.segment_of(name).is_some(), "{name}");
+        }
+        // Every instance carries a legend id.
+        let max = view.legend().len() as u32;
+        assert!(view.scene().instances.iter().all(|i| (1..=max).contains(&i.segment)));
+    }
+
+    #[test]
+    fn meshes_are_shared_between_equal_parts() {
+        // libero_spatial task 0 has two identical black bowls.
+        let (_, view) = view_of("libero_spatial", 0);
+        let bowls: Vec<&Instance> =
+            view.scene().instances.iter().filter(|i| [view.segment_of("akita_black_bowl_1"), view.segment_of("akita_black_bowl_2")].contains(&Some(i.segment))).collect();
+        assert!(bowls.len() >= 2);
+        let first = view.segment_of("akita_black_bowl_1").unwrap();
+        let a = bowls.iter().find(|i| i.segment == first).unwrap();
+        let b = bowls.iter().find(|i| i.segment != first).unwrap();
+        assert!(Arc::ptr_eq(&a.mesh, &b.mesh));
+    }
+
+    #[test]
+    fn instances_follow_their_bodies() {
+        let (mut sim, mut view) = view_of("libero_goal", 0);
+        let (cabinet, _) = sim.model().entity("wooden_cabinet_1").unwrap();
+        let segment = view.segment_of("wooden_cabinet_1").unwrap();
+        let before: Vec<Vec3> = view.scene().instances.iter().filter(|i| i.segment == segment).map(|i| i.transform.translation).collect();
+        sim.set_joint(cabinet, "middle_level", -0.1);
+        view.update(&sim);
+        let after: Vec<Vec3> = view.scene().instances.iter().filter(|i| i.segment == segment).map(|i| i.transform.translation).collect();
+        let moved = before.iter().zip(&after).filter(|(a, b)| (**a - **b).length() > 0.09).count();
+        // The middle drawer's pieces moved by 10 cm; the carcass and other drawers did not.
+        assert!(moved > 0 && moved < before.len(), "{moved} of {}", before.len());
+    }
+
+    #[test]
+    fn the_burner_shows_only_while_the_stove_is_on() {
+        let (mut sim, mut view) = view_of("libero_goal", 7);
+        let (stove, _) = sim.model().entity("flat_stove_1").expect("libero_goal task 7 has the stove");
+        let base = view.scene().instances.len();
+        sim.set_joint(stove, "button", 0.6);
+        view.update(&sim);
+        assert_eq!(view.scene().instances.len(), base + 1);
+        sim.set_joint(stove, "button", 0.4);
+        view.update(&sim);
+        assert_eq!(view.scene().instances.len(), base);
+    }
+}

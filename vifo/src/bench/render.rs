@@ -1,0 +1,149 @@
+//! `vifo bench render`: camera frames per second on the full libero_spatial scene (task 0,
+//! LIBERO's initial state 0), one thread.
+//!
+//! A control step of an evaluation updates the scene from the simulation and renders both
+//! cameras; that is timed as a whole, and each camera alone. Times are medians over batches
+//! after a warm-up, in this thread's CPU time where Linux reports it (the machine is shared).
+
+use std::time::Instant;
+
+use anyhow::Result;
+use serde::Serialize;
+use vifo_render::{Frame, Renderer};
+use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
+
+use crate::expert::InitSource;
+use crate::render::{RenderRequest, episode};
+
+const TASK: &str = "libero_spatial/0";
+const SIZE: u32 = 256;
+/// Calls before timing starts.
+const WARMUP: usize = 20;
+/// Target length of one timed batch.
+const BATCH_MS: f64 = 100.0;
+
+/// What `vifo bench render` prints.
+#[derive(Debug, Serialize)]
+pub struct RenderBench {
+    pub task: &'static str,
+    pub size: u32,
+    /// `thread CPU time` or `wall-clock time`.
+    pub clock: &'static str,
+    /// Timed batches of about 100 ms each; every figure is the median batch's mean.
+    pub batches: usize,
+    /// Triangles in the scene, and in each camera's view frustum.
+    pub triangles: usize,
+    pub triangles_in_view_agentview: usize,
+    pub triangles_in_view_eye_in_hand: usize,
+    pub ms_per_frame_agentview_256: f64,
+    pub ms_per_frame_eye_in_hand_256: f64,
+    /// Posing the scene from the simulation.
+    pub ms_per_update: f64,
+    /// Update plus both cameras: the rendering cost of one control step.
+    pub ms_per_step_two_cameras_256: f64,
+    pub fps_agentview_256: f64,
+    pub steps_per_second_two_cameras_256: f64,
+}
+
+/// This thread's CPU time (Linux `schedstat`), or wall-clock time elsewhere.
+enum Clock {
+    Cpu(u64),
+    Wall(Instant),
+}
+
+impl Clock {
+    fn cpu_ns() -> Option<u64> {
+        std::fs::read_to_string("/proc/thread-self/schedstat").ok()?.split_whitespace().next()?.parse().ok()
+    }
+
+    fn now() -> Clock {
+        Clock::cpu_ns().map_or_else(|| Clock::Wall(Instant::now()), Clock::Cpu)
+    }
+
+    fn elapsed_ms(&self) -> f64 {
+        match self {
+            Clock::Cpu(start) => Clock::cpu_ns().map_or(f64::NAN, |now| now.saturating_sub(*start) as f64 * 1e-6),
+            Clock::Wall(start) => start.elapsed().as_secs_f64() * 1e3,
+        }
+    }
+}
+
+/// Median over `batches` of the mean time of one call of `work`. The CPU clock advances in
+/// scheduler ticks, so each batch runs long enough (about [`BATCH_MS`]) for a tick to be a small
+/// error; the first, calibrating batch is the warm-up.
+fn median_ms(batches: usize, mut work: impl FnMut() -> Result<()>) -> Result<f64> {
+    let clock = Clock::now();
+    let mut calls = 0usize;
+    while calls < WARMUP || clock.elapsed_ms() < BATCH_MS / 2.0 {
+        work()?;
+        calls += 1;
+    }
+    let per_batch = ((calls as f64 * BATCH_MS / clock.elapsed_ms().max(1e-3)) as usize).max(1);
+    let mut times = Vec::with_capacity(batches);
+    for _ in 0..batches {
+        let clock = Clock::now();
+        for _ in 0..per_batch {
+            work()?;
+        }
+        times.push(clock.elapsed_ms() / per_batch as f64);
+    }
+    times.sort_by(f64::total_cmp);
+    Ok(times[times.len() / 2])
+}
+
+/// Runs the benchmark with LIBERO's initial states from `source`.
+pub fn run(source: InitSource, batches: usize) -> Result<RenderBench> {
+    let request = RenderRequest {
+        task: TASK.to_string(),
+        init: 0,
+        source: Some(source),
+        seed: 0,
+        camera: CameraName::AgentView,
+        size: SIZE,
+        order: ImageOrder::Upright,
+        png: None,
+        gif: None,
+        frames: None,
+        steps: 0,
+    };
+    let sim = episode(&request)?;
+    let mut view = SceneView::new(sim.model());
+    view.update(&sim);
+    let cameras = Cameras::new(SIZE, SIZE);
+    let mut renderer = Renderer::default();
+    let mut frame = Frame::default();
+    let agent = cameras.agentview(sim.model().class);
+    let batches = batches.max(1);
+
+    let ms_per_frame_agentview_256 = median_ms(batches, || Ok(view.render_into(&mut renderer, &agent, ImageOrder::Upright, &mut frame)?))?;
+    let triangles_in_view_agentview = renderer.stats().triangles_in_view;
+    let wrist = cameras.eye_in_hand(&sim);
+    let ms_per_frame_eye_in_hand_256 = median_ms(batches, || Ok(view.render_into(&mut renderer, &wrist, ImageOrder::Upright, &mut frame)?))?;
+    let triangles_in_view_eye_in_hand = renderer.stats().triangles_in_view;
+    let ms_per_update = median_ms(batches, || {
+        view.update(&sim);
+        Ok(())
+    })?;
+    let ms_per_step_two_cameras_256 = median_ms(batches, || {
+        view.update(&sim);
+        for name in CameraName::ALL {
+            view.render_into(&mut renderer, &cameras.get(name, &sim), ImageOrder::Upright, &mut frame)?;
+        }
+        Ok(())
+    })?;
+    Ok(RenderBench {
+        task: TASK,
+        size: SIZE,
+        clock: if Clock::cpu_ns().is_some() { "thread CPU time" } else { "wall-clock time" },
+        batches,
+        triangles: view.triangle_count(),
+        triangles_in_view_agentview,
+        triangles_in_view_eye_in_hand,
+        ms_per_frame_agentview_256,
+        ms_per_frame_eye_in_hand_256,
+        ms_per_update,
+        ms_per_step_two_cameras_256,
+        fps_agentview_256: 1e3 / ms_per_frame_agentview_256,
+        steps_per_second_two_cameras_256: 1e3 / ms_per_step_two_cameras_256,
+    })
+}

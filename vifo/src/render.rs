@@ -1,0 +1,120 @@
+//! `vifo render`: pictures of a task's episode through LIBERO's cameras.
+//!
+//! The episode starts as LIBERO's evaluations start it: fixtures placed by the seeded LIBERO-style
+//! sampler, then initial state `k` loaded. A still is the frame right after loading (what
+//! LIBERO's `set_init_state` observation shows); a rollout adds one frame per control step under
+//! the hold action (no motion, gripper open).
+
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, anyhow, bail};
+use rand::SeedableRng;
+use vifo_render::imageio::{GifWriter, save_png};
+use vifo_render::{Frame, Renderer};
+use vifo_robots::action::Action;
+use vifo_scenes::sim::{SceneModel, Sim, sample_fixtures};
+use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
+
+use crate::expert::{InitSource, init_states};
+
+/// Frame rate of rollout GIFs: LIBERO's 20 Hz control rate, so they play in real time.
+pub const GIF_FPS: f32 = 20.0;
+
+/// Everything `vifo render` needs.
+pub struct RenderRequest {
+    /// `suite/index`, e.g. `libero_spatial/0`.
+    pub task: String,
+    pub init: usize,
+    /// Where initial states come from; `None` until the project ships its own (an error that
+    /// says how to give one).
+    pub source: Option<InitSource>,
+    /// Seed of the fixture placement.
+    pub seed: u64,
+    pub camera: CameraName,
+    pub size: u32,
+    pub order: ImageOrder,
+    /// PNG of the first frame.
+    pub png: Option<PathBuf>,
+    /// Animated GIF of the rollout.
+    pub gif: Option<PathBuf>,
+    /// Folder for one PNG per rollout frame (`frame_0000.png`, ...).
+    pub frames: Option<PathBuf>,
+    /// Control steps after the first frame (rollouts only).
+    pub steps: usize,
+}
+
+/// Parses `suite/index`.
+pub fn parse_task(spec: &str) -> Result<&'static vifo_scenes::Task> {
+    let (suite, index) = spec.split_once('/').ok_or_else(|| anyhow!("task '{spec}': expected <suite>/<index>, e.g. libero_spatial/0"))?;
+    let index: usize = index.parse().map_err(|_| anyhow!("task '{spec}': '{index}' is not a task index"))?;
+    vifo_scenes::task(suite, index).ok_or_else(|| {
+        anyhow!("task '{spec}': no such task (suites: {}; indices 0-9)", vifo_scenes::suite_names().join(", "))
+    })
+}
+
+/// The episode `vifo render` shows: fixtures placed with `seed`, initial state `init` loaded.
+pub fn episode(request: &RenderRequest) -> Result<Sim> {
+    let model = SceneModel::build(parse_task(&request.task)?)?;
+    let mut sim = Sim::new(model.clone());
+    let placements = sample_fixtures(&sim, &mut rand_pcg::Pcg64::seed_from_u64(request.seed));
+    sim.apply_fixtures(&placements);
+    let source = request.source.as_ref().ok_or_else(|| anyhow!("no initial states: pass --libero-init DIR (LIBERO's init_files folder)"))?;
+    let states = init_states(&model.task, &model, source)?;
+    let state = states.get(request.init).ok_or_else(|| anyhow!("{} has {} initial states; --init {} is out of range", request.task, states.len(), request.init))?;
+    sim.load_state(state).with_context(|| format!("loading initial state {} of {}", request.init, request.task))?;
+    Ok(sim)
+}
+
+/// Renders what the request asks for; returns the number of frames rendered.
+pub fn run(request: &RenderRequest) -> Result<usize> {
+    if request.png.is_none() && request.gif.is_none() && request.frames.is_none() {
+        bail!("nothing to write: give -o FILE.png, --gif FILE.gif or --frames DIR");
+    }
+    let mut sim = episode(request)?;
+    let mut view = SceneView::new(sim.model());
+    let mut renderer = Renderer::default();
+    let cameras = Cameras::new(request.size, request.size);
+    let mut frame = Frame::default();
+    let mut render = |sim: &Sim, view: &mut SceneView, frame: &mut Frame| -> Result<()> {
+        view.update(sim);
+        view.render_into(&mut renderer, &cameras.get(request.camera, sim), request.order, frame)?;
+        Ok(())
+    };
+    render(&sim, &mut view, &mut frame)?;
+    if let Some(path) = &request.png {
+        save_png(&frame.color, path)?;
+    }
+    let rollout = request.gif.is_some() || request.frames.is_some();
+    if !rollout {
+        return Ok(1);
+    }
+    let mut gif = match &request.gif {
+        Some(path) => {
+            let file = File::create(path).with_context(|| format!("creating {}", path.display()))?;
+            Some(GifWriter::new(BufWriter::new(file), request.size, request.size, GIF_FPS)?)
+        }
+        None => None,
+    };
+    if let Some(dir) = &request.frames {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let hold = Action::hold(-1.0);
+    for t in 0..=request.steps {
+        if t > 0 {
+            sim.step(&hold);
+            render(&sim, &mut view, &mut frame)?;
+        }
+        if let Some(gif) = &mut gif {
+            gif.add_frame(&frame.color)?;
+        }
+        if let Some(dir) = &request.frames {
+            save_png(&frame.color, dir.join(format!("frame_{t:04}.png")))?;
+        }
+    }
+    if let Some(gif) = gif {
+        gif.finish()?;
+    }
+    Ok(request.steps + 1)
+}

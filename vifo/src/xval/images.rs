@@ -1,0 +1,76 @@
+//! `vifo xval <dir> --images OUT`: our cameras next to MuJoCo's images of the same states.
+//!
+//! Each recording's episode is started as the motion check starts it (fixtures where the
+//! recording put them, the recorded initial state), rendered at record 0, then driven by the
+//! recorded actions to record 50 and rendered again. The reference set holds MuJoCo's 256²
+//! images of exactly these records (upright PNGs). The reference used surrogate meshes for some
+//! assets (black bowls as dark pucks, the basket as a brown block), so the pictures are expected
+//! to differ there.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use serde::Serialize;
+use vifo_render::imageio::{load_png, save_png, side_by_side};
+use vifo_render::metrics::{psnr, ssim};
+use vifo_render::Renderer;
+use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
+
+use super::reference::Recording;
+use super::replay::start;
+
+/// Records the reference set has images of.
+pub const IMAGE_STEPS: [usize; 2] = [0, 50];
+/// Side of the reference images.
+pub const IMAGE_SIZE: u32 = 256;
+
+/// One compared image.
+#[derive(Clone, Debug, Serialize)]
+pub struct ImageReport {
+    pub file: String,
+    pub camera: &'static str,
+    pub t: usize,
+    pub psnr_db: f64,
+    pub ssim: f64,
+    /// The side-by-side PNG written (ours | MuJoCo's).
+    pub output: PathBuf,
+}
+
+/// The reference image of `camera` at record `t` next to the recording `path`.
+pub fn reference_image(path: &Path, camera: CameraName, t: usize) -> PathBuf {
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    path.with_file_name(format!("{stem}_{camera}_step{t:02}.png"))
+}
+
+/// Renders the recording at [`IMAGE_STEPS`] with both cameras, writes `ours | MuJoCo` PNGs into
+/// `out` and returns PSNR and SSIM per image.
+pub fn compare(path: &Path, rec: &Recording, out: &Path) -> Result<Vec<ImageReport>> {
+    let last = IMAGE_STEPS[IMAGE_STEPS.len() - 1];
+    if rec.steps.len() <= last {
+        bail!("{}: {} records; the image check needs record {last}", path.display(), rec.steps.len());
+    }
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let file = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let mut sim = start(rec)?;
+    let mut view = SceneView::new(sim.model());
+    let mut renderer = Renderer::default();
+    let cameras = Cameras::new(IMAGE_SIZE, IMAGE_SIZE);
+    let mut reports = Vec::new();
+    for t in 0..=last {
+        if t > 0 {
+            sim.step(&rec.steps[t].action()?);
+        }
+        if !IMAGE_STEPS.contains(&t) {
+            continue;
+        }
+        view.update(&sim);
+        for camera in CameraName::ALL {
+            let ours = view.render(&mut renderer, &cameras.get(camera, &sim), ImageOrder::Upright)?.color;
+            let theirs = load_png(reference_image(path, camera, t))?;
+            let output = out.join(format!("{}_{camera}_step{t:02}.png", file.trim_end_matches(".json")));
+            save_png(&side_by_side(&ours, &theirs, 4), &output)?;
+            reports.push(ImageReport { file: file.clone(), camera: camera.as_str(), t, psnr_db: psnr(&ours, &theirs)?, ssim: ssim(&ours, &theirs)?, output });
+        }
+    }
+    Ok(reports)
+}

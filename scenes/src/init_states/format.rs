@@ -240,7 +240,7 @@ mod tests {
                 objects: vec![ObjectState {
                     name: "cup_1".into(),
                     pos: [0.1234567891, -0.2, 0.9],
-                    quat_wxyz: [0.70710678118, 0.0, -0.0, 0.70710678118],
+                    quat_wxyz: [0.6000000004, 0.0, -0.0, 0.7999999997],
                     lin_vel: [0.0; 3],
                     ang_vel: [0.0; 3],
                 }],

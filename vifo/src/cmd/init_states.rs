@@ -172,10 +172,10 @@ fn check_suite(suite: &Suite, stored: &SuiteStates, drift: bool, threads: usize)
         let bad: Vec<String> = mine.iter().enumerate().filter(|(_, c)| !c.ok()).map(|(k, c)| format!("state {k}: {}", c.problems.join("; "))).collect();
         failed += bad.len();
         let shift = mine.iter().map(|c| c.settle_shift).fold(0.0, f64::max);
-        let mut line = format!("{}/{index} {:<60} {} states, max settle shift {:.2} mm", suite.name, short(task), mine.len(), shift * 1e3);
+        let mut line = format!("{}/{index} {:<60} {} states, max settle shift {:.3} µm", suite.name, short(task), mine.len(), shift * 1e6);
         let largest = mine.iter().enumerate().filter_map(|(k, c)| c.drift.as_ref().map(|(d, who)| (*d, who, k))).max_by(|a, b| a.0.total_cmp(&b.0));
         if let Some((d, who, k)) = largest {
-            line += &format!(", max drift over {DRIFT_STEPS} steps {:.4} mm ({who}, state {k})", d * 1e3);
+            line += &format!(", max drift over {DRIFT_STEPS} steps {:.3} µm ({who}, state {k})", d * 1e6);
             if worst_drift.as_ref().is_none_or(|w| d > w.0) {
                 worst_drift = Some((d, format!("{}/{index} {who} state {k}", suite.name)));
             }
@@ -187,7 +187,7 @@ fn check_suite(suite: &Suite, stored: &SuiteStates, drift: bool, threads: usize)
     }
     if let Some((d, at)) = worst_drift {
         let verdict = if d <= MAX_DRIFT { "within" } else { "OVER" };
-        println!("{}: largest drift {:.4} mm ({at}), {verdict} the {:.1} mm gate", suite.name, d * 1e3, MAX_DRIFT * 1e3);
+        println!("{}: largest drift {:.3} µm ({at}), {verdict} the {:.0} µm gate", suite.name, d * 1e6, MAX_DRIFT * 1e6);
     }
     Ok(failed)
 }

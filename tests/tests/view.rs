@@ -1,7 +1,7 @@
 //! Rendering real LIBERO scenes: determinism, projection against segmentation, the stove's
 //! burner, `vifo render`, and our camera model against MuJoCo's on the reference recordings.
 
-use vifo::expert::InitSource;
+use vifo::start::InitSource;
 use vifo::render::{RenderRequest, episode};
 use vifo::xval::{self, Recording, projection};
 use vifo_render::glam::Vec3;
@@ -16,7 +16,7 @@ fn request(task: &str, init_files: std::path::PathBuf) -> RenderRequest {
     RenderRequest {
         task: task.to_string(),
         init: 0,
-        source: Some(InitSource::Libero(init_files)),
+        source: InitSource::Libero(init_files),
         seed: 0,
         camera: CameraName::AgentView,
         size: 256,
@@ -114,10 +114,11 @@ fn vifo_render_writes_a_png() {
     assert!(img.data.chunks(3).any(|p| p != &img.data[..3]));
 
     let mut missing = request("libero_object/0", dir.clone());
-    missing.source = None;
+    missing.source = InitSource::Shipped;
+    missing.init = 50;
     missing.png = Some(out);
-    let err = vifo::render::run(&missing).unwrap_err().to_string();
-    assert!(err.contains("--libero-init"), "{err}");
+    let err = format!("{:#}", vifo::render::run(&missing).unwrap_err());
+    assert!(err.contains("state 50 is out of range"), "{err}");
 }
 
 #[test]

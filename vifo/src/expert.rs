@@ -1,16 +1,14 @@
 //! `vifo expert`: the scripted expert's success rate per task.
 
-use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use anyhow::{Context, Result, anyhow};
-use rand::SeedableRng;
+use anyhow::Result;
 use serde::Serialize;
 use vifo_robots::action::Action;
 use vifo_scenes::expert::Expert;
-use vifo_scenes::init_file::{self, InitState};
-use vifo_scenes::sim::{SceneModel, Sim, sample_fixtures};
-use vifo_scenes::task::Task;
+use vifo_scenes::sim::SceneModel;
+
+use crate::start::Starts;
 
 /// LIBERO's no-op settle steps before a policy takes over.
 pub const SETTLE_STEPS: usize = 10;
@@ -24,31 +22,9 @@ pub struct ExpertEpisode {
     pub failure: Option<String>,
 }
 
-/// Where initial states come from.
-pub enum InitSource {
-    /// LIBERO's own `.pruned_init` files under this `init_files` directory.
-    Libero(PathBuf),
-}
-
-/// The initial states of a task.
-pub fn init_states(task: &Task, model: &SceneModel, source: &InitSource) -> Result<Vec<InitState>> {
-    match source {
-        InitSource::Libero(dir) => {
-            let suite = task.suite.as_deref().ok_or_else(|| anyhow!("task {} has no suite", task.name))?;
-            let path = dir.join(suite).join(format!("{}.pruned_init", task.name));
-            let states = init_file::load(&path)?;
-            states.iter().map(|row| model.layout.decode(row).context(path.display().to_string())).collect()
-        }
-    }
-}
-
-/// Runs the expert from one initial state with fixtures sampled from `seed`.
-pub fn episode(model: &Arc<SceneModel>, state: &InitState, init: usize, seed: u64, budget: usize, trace: bool) -> Result<ExpertEpisode> {
-    let mut sim = Sim::new(model.clone());
-    let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
-    let fixtures = sample_fixtures(&sim, &mut rng);
-    sim.apply_fixtures(&fixtures);
-    sim.load_state(state)?;
+/// Runs the expert from initial state `init` (`seed` places the fixtures of LIBERO's states).
+pub fn episode(model: &Arc<SceneModel>, starts: &Starts, init: usize, seed: u64, budget: usize, trace: bool) -> Result<ExpertEpisode> {
+    let mut sim = starts.begin(model, init, seed)?;
     for _ in 0..SETTLE_STEPS {
         sim.step(&Action::hold(-1.0));
     }
@@ -84,9 +60,4 @@ pub fn episode(model: &Arc<SceneModel>, state: &InitState, init: usize, seed: u6
     }
     let success = sim.success()?;
     Ok(ExpertEpisode { init, success, steps, failure: expert.failure().map(str::to_string) })
-}
-
-/// Default location of LIBERO's init files next to the workspace (`../shared`).
-pub fn default_libero_init_dir(workspace: &Path) -> PathBuf {
-    workspace.join("../shared/libero/libero/libero/init_files")
 }

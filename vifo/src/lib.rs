@@ -3,4 +3,5 @@
 pub mod bench;
 pub mod expert;
 pub mod render;
+pub mod start;
 pub mod xval;

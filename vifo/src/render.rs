@@ -1,7 +1,7 @@
 //! `vifo render`: pictures of a task's episode through LIBERO's cameras.
 //!
-//! The episode starts as LIBERO's evaluations start it: fixtures placed by the seeded LIBERO-style
-//! sampler, then initial state `k` loaded. A still is the frame right after loading (what
+//! The episode starts from initial state `k` (the shipped states by default; LIBERO's own files
+//! with their fixtures placed by the seeded LIBERO-style sampler). A still is the frame right after loading (what
 //! LIBERO's `set_init_state` observation shows); a rollout adds one frame per control step under
 //! the hold action (no motion, gripper open) or, with `expert`, under the scripted expert.
 
@@ -10,15 +10,14 @@ use std::io::BufWriter;
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, anyhow, bail};
-use rand::SeedableRng;
 use vifo_render::imageio::{GifWriter, save_png};
 use vifo_render::{Frame, Renderer};
 use vifo_robots::action::Action;
 use vifo_scenes::expert::Expert;
-use vifo_scenes::sim::{SceneModel, Sim, sample_fixtures};
+use vifo_scenes::sim::{SceneModel, Sim};
 use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
 
-use crate::expert::{InitSource, init_states};
+use crate::start::{InitSource, Starts};
 
 /// Frame rate of rollout GIFs: LIBERO's 20 Hz control rate, so they play in real time.
 pub const GIF_FPS: f32 = 20.0;
@@ -28,10 +27,9 @@ pub struct RenderRequest {
     /// `suite/index`, e.g. `libero_spatial/0`.
     pub task: String,
     pub init: usize,
-    /// Where initial states come from; `None` until the project ships its own (an error that
-    /// says how to give one).
-    pub source: Option<InitSource>,
-    /// Seed of the fixture placement.
+    /// Where initial states come from.
+    pub source: InitSource,
+    /// Seed of the fixture placement (LIBERO's states only).
     pub seed: u64,
     pub camera: CameraName,
     pub size: u32,
@@ -60,14 +58,7 @@ pub fn parse_task(spec: &str) -> Result<&'static vifo_scenes::Task> {
 /// The episode `vifo render` shows: fixtures placed with `seed`, initial state `init` loaded.
 pub fn episode(request: &RenderRequest) -> Result<Sim> {
     let model = SceneModel::build(parse_task(&request.task)?)?;
-    let mut sim = Sim::new(model.clone());
-    let placements = sample_fixtures(&sim, &mut rand_pcg::Pcg64::seed_from_u64(request.seed));
-    sim.apply_fixtures(&placements);
-    let source = request.source.as_ref().ok_or_else(|| anyhow!("no initial states: pass --libero-init DIR (LIBERO's init_files folder)"))?;
-    let states = init_states(&model.task, &model, source)?;
-    let state = states.get(request.init).ok_or_else(|| anyhow!("{} has {} initial states; --init {} is out of range", request.task, states.len(), request.init))?;
-    sim.load_state(state).with_context(|| format!("loading initial state {} of {}", request.init, request.task))?;
-    Ok(sim)
+    Starts::load(&model.task, &model, &request.source)?.begin(&model, request.init, request.seed)
 }
 
 /// Renders what the request asks for; returns the number of frames rendered.

@@ -54,7 +54,7 @@ pub fn nearest_yaw(yaw: f64, near: f64) -> f64 {
 pub struct Servo {
     /// Action per metre of position error (an action of 1 asks the OSC for 5 cm).
     pub pos_gain: f64,
-    /// Largest translation action.
+    /// Largest translation action per axis.
     pub max_speed: f64,
     /// Action per radian of orientation error.
     pub rot_gain: f64,
@@ -75,11 +75,12 @@ impl Servo {
     pub fn act(&self, sim: &Sim, target: &Waypoint, grip: f64) -> Action {
         let ee = sim.model().robot.grip_site_pose(sim.world());
         let dp = (target.pos - ee.pos) * self.pos_gain;
-        let norm = dp.norm();
-        let dp = if norm > self.max_speed { dp * (self.max_speed / norm) } else { dp };
         let err = rotation_vector(&(target.rot * ee.rot.transpose())) * self.rot_gain;
+        // Each axis is limited on its own, as LIBERO clips actions: a diagonal move runs up to
+        // √2 faster than a straight one, bending the path toward the diagonal early on.
+        let t = |v: f64| v.clamp(-self.max_speed, self.max_speed);
         let r = |v: f64| v.clamp(-1.0, 1.0);
-        Action([dp.x, dp.y, dp.z, r(err.x), r(err.y), r(err.z), grip])
+        Action([t(dp.x), t(dp.y), t(dp.z), r(err.x), r(err.y), r(err.z), grip])
     }
 }
 

@@ -11,11 +11,32 @@ use crate::sim::Sim;
 /// Where a picked object must go.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Placement {
-    /// Put the object's origin at `xy`, resting on whatever is below (a plate, a region, a
-    /// burner), released from just above the surface.
-    On { xy: [f64; 2] },
-    /// Drop the object into a container whose opening is centred at `xy`.
-    Into { xy: [f64; 2] },
+    /// Put the object's origin over the spot, resting on whatever is below (a plate, a region,
+    /// a burner), released from just above the surface.
+    On(Spot),
+    /// Drop the object into a container whose opening is centred on the spot.
+    Into(Spot),
+}
+
+/// A place looked up in the current state, so a target that moved since planning (a drawer
+/// opened by an earlier skill, a plate nudged) is still hit.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Spot {
+    /// An object's or fixture's origin.
+    Entity(usize),
+    /// A region's (or site's) centre.
+    Region(String),
+}
+
+impl Spot {
+    /// The spot's horizontal position now (a region that vanished falls back to the origin).
+    pub fn xy(&self, sim: &Sim) -> [f64; 2] {
+        let p = match self {
+            Spot::Entity(i) => sim.entity_pose(*i).pos,
+            Spot::Region(name) => sim.region_box(name).map_or(Vec3::zeros(), |r| r.pose.pos),
+        };
+        [p.x, p.y]
+    }
 }
 
 /// Pick an object and put it somewhere.
@@ -33,6 +54,8 @@ pub struct PickPlace {
     lift_start_z: f64,
     /// Altitude for the carry, fixed when the carry starts.
     cruise_z: f64,
+    /// Where the placement's spot was when the carry started.
+    target: [f64; 2],
     /// Recent grip-site heights while lowering, to notice a stall.
     lowering: Vec<f64>,
 }
@@ -66,6 +89,7 @@ impl PickPlace {
             attempts: 0,
             lift_start_z: 0.0,
             cruise_z: 0.0,
+            target: [0.0; 2],
             lowering: Vec::new(),
         }
     }
@@ -103,9 +127,9 @@ impl PickPlace {
         path_height(sim, [ee.pos.x, ee.pos.y], to, 0.1, Some(self.object)) + self.carry_depth + 0.06
     }
 
-    fn target_xy(&self) -> [f64; 2] {
-        match self.placement {
-            Placement::On { xy } | Placement::Into { xy } => xy,
+    fn target_xy(&self, sim: &Sim) -> [f64; 2] {
+        match &self.placement {
+            Placement::On(spot) | Placement::Into(spot) => spot.xy(sim),
         }
     }
 
@@ -187,16 +211,18 @@ impl PickPlace {
             Stage::Travel => {
                 let offset = self.carry_offset.expect("measured");
                 if self.stage_steps == 1 {
-                    self.cruise_z = self.travel_height(sim, self.target_xy()).max(ee.pos.z);
+                    self.target = self.target_xy(sim);
+                    self.cruise_z = self.travel_height(sim, self.target).max(ee.pos.z);
                 }
                 if self.lost(sim) {
                     return self.retry("the object slipped out");
                 }
-                let xy = self.target_xy();
+                let xy = self.target;
                 let yaw = self.grasp.expect("planned").yaw;
                 let over = Vec3::new(xy[0] + offset.x, xy[1] + offset.y, self.cruise_z);
-                // Climb first, then cross.
-                let wp = if ee.pos.z < self.cruise_z - 0.02 {
+                // Climb first, then cross: the cruise altitude keeps 6 cm over everything on the
+                // way, so crossing may start in the last 4.
+                let wp = if ee.pos.z < self.cruise_z - 0.04 {
                     Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), yaw)
                 } else {
                     Waypoint::down(over, yaw)
@@ -209,13 +235,13 @@ impl PickPlace {
             }
             Stage::Lower => {
                 let offset = self.carry_offset.expect("measured");
-                let xy = self.target_xy();
+                let xy = self.target;
                 let (lo, hi) = geometry::bounds(&geometry::corners(sim, self.object, 0));
                 let radius = 0.5 * (hi.x - lo.x).max(hi.y - lo.y);
                 let surface = surface_height(sim, xy, radius.max(0.02), Some(self.object));
                 let clearance = match self.placement {
-                    Placement::On { .. } => 0.012,
-                    Placement::Into { .. } => 0.02,
+                    Placement::On(_) => 0.012,
+                    Placement::Into(_) => 0.02,
                 };
                 let z = surface + self.carry_depth + clearance;
                 let wp = Waypoint::down(Vec3::new(xy[0] + offset.x, xy[1] + offset.y, z), self.grasp.expect("planned").yaw);

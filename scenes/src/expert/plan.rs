@@ -7,8 +7,8 @@ use vifo_robots::spatial::Vec3;
 use super::drawer::{Drawer, DrawerGoal};
 use super::geometry;
 use super::knob::Knob;
-use super::pick_place::{PickPlace, Placement};
-use super::push::Push;
+use super::pick_place::{PickPlace, Placement, Spot};
+use super::push::{self, Push};
 use crate::sim::{RegionPlace, Sim};
 use crate::task::{Atom, Predicate};
 
@@ -38,15 +38,14 @@ const KNOB_ON: f64 = 0.8;
 /// Drawers count as open below this joint position (LIBERO).
 const DRAWER_OPEN_BELOW: f64 = -0.14;
 
-fn xy_of(sim: &Sim, atom: &Atom, name: &str) -> Result<[f64; 2], PlanError> {
+fn spot_of(sim: &Sim, atom: &Atom, name: &str) -> Result<Spot, PlanError> {
     if let Some((i, _)) = sim.model().entity(name) {
-        let p = sim.entity_pose(i).pos;
-        return Ok([p.x, p.y]);
+        return Ok(Spot::Entity(i));
     }
-    let region = sim
-        .region_box(name)
-        .ok_or_else(|| PlanError::UnknownName { atom: atom.to_string(), name: name.to_string() })?;
-    Ok([region.pose.pos.x, region.pose.pos.y])
+    match sim.region_box(name) {
+        Some(_) => Ok(Spot::Region(name.to_string())),
+        None => Err(PlanError::UnknownName { atom: atom.to_string(), name: name.to_string() }),
+    }
 }
 
 /// The drawer (entity, body, joint) a region lives on, if it is a drawer's region.
@@ -117,9 +116,11 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
                 if !e.movable() {
                     return Err(unsupported());
                 }
-                let xy = xy_of(sim, atom, arg(1))?;
+                let spot = spot_of(sim, atom, arg(1))?;
                 if PUSHED.contains(&e.category.as_str()) && atom.predicate == Predicate::On {
-                    ordered.push((2, Skill::Push(Push::new(object, xy, 0.015, false))));
+                    for leg in push::legs(sim, object, spot.xy(sim)) {
+                        ordered.push((2, Skill::Push(Push::new(object, leg, 0.015, false))));
+                    }
                     continue;
                 }
                 if atom.predicate == Predicate::In {
@@ -129,7 +130,7 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
                         }
                     }
                 }
-                let placement = if atom.predicate == Predicate::In { Placement::Into { xy } } else { Placement::On { xy } };
+                let placement = if atom.predicate == Predicate::In { Placement::Into(spot) } else { Placement::On(spot) };
                 ordered.push((2, Skill::PickPlace(PickPlace::new(object, placement))));
             }
             Predicate::Open | Predicate::Close => {

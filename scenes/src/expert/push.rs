@@ -36,6 +36,54 @@ const PUSH_HEIGHT: f64 = 0.02;
 const HOLLOW_OFFSET: f64 = 0.015;
 const HOLLOW_FLOOR: f64 = 0.01;
 
+/// Push direction from an object centred at `centre` (its current shape moved there) toward
+/// `target`, and the object's radius against that direction.
+fn aim(sim: &Sim, object: usize, centre: &Vec3, target: [f64; 2]) -> (Vec3, Vec3, f64) {
+    let now = sim.entity_pose(object).pos;
+    let to = Vec3::new(target[0] - centre.x, target[1] - centre.y, 0.0);
+    let dir = if to.norm() > 1e-6 { to.normalize() } else { Vec3::x() };
+    let radius = geometry::corners(sim, object, 0).iter().map(|p| -(p - now).dot(&dir)).fold(0.0, f64::max);
+    (*centre, dir, radius)
+}
+
+/// Fingers side by side across the push (the widest front) unless the hand would then come
+/// down on something; otherwise the clearest of a few turns away from that. Also returns how
+/// many obstacles that hand still meets.
+fn finger_axis(obstacles: &geometry::Obstacles, dir: &Vec3, at: &Vec3) -> (Vec3, usize) {
+    (0..6)
+        .map(|k| {
+            let a = std::f64::consts::PI * k as f64 / 12.0;
+            let (s, c) = (libm::sin(a), libm::cos(a));
+            let axis = Vec3::new(-dir.y, dir.x, 0.0) * c + dir * s;
+            (axis, geometry::gripper_hits(obstacles, at, &axis, 0.0))
+        })
+        .min_by_key(|(_, hits)| *hits)
+        .expect("six candidates")
+}
+
+/// The targets of the pushes that bring a solid `object` to `target`: straight there when the
+/// hand fits behind it, else two legs along the world axes (the first order whose two hand
+/// positions are clear), so the hand never has to come down between the object and a fixture.
+pub fn legs(sim: &Sim, object: usize, target: [f64; 2]) -> Vec<[f64; 2]> {
+    let obstacles = geometry::Obstacles::around(sim, object);
+    let c = sim.entity_pose(object).pos;
+    let clear = |from: Vec3, to: [f64; 2]| {
+        let (c, dir, radius) = aim(sim, object, &from, to);
+        let behind = c - dir * (radius + 0.025);
+        let z = surface_height(sim, [behind.x, behind.y], 0.02, Some(object)) + PUSH_HEIGHT;
+        finger_axis(&obstacles, &dir, &Vec3::new(behind.x, behind.y, z)).1 == 0
+    };
+    if clear(c, target) {
+        return vec![target];
+    }
+    for corner in [[target[0], c.y], [c.x, target[1]]] {
+        if clear(c, corner) && clear(Vec3::new(corner[0], corner[1], c.z), target) {
+            return vec![corner, target];
+        }
+    }
+    vec![target]
+}
+
 impl Push {
     pub fn new(object: usize, target: [f64; 2], tolerance: f64, hollow: bool) -> Self {
         Push { object, hollow, target, tolerance, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0 }
@@ -52,27 +100,13 @@ impl Push {
 
     /// Object centre, push direction, and the object's radius in that direction.
     fn geometry(&self, sim: &Sim) -> (Vec3, Vec3, f64) {
-        let c = sim.entity_pose(self.object).pos;
-        let to = Vec3::new(self.target[0] - c.x, self.target[1] - c.y, 0.0);
-        let dir = if to.norm() > 1e-6 { to.normalize() } else { Vec3::x() };
-        let points = geometry::corners(sim, self.object, 0);
-        let radius = points.iter().map(|p| -(p - c).dot(&dir)).fold(0.0, f64::max);
-        (c, dir, radius)
+        aim(sim, self.object, &sim.entity_pose(self.object).pos, self.target)
     }
 
-    /// Fingers side by side across the push (the widest front) unless the hand would then
-    /// come down on something; otherwise the clearest of a few turns away from that.
+    /// The finger axis with the fewest obstacles around the hand at `at` (see [`finger_axis`]),
+    /// as a yaw near the current one.
     fn yaw(&self, sim: &Sim, dir: &Vec3, at: &Vec3) -> f64 {
-        let obstacles = geometry::Obstacles::around(sim, self.object);
-        let axis = (0..6)
-            .map(|k| {
-                let a = std::f64::consts::PI * k as f64 / 12.0;
-                let (s, c) = (libm::sin(a), libm::cos(a));
-                let across = Vec3::new(-dir.y, dir.x, 0.0);
-                across * c + dir * s
-            })
-            .min_by_key(|axis| geometry::gripper_hits(&obstacles, at, axis, 0.0))
-            .expect("six candidates");
+        let (axis, _) = finger_axis(&geometry::Obstacles::around(sim, self.object), dir, at);
         let ee = sim.model().robot.grip_site_pose(sim.world());
         motion::nearest_yaw(geometry::yaw_of_axis(&axis), motion::current_yaw(&ee))
     }

@@ -91,8 +91,10 @@ impl Layout {
                 _ => Err(format!("{}: {key} is not a site of the scene", p.atom)),
             }
         };
+        // Placements inside a site or on an object draw nothing, so one try tells.
+        let tries = if matches!(p.support, Support::InSite { .. } | Support::OnObject { .. }) { 1 } else { TRIES };
         let mut last = "no draw";
-        for _ in 0..TRIES {
+        for _ in 0..tries {
             let (x, y, rot, floor, support) = match &p.support {
                 Support::Workspace { region } => {
                     let region = &model.task.regions[*region];
@@ -142,7 +144,7 @@ impl Layout {
                 Err(why) => last = why,
             }
         }
-        Err(format!("{}: no valid draw in {TRIES} tries (last: {last})", p.atom))
+        Err(format!("{}: no valid draw in {tries} tries (last: {last})", p.atom))
     }
 
     /// Where the object comes to rest when swept down onto `support` from where its lowest point

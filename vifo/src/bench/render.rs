@@ -12,7 +12,7 @@ use serde::Serialize;
 use vifo_render::{Frame, Renderer};
 use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
 
-use crate::expert::InitSource;
+use crate::start::InitSource;
 use crate::render::{RenderRequest, episode};
 
 const TASK: &str = "libero_spatial/0";
@@ -91,12 +91,12 @@ fn median_ms(batches: usize, mut work: impl FnMut() -> Result<()>) -> Result<f64
     Ok(times[times.len() / 2])
 }
 
-/// Runs the benchmark with LIBERO's initial states from `source`.
+/// Runs the benchmark on initial state 0 from `source`.
 pub fn run(source: InitSource, batches: usize) -> Result<RenderBench> {
     let request = RenderRequest {
         task: TASK.to_string(),
         init: 0,
-        source: Some(source),
+        source,
         seed: 0,
         camera: CameraName::AgentView,
         size: SIZE,

@@ -2,10 +2,10 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Result, anyhow};
+use anyhow::Result;
 use clap::{Args, Subcommand};
 use vifo::bench;
-use vifo::expert::InitSource;
+use vifo::start::InitSource;
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -26,7 +26,8 @@ pub enum BenchWhat {
     },
     /// Camera frames per second on the full libero_spatial scene (256², one thread).
     Render {
-        /// LIBERO's init_files folder (the bench renders initial state 0 of libero_spatial task 0).
+        /// LIBERO's init_files folder, to render LIBERO's initial state 0 of libero_spatial task 0
+        /// instead of the shipped one.
         #[arg(long, value_name = "DIR")]
         libero_init: Option<PathBuf>,
         /// Timed batches of about 100 ms (the median is reported).
@@ -49,7 +50,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             }
         }
         BenchWhat::Render { libero_init, batches } => {
-            let source = InitSource::Libero(libero_init.clone().ok_or_else(|| anyhow!("the render bench needs a real state: pass --libero-init DIR"))?);
+            let source = InitSource::from_libero_dir(libero_init.clone());
             let r = bench::render::run(source, *batches)?;
             if args.json {
                 println!("{}", serde_json::to_string_pretty(&r)?);

@@ -1,11 +1,14 @@
 //! `vifo expert`: run the scripted expert and print success rates.
 
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use anyhow::{Result, anyhow};
-use rayon::prelude::*;
 use clap::Args;
-use vifo::expert::{self, InitSource};
+use rayon::prelude::*;
+use serde::Serialize;
+use vifo::expert::{self, ExpertEpisode};
+use vifo::start::{InitSource, Starts};
 use vifo_scenes::sim::SceneModel;
 
 #[derive(Args)]
@@ -22,21 +25,50 @@ pub struct ExpertArgs {
     /// First initial state.
     #[arg(long, default_value_t = 0)]
     pub first: usize,
-    /// Read LIBERO's own initial states from this `init_files` directory.
-    #[arg(long)]
+    /// Start from LIBERO's own initial states in this init_files folder instead of the shipped ones.
+    #[arg(long, value_name = "DIR")]
     pub libero_init: Option<PathBuf>,
-    /// Print a trace of every step (for debugging the expert).
+    /// Print a trace of every fifth step to stderr (for debugging the expert).
     #[arg(long)]
     pub trace: bool,
+    /// Print one JSON object instead of the table.
     #[arg(long)]
     pub json: bool,
 }
 
+/// One task's line of the table (and of the JSON).
+#[derive(Serialize)]
+struct TaskResult {
+    suite: String,
+    index: usize,
+    name: String,
+    episodes: usize,
+    success_rate: f64,
+    mean_steps: f64,
+    budget: u32,
+    /// `init:why` of every failed episode.
+    failures: Vec<String>,
+}
+
+#[derive(Serialize)]
+struct Summary {
+    tasks: Vec<TaskResult>,
+    episodes: usize,
+    success_rate: f64,
+    /// Tasks whose success rate is below 90 %.
+    tasks_below_90: usize,
+    init_source: String,
+}
+
 pub fn run(args: &ExpertArgs) -> Result<()> {
-    let source = InitSource::Libero(args.libero_init.clone().ok_or_else(|| anyhow!("--libero-init DIR is required for now"))?);
+    let source = InitSource::from_libero_dir(args.libero_init.clone());
     let suites: Vec<&vifo_scenes::Suite> = vifo_scenes::suites().iter().filter(|s| args.suite == "all" || s.name == args.suite).collect();
     if suites.is_empty() {
-        return Err(anyhow!("unknown suite {}", args.suite));
+        return Err(anyhow!("unknown suite {} (libero_spatial, libero_object, libero_goal, libero_10 or all)", args.suite));
+    }
+    let mut tasks = Vec::new();
+    if !args.json {
+        println!("{:<15} {:>2} {:<72} {:>7} {:>6} {:>6} {:>6}  failures (init:why)", "suite", "#", "task", "ok", "rate", "steps", "budget");
     }
     for suite in suites {
         for (index, task) in suite.tasks.iter().enumerate() {
@@ -44,17 +76,69 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
                 continue;
             }
             let model = SceneModel::build(task)?;
-            let states = expert::init_states(task, &model, &source)?;
-            let range: Vec<usize> = (args.first..(args.first + args.episodes).min(states.len())).collect();
+            let starts = Starts::load(task, &model, &source)?;
+            let range: Vec<usize> = (args.first..(args.first + args.episodes).min(starts.len())).collect();
+            let done = AtomicUsize::new(0);
             let results = range
                 .par_iter()
-                .map(|&k| expert::episode(&model, &states[k], k, k as u64, suite.max_steps as usize, args.trace))
-                .collect::<Result<Vec<_>>>()?;
+                .map(|&k| {
+                    let r = expert::episode(&model, &starts, k, k as u64, suite.max_steps as usize, args.trace);
+                    let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+                    eprint!("\r{}/{index}: {n}/{} episodes", suite.name, range.len());
+                    r
+                })
+                .collect::<Result<Vec<ExpertEpisode>>>()?;
+            eprint!("\r\x1b[K");
             let ok = results.iter().filter(|r| r.success).count();
-            let mean = results.iter().map(|r| r.steps as f64).sum::<f64>() / results.len().max(1) as f64;
-            let failures: Vec<String> = results.iter().filter(|r| !r.success).map(|r| format!("{}:{}", r.init, r.failure.as_deref().unwrap_or("budget"))).collect();
-            println!("{}/{index} {:<70} {ok}/{} mean steps {mean:.0} budget {} {}", suite.name, task.name, results.len(), suite.max_steps, failures.join(", "));
+            let result = TaskResult {
+                suite: suite.name.to_string(),
+                index,
+                name: task.name.clone(),
+                episodes: results.len(),
+                success_rate: ok as f64 / results.len().max(1) as f64,
+                mean_steps: results.iter().map(|r| r.steps as f64).sum::<f64>() / results.len().max(1) as f64,
+                budget: suite.max_steps,
+                failures: results.iter().filter(|r| !r.success).map(|r| format!("{}:{}", r.init, r.failure.as_deref().unwrap_or("budget"))).collect(),
+            };
+            if !args.json {
+                println!(
+                    "{:<15} {:>2} {:<72} {:>3}/{:<3} {:>5.0}% {:>6.0} {:>6}  {}",
+                    result.suite,
+                    index,
+                    result.name,
+                    ok,
+                    result.episodes,
+                    result.success_rate * 100.0,
+                    result.mean_steps,
+                    result.budget,
+                    result.failures.join(", ")
+                );
+            }
+            tasks.push(result);
         }
+    }
+    let episodes: usize = tasks.iter().map(|t| t.episodes).sum();
+    let successes: f64 = tasks.iter().map(|t| t.success_rate * t.episodes as f64).sum();
+    let summary = Summary {
+        episodes,
+        success_rate: successes / episodes.max(1) as f64,
+        tasks_below_90: tasks.iter().filter(|t| t.success_rate < 0.9).count(),
+        init_source: match &source {
+            InitSource::Shipped => "shipped".to_string(),
+            InitSource::Libero(dir) => dir.display().to_string(),
+        },
+        tasks,
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+    } else {
+        println!(
+            "{} episodes, success {:.1}%, {} of {} tasks below 90%",
+            summary.episodes,
+            summary.success_rate * 100.0,
+            summary.tasks_below_90,
+            summary.tasks.len()
+        );
     }
     Ok(())
 }

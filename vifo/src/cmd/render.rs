@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
-use vifo::expert::InitSource;
+use vifo::start::InitSource;
 use vifo::render::{self, RenderRequest};
 use vifo_scenes::view::{CameraName, ImageOrder};
 
@@ -16,10 +16,11 @@ pub struct RenderArgs {
     /// Index of the initial state.
     #[arg(long, default_value_t = 0)]
     pub init: usize,
-    /// LIBERO's init_files folder (holding <suite>/<task>.pruned_init).
+    /// Start from LIBERO's own initial states in this init_files folder (holding
+    /// <suite>/<task>.pruned_init) instead of the shipped ones.
     #[arg(long, value_name = "DIR")]
     pub libero_init: Option<PathBuf>,
-    /// Seed of the fixture placement.
+    /// Seed of the fixture placement (with --libero-init).
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// agentview or robot0_eye_in_hand.
@@ -52,7 +53,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let request = RenderRequest {
         task: args.task,
         init: args.init,
-        source: args.libero_init.map(InitSource::Libero),
+        source: InitSource::from_libero_dir(args.libero_init),
         seed: args.seed,
         camera: args.camera,
         size: args.size,

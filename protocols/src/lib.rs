@@ -10,6 +10,7 @@
 //! - [`vqa`]: Part I-A questions, their export, answer extraction, scoring and answerers.
 
 pub mod benchmark;
+pub mod env;
 pub mod policies;
 pub mod policy;
 pub mod remote;

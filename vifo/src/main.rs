@@ -31,6 +31,8 @@ enum Command {
     Report(cmd::report::Args),
     /// Render a task through agentview or the wrist camera (PNG, GIF or frames).
     Render(cmd::render::RenderArgs),
+    /// Closed-loop episodes of built-in or remote policies, then the report (quick default without options).
+    Run(cmd::run::Args),
 }
 
 fn main() {
@@ -44,6 +46,7 @@ fn main() {
         Command::Vqa(args) => cmd::vqa::run(args),
         Command::Report(args) => cmd::report::run(args),
         Command::Render(args) => cmd::render::run(args),
+        Command::Run(args) => cmd::run::run(args),
     };
     if let Err(err) = result {
         eprintln!("error: {err:#}");

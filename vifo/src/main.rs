@@ -33,6 +33,8 @@ enum Command {
     Render(cmd::render::RenderArgs),
     /// Closed-loop episodes of built-in or remote policies, then the report (quick default without options).
     Run(cmd::run::Args),
+    /// The shipped initial states: regenerate them or check them.
+    InitStates(cmd::init_states::Args),
 }
 
 fn main() {
@@ -47,6 +49,7 @@ fn main() {
         Command::Report(args) => cmd::report::run(args),
         Command::Render(args) => cmd::render::run(args),
         Command::Run(args) => cmd::run::run(args),
+        Command::InitStates(args) => cmd::init_states::run(args),
     };
     if let Err(err) = result {
         eprintln!("error: {err:#}");

@@ -9,3 +9,4 @@ pub mod cues;
 pub mod expert;
 pub mod render;
 pub mod run;
+pub mod init_states;

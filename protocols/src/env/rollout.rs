@@ -4,6 +4,7 @@ use std::sync::Mutex;
 
 use super::{Env, EnvConfig};
 use crate::policy::Policy;
+use crate::runner::{self, RunError, RunOptions, RunSummary};
 use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome};
 
 /// How episodes are run.
@@ -60,6 +61,37 @@ fn run(env: &mut Env, policy: &mut dyn Policy, spec: &EpisodeSpec, options: &Rol
         }
         return Ok(Outcome::Completed { language_success, cue_success, steps });
     }
+}
+
+/// Runs every spec with policies made by `make` (one per worker thread, kept across its
+/// episodes) in environments configured by `config`, writing records as [`runner::run`] does.
+/// A policy that cannot be made (a server that refuses the connection) makes error records,
+/// which a resumed run retries.
+pub fn run_episodes<M>(
+    specs: &[EpisodeSpec],
+    make: M,
+    config: EnvConfig,
+    rollout_options: &RolloutOptions,
+    options: &RunOptions,
+) -> Result<RunSummary, RunError>
+where
+    M: Fn() -> Result<Box<dyn Policy>, String> + Sync,
+{
+    let workers: Workers<Box<dyn Policy>> = Workers::new(config);
+    runner::run(
+        specs,
+        |spec| {
+            workers.with(&make, |env, p| rollout(env, &mut **p, spec, rollout_options)).unwrap_or_else(|message| {
+                EpisodeRecord {
+                    spec: spec.clone(),
+                    policy: options.policy.clone(),
+                    outcome: Outcome::Error { message: format!("policy {}: {message}", options.policy) },
+                    wall_ms: 0.0,
+                }
+            })
+        },
+        options,
+    )
 }
 
 /// Environments and policies kept between the episodes a worker thread runs (renderer

@@ -15,14 +15,16 @@ use clap::Args as ClapArgs;
 use vifo_cues::Family;
 use vifo_protocols::benchmark::language::conflict;
 use vifo_protocols::benchmark::specs::{self, Selection};
-use vifo_protocols::env::rollout::{RolloutOptions, Workers, rollout};
+use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
 use vifo_protocols::env::{CueDrawing, EnvConfig, cue};
 use vifo_protocols::policies::{self, builtin};
 use vifo_protocols::remote::RemotePolicy;
-use vifo_protocols::runner::{self, RunOptions, Shard, read_records};
-use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec, Outcome};
+use vifo_protocols::runner::{RunOptions, Shard, read_records};
+use vifo_protocols::spec::EpisodeSpec;
 use vifo_protocols::{Policy, Protocol, report};
 use vifo_scenes::view::CameraName;
+
+mod estimate;
 
 #[derive(ClapArgs)]
 pub struct Args {
@@ -73,6 +75,11 @@ pub struct Args {
     /// Print the conflict pair of every task (Part II-A) and exit.
     #[arg(long)]
     conflicts: bool,
+    /// Run only a sample of about this many episodes of the selection (spread over the
+    /// protocols in proportion, chosen by a stable hash) and extrapolate the time of the whole
+    /// selection from it (the gate measurement). `--resume` later continues to the whole run.
+    #[arg(long)]
+    sample: Option<usize>,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -98,11 +105,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     anyhow::ensure!((16..=4096).contains(&args.size), "--size must be between 16 and 4096 pixels");
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(if quick { "vifo-run-quick" } else { "vifo-run" }));
-    let specs = specs::specs(&selection)?;
+    let all_specs = specs::specs(&selection)?;
+    let specs = match args.sample {
+        Some(n) => estimate::sample(&all_specs, n),
+        None => all_specs.clone(),
+    };
     println!(
         "{} episodes per policy ({}), {} polic{} -> {}",
         specs.len(),
-        if quick { "quick default: one instance per family" } else { "selection" },
+        match (quick, args.sample) {
+            (_, Some(_)) => format!("a sample of the selection's {}", all_specs.len()),
+            (true, None) => "quick default: one instance per family".to_string(),
+            (false, None) => "selection".to_string(),
+        },
         policies.len(),
         if policies.len() == 1 { "y" } else { "ies" },
         out.display()
@@ -118,6 +133,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for policy in &policies {
         let path = out.join(format!("results-{}.jsonl", file_safe(policy)));
         run_policy(policy, &specs, &path, &args)?;
+        if args.sample.is_some() {
+            estimate::print(&all_specs, &specs, &path, args.threads)?;
+        }
         results.push(path);
     }
     write_report(&out, &results)
@@ -159,7 +177,6 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, args: &Args) -> 
         ..EnvConfig::default()
     };
     let rollout_options = RolloutOptions { fast_forward: !args.no_fast_forward };
-    let workers: Workers<Box<dyn Policy>> = Workers::new(config);
     let make = || -> Result<Box<dyn Policy>, String> {
         match builtin(policy) {
             Some(p) => Ok(p),
@@ -176,20 +193,7 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, args: &Args) -> 
     };
     println!("{policy}{}", if render { "" } else { " (reads the simulator, not the images: rendering skipped)" });
     let start = Instant::now();
-    let summary = runner::run(
-        specs,
-        |spec| {
-            workers.with(make, |env, p| rollout(env, &mut **p, spec, &rollout_options)).unwrap_or_else(|message| {
-                EpisodeRecord {
-                    spec: spec.clone(),
-                    policy: policy.to_string(),
-                    outcome: Outcome::Error { message: format!("policy {policy}: {message}") },
-                    wall_ms: 0.0,
-                }
-            })
-        },
-        &options,
-    )?;
+    let summary = run_episodes(specs, make, config, &rollout_options, &options)?;
     let secs = start.elapsed().as_secs_f64();
     println!(
         "  {} run ({} errors), {} already done, in {:.0} s ({:.2} s per episode) -> {}",

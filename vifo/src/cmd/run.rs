@@ -77,7 +77,9 @@ pub struct Args {
     conflicts: bool,
     /// Run only a sample of about this many episodes of the selection (spread over the
     /// protocols in proportion, chosen by a stable hash) and extrapolate the time of the whole
-    /// selection from it (the gate measurement). `--resume` later continues to the whole run.
+    /// selection from it (the gate measurement: the mean episode wall time times the count,
+    /// divided by the threads; with `--threads 1` the means are core time, with more they also
+    /// hold the waits for a shared machine's cores). `--resume` later continues to the whole run.
     #[arg(long)]
     sample: Option<usize>,
 }

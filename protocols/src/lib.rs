@@ -9,6 +9,9 @@
 //! - [`runner`]: parallel, resumable, shardable runs writing one JSON line per episode.
 //! - [`vqa`]: Part I-A questions, their export, answer extraction, scoring and answerers.
 
+pub mod benchmark;
+pub mod env;
+pub mod policies;
 pub mod policy;
 pub mod remote;
 pub mod report;
@@ -16,5 +19,5 @@ pub mod runner;
 pub mod spec;
 pub mod vqa;
 
-pub use policy::{Observation, Policy, PolicyError};
+pub use policy::{EpisodeState, Observation, Policy, PolicyError};
 pub use spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};

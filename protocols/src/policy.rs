@@ -2,6 +2,8 @@
 
 use thiserror::Error;
 use vifo_cues::RgbImage;
+use vifo_scenes::sim::Sim;
+use vifo_scenes::task::Atom;
 
 /// One observation, as LIBERO provides it (plus the instruction of the episode).
 #[derive(Clone, Debug, PartialEq)]
@@ -56,6 +58,18 @@ pub enum PolicyError {
     Other(String),
 }
 
+/// What the environment knows beyond the observation. Scripted reference policies read it
+/// (the experts plan from the simulator; `random` seeds itself from the episode); learned and
+/// remote policies never see it, because they implement only [`Policy::act`].
+pub struct EpisodeState<'a> {
+    /// The running simulation (privileged: exact poses, contacts, joint states).
+    pub sim: &'a Sim,
+    /// The goal of the task the episode's cue shows, when it shows one (privileged).
+    pub cue_goal: Option<&'a [Atom]>,
+    /// The episode's seed ([`crate::runner::seed_for`]).
+    pub seed: u64,
+}
+
 /// A policy: turns observations into 7-D actions `[dx, dy, dz, dax, day, daz, gripper]`.
 pub trait Policy: Send {
     /// Name used in results files and reports.
@@ -66,4 +80,22 @@ pub trait Policy: Send {
     }
     /// The next action.
     fn act(&mut self, obs: &Observation) -> Result<[f64; 7], PolicyError>;
+    /// The next action, given also what only the environment knows. The environment always
+    /// calls this; the default forwards to [`Policy::act`], so the state stays invisible to
+    /// every policy that does not ask for it.
+    fn act_with_state(&mut self, obs: &Observation, state: &EpisodeState<'_>) -> Result<[f64; 7], PolicyError> {
+        let _ = state;
+        self.act(obs)
+    }
+    /// Whether the policy looks at the camera images. Scripted policies that do not let the
+    /// environment skip rendering.
+    fn uses_images(&self) -> bool {
+        true
+    }
+    /// True once the policy will send the same action at every remaining step of the episode
+    /// (a reference policy with nothing left to do). The environment may then fast-forward a
+    /// world at rest to the step budget.
+    fn holding_still(&self) -> bool {
+        false
+    }
 }

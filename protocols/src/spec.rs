@@ -44,6 +44,21 @@ pub struct TaskRef {
     pub index: usize,
 }
 
+impl std::str::FromStr for TaskRef {
+    type Err = String;
+
+    /// Reads `suite/index` (`libero_goal/3`).
+    fn from_str(s: &str) -> Result<TaskRef, String> {
+        let bad = || format!("task {s:?}: expected <suite>/<index>, e.g. libero_goal/3");
+        let (suite, index) = s.rsplit_once('/').ok_or_else(bad)?;
+        let index = index.trim().parse().map_err(|_| bad())?;
+        if suite.trim().is_empty() {
+            return Err(bad());
+        }
+        Ok(TaskRef { suite: suite.trim().to_string(), index })
+    }
+}
+
 impl std::fmt::Display for TaskRef {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "{}/{}", self.suite, self.index)

@@ -8,4 +8,5 @@ pub mod bench;
 pub mod cues;
 pub mod expert;
 pub mod render;
+pub mod run;
 pub mod init_states;

@@ -1,0 +1,84 @@
+//! The cue instances of LIBERO's 40 tasks, and the names their scenes give things.
+
+use std::collections::BTreeMap;
+use std::sync::OnceLock;
+
+use vifo_cues::instances::{InstanceSet, TaskDescription};
+use vifo_cues::parse::GoalAtom;
+use vifo_cues::CueSpec;
+use vifo_scenes::task::{Entity, Task};
+
+use super::BenchmarkError;
+use crate::spec::TaskRef;
+use crate::vqa::{Scene, SceneEntity};
+
+/// What the instance generator needs to know about a built-in task.
+pub fn description(task: &Task) -> TaskDescription {
+    TaskDescription {
+        suite: task.suite.clone().unwrap_or_default(),
+        index: task.index.unwrap_or_default(),
+        instruction: task.instruction.clone(),
+        goals: task.goal.iter().map(|a| GoalAtom { predicate: a.predicate.name().to_string(), args: a.args.clone() }).collect(),
+        objects: task.objects.iter().map(|e| e.name.clone()).collect(),
+        fixtures: task.fixtures.iter().map(|e| e.name.clone()).collect(),
+    }
+}
+
+/// Every cue instance of the 40 built-in tasks, in suite, task and catalogue order.
+pub fn all() -> &'static [CueSpec] {
+    static SET: OnceLock<Vec<CueSpec>> = OnceLock::new();
+    SET.get_or_init(|| {
+        let descriptions: Vec<TaskDescription> = vifo_scenes::all_tasks().map(description).collect();
+        // The tasks and the parser are compiled in and `benchmark` tests build this set, so a
+        // failure here is a build defect, not bad input.
+        InstanceSet::build(&descriptions).unwrap_or_else(|e| panic!("instance set of the built-in tasks: {e}")).instances
+    })
+}
+
+/// The instance with this id (`libero_goal/3/F2/curved_arrow_yellow`).
+pub fn find(id: &str) -> Result<&'static CueSpec, BenchmarkError> {
+    static BY_ID: OnceLock<BTreeMap<String, usize>> = OnceLock::new();
+    let index = BY_ID.get_or_init(|| all().iter().enumerate().map(|(i, s)| (s.id(), i)).collect());
+    index.get(id).map(|&i| &all()[i]).ok_or_else(|| BenchmarkError::UnknownInstance(id.to_string()))
+}
+
+/// The task an instance belongs to.
+pub fn task_of(spec: &CueSpec) -> Result<TaskRef, BenchmarkError> {
+    spec.task.parse().map_err(BenchmarkError::BadTask)
+}
+
+/// A name in the style of the instructions for a LIBERO asset category; `None` for the floor.
+pub fn human_name(category: &str) -> Option<String> {
+    Some(
+        match category {
+            "floor" => return None,
+            "akita_black_bowl" => "black bowl",
+            "glazed_rim_porcelain_ramekin" => "ramekin",
+            "cookies" => "cookie box",
+            "flat_stove" => "stove",
+            "black_book" => "book",
+            "chefmate_8_frypan" => "frying pan",
+            "desk_caddy" => "caddy",
+            "porcelain_mug" => "white mug",
+            "red_coffee_mug" => "red mug",
+            "white_yellow_mug" => "yellow and white mug",
+            "kitchen_table" | "living_room_table" | "study_table" => "table",
+            other => return Some(other.replace('_', " ")),
+        }
+        .to_string(),
+    )
+}
+
+/// The VQA distractor pool of every built-in task (`libero_goal/3` → objects and fixtures with
+/// instruction-style names).
+pub fn vqa_scenes() -> BTreeMap<String, Scene> {
+    let entities = |list: &[Entity]| -> Vec<SceneEntity> {
+        list.iter().filter_map(|e| Some(SceneEntity::new(&e.name, &human_name(&e.category)?))).collect()
+    };
+    vifo_scenes::all_tasks()
+        .map(|t| {
+            let d = description(t);
+            (d.key(), Scene { objects: entities(&t.objects), fixtures: entities(&t.fixtures) })
+        })
+        .collect()
+}

@@ -1,0 +1,372 @@
+//! The LIBERO-VIFO environment: one episode of a task under a protocol, stepped with 7-D
+//! actions, observed through LIBERO's two cameras with the episode's cue.
+//!
+//! ```ignore
+//! let mut env = Env::new(EnvConfig::default());                  // 256², upright, both cameras
+//! let spec = benchmark::specs::spec(&task, Protocol::Authorized, Some(id), init, 0)?;
+//! let obs = env.reset(&spec)?;                                    // shipped state + 10 settle steps
+//! loop {
+//!     let action = policy.act_with_state(env.observation(), &env.state()?)?;
+//!     let r = env.step(&action)?;                                 // NaN or wrong length: Err
+//!     if r.done { break }
+//! }
+//! ```
+//!
+//! - Reset applies the shipped initial state `spec.init` ([`vifo_scenes::init_states`]), runs
+//!   LIBERO's 10 settle steps with its dummy action (hold still, gripper open), checks that the
+//!   instruction is the one the protocol prescribes ([`crate::benchmark::language`]) and
+//!   renders the first observation.
+//! - The step budget is the suite's (spatial 220, object 280, goal 300, libero_10 520 control
+//!   steps after the settle steps).
+//! - Success: the language task's goal (original, conflict) and the cue task's goal (every
+//!   protocol with a cue) are evaluated after every step. The episode ends at the budget or, as
+//!   LIBERO's `done`, as soon as a task the protocol scores is done: the language task for
+//!   original, the cue task for authorized and no-language, and **either** for conflict (the
+//!   first one finished ends it, so LFR counts policies that obey the language first and UVF
+//!   those that follow the cue first; the two can both be true only if both goals hold at that
+//!   step).
+//! - The [`SceneModel`](vifo_scenes::sim::SceneModel), render meshes and initial states are
+//!   built once per task and shared ([`scenes`]); an episode owns only its [`Sim`] (like
+//!   MuJoCo's `mjData`) and its view's transforms. Frames render into reused buffers.
+
+pub mod cue;
+mod observe;
+pub mod rollout;
+pub mod scenes;
+
+use thiserror::Error;
+use vifo_cues::RgbImage;
+use vifo_render::{Frame, RenderOptions, Renderer};
+use vifo_robots::action::{Action, ActionError};
+use vifo_scenes::init_states;
+use vifo_scenes::sim::Sim;
+use vifo_scenes::task::Atom;
+use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
+
+use crate::benchmark::{BenchmarkError, builtin_task, instances, language};
+use crate::policy::{EpisodeState, Observation};
+use crate::spec::{EpisodeSpec, Protocol};
+pub use cue::CueDrawing;
+use cue::EpisodeCue;
+
+/// LIBERO's no-op steps after loading a state, before the policy acts (`num_steps_wait`).
+pub const SETTLE_STEPS: usize = 10;
+
+/// LIBERO's dummy action during the settle steps: hold still, gripper open.
+pub const SETTLE_ACTION: Action = Action([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]);
+
+/// How observations are made.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvConfig {
+    /// Side of the square camera images (LIBERO: 256).
+    pub size: u32,
+    /// Row order of the images. Upright is the picture as seen; openpi's 180° rotation is the
+    /// openpi client's job, robosuite's bottom-up order is [`ImageOrder::BottomUp`].
+    pub order: ImageOrder,
+    /// The cameras rendered at every step; the others stay empty (0×0) in observations.
+    pub cameras: Vec<CameraName>,
+}
+
+impl Default for EnvConfig {
+    fn default() -> EnvConfig {
+        EnvConfig { size: 256, order: ImageOrder::Upright, cameras: CameraName::ALL.to_vec() }
+    }
+}
+
+/// Why an episode could not be set up or continued. These end the episode as an error (not a
+/// failure of the policy).
+#[derive(Debug, Error)]
+pub enum EnvError {
+    #[error(transparent)]
+    Benchmark(#[from] BenchmarkError),
+    #[error("scene: {0}")]
+    Scene(String),
+    #[error("task {task} has {count} initial states, no state {init}")]
+    NoInitState { task: String, init: usize, count: usize },
+    #[error("instruction {found:?} is not what protocol {protocol} gives task {task}: {expected:?}")]
+    Instruction { task: String, protocol: String, expected: String, found: String },
+    #[error("invalid action: {0}")]
+    Action(#[from] ActionError),
+    #[error("success check: {0}")]
+    Predicate(String),
+    #[error("render: {0}")]
+    Render(String),
+    #[error("cue: {0}")]
+    Cue(String),
+    #[error("no episode: call reset first")]
+    NotStarted,
+    #[error("the episode is over ({steps} steps); call reset")]
+    Finished { steps: usize },
+}
+
+/// What one step produced.
+#[derive(Debug)]
+pub struct StepResult<'a> {
+    pub observation: &'a Observation,
+    /// Whether the language task's goal holds now (original, conflict; `None` otherwise).
+    pub language_success: Option<bool>,
+    /// Whether the cue task's goal holds now (every protocol with a cue; `None` otherwise).
+    pub cue_success: Option<bool>,
+    /// The episode is over (a scored task done, or the budget reached).
+    pub done: bool,
+    /// Control steps since the settle steps.
+    pub steps: usize,
+}
+
+/// One running episode.
+struct Episode {
+    spec: EpisodeSpec,
+    sim: Sim,
+    view: SceneView,
+    language_goal: Option<Vec<Atom>>,
+    cue_goal: Option<Vec<Atom>>,
+    cue: Option<EpisodeCue>,
+    budget: usize,
+    steps: usize,
+    done: bool,
+    success: (Option<bool>, Option<bool>),
+}
+
+/// The environment. Holds at most one episode; reusable across episodes and tasks.
+pub struct Env {
+    config: EnvConfig,
+    renderer: Renderer,
+    cameras: Cameras,
+    /// Render target reused every frame (colour is copied into the observation).
+    frame: Frame,
+    observation: Observation,
+    episode: Option<Episode>,
+}
+
+fn empty_image() -> RgbImage {
+    RgbImage { width: 0, height: 0, data: Vec::new() }
+}
+
+impl Env {
+    pub fn new(config: EnvConfig) -> Env {
+        let size = config.size;
+        Env {
+            config,
+            renderer: Renderer::new(RenderOptions::default()),
+            cameras: Cameras::new(size, size),
+            frame: Frame::new(size, size),
+            observation: Observation {
+                agentview: empty_image(),
+                wrist: empty_image(),
+                eef_pos: [0.0; 3],
+                eef_quat_xyzw: [0.0, 0.0, 0.0, 1.0],
+                gripper_qpos: [0.0; 2],
+                joint_pos: [0.0; 7],
+                instruction: String::new(),
+                step: 0,
+            },
+            episode: None,
+        }
+    }
+
+    pub fn config(&self) -> &EnvConfig {
+        &self.config
+    }
+
+    /// Starts the episode `spec` describes and returns its first observation.
+    pub fn reset(&mut self, spec: &EpisodeSpec) -> Result<&Observation, EnvError> {
+        self.episode = None;
+        let task = builtin_task(&spec.task)?;
+        let expected = language::instruction(spec.protocol, task)?;
+        if spec.instruction != expected {
+            return Err(EnvError::Instruction {
+                task: spec.task.to_string(),
+                protocol: spec.protocol.name().to_string(),
+                expected,
+                found: spec.instruction.clone(),
+            });
+        }
+        let assets = scenes::assets(task)?;
+        let start = assets.starts.get(spec.init).ok_or_else(|| EnvError::NoInitState {
+            task: spec.task.to_string(),
+            init: spec.init,
+            count: assets.starts.len(),
+        })?;
+        let mut sim = Sim::new(assets.model.clone());
+        init_states::apply(&mut sim, start).map_err(|e| EnvError::Scene(format!("{}: initial state {}: {e}", spec.task, spec.init)))?;
+        for _ in 0..SETTLE_STEPS {
+            sim.step(&SETTLE_ACTION);
+        }
+        let mut view = assets.view.clone();
+        view.update(&sim);
+        let cue_spec = match (spec.protocol.uses_cue(), spec.instance.as_deref()) {
+            (false, _) => None,
+            (true, None) => {
+                return Err(BenchmarkError::MissingInstance { task: spec.task.to_string(), protocol: spec.protocol.name().into() }.into());
+            }
+            (true, Some(id)) => {
+                let cue = instances::find(id)?;
+                if cue.task != spec.task.to_string() {
+                    return Err(BenchmarkError::InstanceOfOtherTask {
+                        instance: id.to_string(),
+                        instance_task: cue.task.clone(),
+                        task: spec.task.to_string(),
+                    }
+                    .into());
+                }
+                Some(cue)
+            }
+        };
+        let cue = cue_spec.map(|c| EpisodeCue::prepare(&sim, &mut view, c, self.config.size)).transpose()?;
+        let budget = vifo_scenes::suite(&spec.task.suite).map_or(0, |s| s.max_steps as usize);
+        self.episode = Some(Episode {
+            spec: spec.clone(),
+            sim,
+            view,
+            language_goal: language::language_task(spec.protocol, task)?.map(|l| l.goal),
+            cue_goal: cue.as_ref().map(|_| task.goal.clone()),
+            cue,
+            budget,
+            steps: 0,
+            done: false,
+            success: (None, None),
+        });
+        self.observation.instruction.clone_from(&spec.instruction);
+        self.observe()?;
+        Ok(&self.observation)
+    }
+
+    /// The latest observation.
+    pub fn observation(&self) -> &Observation {
+        &self.observation
+    }
+
+    /// What privileged policies may read (see [`EpisodeState`]).
+    pub fn state(&self) -> Result<EpisodeState<'_>, EnvError> {
+        let ep = self.episode.as_ref().ok_or(EnvError::NotStarted)?;
+        Ok(EpisodeState { sim: &ep.sim, cue_goal: ep.cue_goal.as_deref(), seed: ep.spec.seed })
+    }
+
+    /// Whether this episode's frames show its cue.
+    pub fn cue_drawing(&self) -> CueDrawing {
+        match self.episode.as_ref().and_then(|e| e.cue.as_ref()) {
+            Some(_) => cue::DRAWING,
+            None => CueDrawing::NoCue,
+        }
+    }
+
+    /// Applies one 7-D action (`[dx, dy, dz, dax, day, daz, gripper]`, clipped to [-1, 1]) for
+    /// one 20 Hz control step. A wrong length or a non-finite value is an error and leaves the
+    /// simulation untouched.
+    pub fn step(&mut self, action: &[f64]) -> Result<StepResult<'_>, EnvError> {
+        let ep = self.episode.as_mut().ok_or(EnvError::NotStarted)?;
+        if ep.done {
+            return Err(EnvError::Finished { steps: ep.steps });
+        }
+        let action = Action::new(action)?;
+        ep.sim.step(&action);
+        ep.steps += 1;
+        ep.evaluate()?;
+        self.observe()?;
+        Ok(self.result())
+    }
+
+    /// Ends the episode at its step budget without simulating the remaining steps. Only sound
+    /// when nothing can change any more: the policy sends the same action at every remaining
+    /// step ([`crate::Policy::holding_still`]) and the world is at rest ([`Env::at_rest`]);
+    /// [`rollout`] checks both. The observation is the current one.
+    pub fn fast_forward(&mut self) -> Result<StepResult<'_>, EnvError> {
+        let ep = self.episode.as_mut().ok_or(EnvError::NotStarted)?;
+        if ep.done {
+            return Err(EnvError::Finished { steps: ep.steps });
+        }
+        ep.steps = ep.budget;
+        ep.done = true;
+        self.observation.step = ep.steps;
+        Ok(self.result())
+    }
+
+    /// Whether every moving body (objects, articulated parts, robot links) is slower than
+    /// 1 mm/s and 0.01 rad/s.
+    pub fn at_rest(&self) -> bool {
+        self.episode.as_ref().is_some_and(|ep| {
+            ep.sim.world().rapier().bodies.iter().all(|(_, b)| {
+                !b.is_dynamic() || (b.linvel().length() < REST_LINEAR && b.angvel().length() < REST_ANGULAR)
+            })
+        })
+    }
+
+    fn result(&self) -> StepResult<'_> {
+        let ep = self.episode.as_ref().expect("result follows a step");
+        StepResult {
+            observation: &self.observation,
+            language_success: ep.success.0,
+            cue_success: ep.success.1,
+            done: ep.done,
+            steps: ep.steps,
+        }
+    }
+
+    /// Proprioception and the configured cameras, with the cue, into the observation.
+    fn observe(&mut self) -> Result<(), EnvError> {
+        let Env { config, renderer, cameras, frame, observation, episode } = self;
+        let ep = episode.as_mut().ok_or(EnvError::NotStarted)?;
+        observe::proprio(&ep.sim, observation);
+        observation.step = ep.steps;
+        if config.cameras.is_empty() {
+            return Ok(());
+        }
+        ep.view.update(&ep.sim);
+        for &name in &config.cameras {
+            let camera = cameras.get(name, &ep.sim);
+            ep.view.render_into(renderer, &camera, ImageOrder::Upright, frame).map_err(|e| EnvError::Render(e.to_string()))?;
+            let image = match name {
+                CameraName::AgentView => &mut observation.agentview,
+                CameraName::EyeInHand => &mut observation.wrist,
+            };
+            image.width = frame.color.width;
+            image.height = frame.color.height;
+            image.data.clone_from(&frame.color.data);
+            if let Some(cue) = ep.cue.as_mut() {
+                cue.draw(&ep.sim, &ep.view, renderer, &camera, name, image)?;
+            }
+            if config.order == ImageOrder::BottomUp {
+                flip_rows(image);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Below these speeds a body counts as at rest ([`Env::at_rest`]).
+const REST_LINEAR: f64 = 1e-3;
+const REST_ANGULAR: f64 = 1e-2;
+
+impl Episode {
+    /// Success of the scored tasks at the current state, and whether the episode is over.
+    fn evaluate(&mut self) -> Result<(), EnvError> {
+        let holds = |goal: &Option<Vec<Atom>>| -> Result<Option<bool>, EnvError> {
+            let Some(goal) = goal else { return Ok(None) };
+            for atom in goal {
+                if !self.sim.holds(atom).map_err(|e| EnvError::Predicate(e.to_string()))? {
+                    return Ok(Some(false));
+                }
+            }
+            Ok(Some(true))
+        };
+        let language = holds(&self.language_goal)?;
+        let cue = holds(&self.cue_goal)?;
+        let finished = match self.spec.protocol {
+            Protocol::Original => language == Some(true),
+            Protocol::Authorized | Protocol::NoLanguage => cue == Some(true),
+            Protocol::Conflict => language == Some(true) || cue == Some(true),
+        };
+        self.success = (language, cue);
+        self.done = finished || self.steps >= self.budget;
+        Ok(())
+    }
+}
+
+fn flip_rows(image: &mut RgbImage) {
+    let row = image.width as usize * 3;
+    let h = image.height as usize;
+    for r in 0..h / 2 {
+        let (top, bottom) = image.data.split_at_mut((h - 1 - r) * row);
+        top[r * row..(r + 1) * row].swap_with_slice(&mut bottom[..row]);
+    }
+}

@@ -1,0 +1,120 @@
+//! One episode of a policy in the environment, as the record the runner writes.
+
+use std::sync::Mutex;
+
+use super::{Env, EnvConfig};
+use crate::policy::Policy;
+use crate::runner::{self, RunError, RunOptions, RunSummary};
+use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome};
+
+/// How episodes are run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RolloutOptions {
+    /// End an episode early when the policy holds still in a world at rest (see [`rollout`]).
+    pub fast_forward: bool,
+}
+
+impl Default for RolloutOptions {
+    fn default() -> RolloutOptions {
+        RolloutOptions { fast_forward: true }
+    }
+}
+
+/// Consecutive at-rest steps (with the policy holding still) before fast-forwarding.
+pub const REST_STEPS: usize = 5;
+
+/// Runs `spec` with `policy` and returns its record (`wall_ms` is left to the runner).
+///
+/// Failures to set up or continue the episode — an unknown instance, a policy error (dropped
+/// connection, malformed reply), an invalid action — make an error record, which a resumed run
+/// retries; a policy that does not finish the task makes a completed record with its success
+/// flags.
+///
+/// With `fast_forward`, an episode whose policy holds still ([`Policy::holding_still`]) while
+/// every body has been at rest for [`REST_STEPS`] steps ends there and is recorded as run to
+/// the budget: the same action on a world at rest changes nothing, so no scored goal can
+/// become true later. Remote policies never hold still, so their episodes always run out.
+pub fn rollout(env: &mut Env, policy: &mut dyn Policy, spec: &EpisodeSpec, options: &RolloutOptions) -> EpisodeRecord {
+    let outcome = run(env, policy, spec, options).unwrap_or_else(|message| Outcome::Error { message });
+    EpisodeRecord { spec: spec.clone(), policy: policy.name(), outcome, wall_ms: 0.0 }
+}
+
+fn run(env: &mut Env, policy: &mut dyn Policy, spec: &EpisodeSpec, options: &RolloutOptions) -> Result<Outcome, String> {
+    env.reset(spec).map_err(|e| format!("reset: {e}"))?;
+    policy.reset().map_err(|e| e.to_string())?;
+    let mut resting = 0;
+    loop {
+        let state = env.state().map_err(|e| e.to_string())?;
+        let action = policy.act_with_state(env.observation(), &state).map_err(|e| format!("step {}: {e}", env.observation().step))?;
+        let step = env.step(&action).map_err(|e| e.to_string())?;
+        let (language_success, cue_success, mut steps, done) =
+            (step.language_success, step.cue_success, step.steps, step.done);
+        if !done && options.fast_forward && policy.holding_still() && env.at_rest() {
+            resting += 1;
+        } else {
+            resting = 0;
+        }
+        if resting >= REST_STEPS {
+            steps = env.fast_forward().map_err(|e| e.to_string())?.steps;
+        } else if !done {
+            continue;
+        }
+        return Ok(Outcome::Completed { language_success, cue_success, steps });
+    }
+}
+
+/// Runs every spec with policies made by `make` (one per worker thread, kept across its
+/// episodes) in environments configured by `config`, writing records as [`runner::run`] does.
+/// A policy that cannot be made (a server that refuses the connection) makes error records,
+/// which a resumed run retries.
+pub fn run_episodes<M>(
+    specs: &[EpisodeSpec],
+    make: M,
+    config: EnvConfig,
+    rollout_options: &RolloutOptions,
+    options: &RunOptions,
+) -> Result<RunSummary, RunError>
+where
+    M: Fn() -> Result<Box<dyn Policy>, String> + Sync,
+{
+    let workers: Workers<Box<dyn Policy>> = Workers::new(config);
+    runner::run(
+        specs,
+        |spec| {
+            workers.with(&make, |env, p| rollout(env, &mut **p, spec, rollout_options)).unwrap_or_else(|message| {
+                EpisodeRecord {
+                    spec: spec.clone(),
+                    policy: options.policy.clone(),
+                    outcome: Outcome::Error { message: format!("policy {}: {message}", options.policy) },
+                    wall_ms: 0.0,
+                }
+            })
+        },
+        options,
+    )
+}
+
+/// Environments and policies kept between the episodes a worker thread runs (renderer
+/// buffers, policy connections), handed out one per running episode.
+pub struct Workers<P> {
+    config: EnvConfig,
+    idle: Mutex<Vec<(Env, P)>>,
+}
+
+impl<P> Workers<P> {
+    pub fn new(config: EnvConfig) -> Workers<P> {
+        Workers { config, idle: Mutex::new(Vec::new()) }
+    }
+
+    /// Runs `f` with an idle environment and policy, or new ones made with `make`.
+    pub fn with<T, E>(&self, make: impl FnOnce() -> Result<P, E>, f: impl FnOnce(&mut Env, &mut P) -> T) -> Result<T, E> {
+        let taken = self.idle.lock().unwrap_or_else(|p| p.into_inner()).pop();
+        let (mut env, mut policy) = match taken {
+            Some(pair) => pair,
+            None => (Env::new(self.config.clone()), make()?),
+        };
+        let out = f(&mut env, &mut policy);
+        self.idle.lock().unwrap_or_else(|p| p.into_inner()).push((env, policy));
+        Ok(out)
+    }
+}

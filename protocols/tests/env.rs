@@ -1,0 +1,122 @@
+//! The environment: reset builds the observation the protocol prescribes, steps reject bad
+//! actions without touching the simulation, the episode ends at the suite's budget, and the
+//! same spec gives the same bytes.
+
+use vifo_protocols::benchmark::specs::spec;
+use vifo_protocols::env::{CueDrawing, Env, EnvConfig, EnvError, SETTLE_STEPS};
+use vifo_protocols::spec::{EpisodeSpec, Protocol, TaskRef};
+use vifo_scenes::view::{CameraName, ImageOrder};
+
+fn small(cameras: &[CameraName]) -> EnvConfig {
+    EnvConfig { size: 64, cameras: cameras.to_vec(), ..EnvConfig::default() }
+}
+
+fn task(suite: &str, index: usize) -> TaskRef {
+    TaskRef { suite: suite.into(), index }
+}
+
+const INSTANCE: &str = "libero_goal/0/F1/caption_bar";
+
+fn goal0(protocol: Protocol) -> EpisodeSpec {
+    let instance = protocol.uses_cue().then_some(INSTANCE);
+    spec(&task("libero_goal", 0), protocol, instance, 3, 0).unwrap()
+}
+
+#[test]
+fn reset_gives_the_protocols_observation() {
+    let mut env = Env::new(small(&CameraName::ALL));
+    for protocol in Protocol::ALL {
+        let s = goal0(protocol);
+        let obs = env.reset(&s).unwrap().clone();
+        assert_eq!(obs.instruction, s.instruction);
+        assert_eq!(obs.step, 0);
+        for image in [&obs.agentview, &obs.wrist] {
+            assert_eq!((image.width, image.height, image.data.len()), (64, 64, 64 * 64 * 3));
+            // A rendered scene, not a blank buffer.
+            assert!(image.data.iter().any(|&b| b != image.data[0]));
+        }
+        let state = obs.state8();
+        assert!(state.iter().all(|v| v.is_finite()));
+        // The hand starts above the table, fingers open (LIBERO's settle action opens them).
+        assert!(state[2] > 0.8, "eef z {}", state[2]);
+        assert!(state[6] > 0.01 && state[7] < -0.01, "fingers {:?}", &state[6..]);
+        let drawing = env.cue_drawing();
+        if protocol.uses_cue() {
+            assert_ne!(drawing, CueDrawing::NoCue);
+        } else {
+            assert_eq!(drawing, CueDrawing::NoCue);
+        }
+    }
+    assert_eq!(goal0(Protocol::Authorized).instruction, Protocol::AUTHORIZED_INSTRUCTION);
+    assert_eq!(goal0(Protocol::NoLanguage).instruction, "");
+}
+
+#[test]
+fn the_same_spec_gives_the_same_bytes_and_the_order_option_flips_rows() {
+    let s = goal0(Protocol::Original);
+    let mut a = Env::new(small(&[CameraName::AgentView]));
+    let first = a.reset(&s).unwrap().clone();
+    let after = a.step(&[0.3, -0.2, 0.1, 0.0, 0.0, 0.1, 1.0]).unwrap().observation.clone();
+    let mut b = Env::new(EnvConfig { order: ImageOrder::BottomUp, ..small(&[CameraName::AgentView]) });
+    // A reused environment (another episode in between) gives the same episode again.
+    b.reset(&goal0(Protocol::NoLanguage)).unwrap();
+    let flipped = b.reset(&s).unwrap().clone();
+    let after_b = b.step(&[0.3, -0.2, 0.1, 0.0, 0.0, 0.1, 1.0]).unwrap().observation.clone();
+    assert_eq!(first.state8(), flipped.state8());
+    assert_eq!(after.state8(), after_b.state8());
+    assert_eq!(after.joint_pos, after_b.joint_pos);
+    let row = 64 * 3;
+    for r in 0..64 {
+        assert_eq!(first.agentview.data[r * row..(r + 1) * row], flipped.agentview.data[(63 - r) * row..(64 - r) * row]);
+    }
+    // Only the configured camera is rendered.
+    assert_eq!(first.wrist.data.len(), 0);
+    assert_ne!(first.state8(), after.state8());
+}
+
+#[test]
+fn bad_actions_are_errors_that_leave_the_episode_untouched() {
+    let mut env = Env::new(small(&[]));
+    env.reset(&goal0(Protocol::Original)).unwrap();
+    let before = env.observation().clone();
+    assert!(matches!(env.step(&[0.0; 6]), Err(EnvError::Action(_))));
+    assert!(matches!(env.step(&[0.0, f64::NAN, 0.0, 0.0, 0.0, 0.0, 0.0]), Err(EnvError::Action(_))));
+    assert!(matches!(env.step(&[0.0, 0.0, f64::INFINITY, 0.0, 0.0, 0.0, 0.0]), Err(EnvError::Action(_))));
+    assert_eq!(env.observation(), &before);
+    let r = env.step(&[0.0; 7]).unwrap();
+    assert_eq!(r.steps, 1);
+}
+
+#[test]
+fn episodes_end_at_the_suites_budget() {
+    let s = spec(&task("libero_spatial", 0), Protocol::Original, None, 0, 0).unwrap();
+    let mut env = Env::new(small(&[]));
+    env.reset(&s).unwrap();
+    let mut last = None;
+    for i in 1..=220 {
+        let r = env.step(&[0.0; 7]).unwrap();
+        assert_eq!(r.steps, i);
+        assert_eq!(r.done, i == 220, "step {i}");
+        assert_eq!((r.language_success, r.cue_success), (Some(false), None));
+        last = Some(r.done);
+    }
+    assert_eq!(last, Some(true));
+    assert!(matches!(env.step(&[0.0; 7]), Err(EnvError::Finished { steps: 220 })));
+    assert_eq!(SETTLE_STEPS, 10);
+}
+
+#[test]
+fn specs_that_do_not_fit_the_protocol_are_errors() {
+    let mut env = Env::new(small(&[]));
+    let mut s = goal0(Protocol::Authorized);
+    s.instruction = "put the bowl on the stove".into();
+    assert!(matches!(env.reset(&s), Err(EnvError::Instruction { .. })));
+    let mut s = goal0(Protocol::Authorized);
+    s.instance = None;
+    assert!(env.reset(&s).is_err());
+    let mut s = goal0(Protocol::Original);
+    s.init = 50;
+    assert!(matches!(env.reset(&s), Err(EnvError::NoInitState { .. })));
+    // No episode after a failed reset.
+    assert!(matches!(env.step(&[0.0; 7]), Err(EnvError::NotStarted)));
+}

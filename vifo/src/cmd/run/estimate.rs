@@ -1,0 +1,64 @@
+//! `vifo run --sample N`: time a representative part of a selection and extrapolate the time
+//! of all of it (the gate measurement of the whole benchmark in ≤ 60 min on 2 cores).
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use vifo_protocols::runner::{final_records, read_records, stable_hash};
+use vifo_protocols::spec::{EpisodeSpec, Outcome};
+use vifo_protocols::Protocol;
+
+/// About `n` specs of `all`: per protocol a share in proportion to its count (at least one),
+/// the ones with the smallest stable hash of their key, so the sample is the same on every
+/// run and spread over suites, tasks and families.
+pub fn sample(all: &[EpisodeSpec], n: usize) -> Vec<EpisodeSpec> {
+    let mut by_protocol: BTreeMap<Protocol, Vec<&EpisodeSpec>> = BTreeMap::new();
+    for s in all {
+        by_protocol.entry(s.protocol).or_default().push(s);
+    }
+    let mut out = Vec::new();
+    for list in by_protocol.values_mut() {
+        let take = (n * list.len()).div_ceil(all.len().max(1)).clamp(1, list.len());
+        list.sort_by_key(|s| stable_hash(&s.key()));
+        out.extend(list[..take].iter().map(|s| (*s).clone()));
+    }
+    out
+}
+
+/// Prints per protocol the sample's mean episode time and the extrapolated time of `all`
+/// on `threads` threads (0: every core), assuming episodes keep the cores busy.
+pub fn print(all: &[EpisodeSpec], sample: &[EpisodeSpec], results: &Path, threads: usize) -> anyhow::Result<()> {
+    let threads = if threads == 0 { rayon::current_num_threads() } else { threads };
+    let keys: std::collections::BTreeSet<String> = sample.iter().map(EpisodeSpec::key).collect();
+    let records = final_records(read_records(results)?.records);
+    let mut measured: BTreeMap<Protocol, (f64, usize, usize)> = BTreeMap::new();
+    for r in records.values().filter(|r| keys.contains(&r.spec.key())) {
+        let m = measured.entry(r.spec.protocol).or_default();
+        m.0 += r.wall_ms;
+        m.1 += 1;
+        if let Outcome::Completed { steps, .. } = r.outcome {
+            m.2 += steps;
+        }
+    }
+    let mut counts: BTreeMap<Protocol, usize> = BTreeMap::new();
+    for s in all {
+        *counts.entry(s.protocol).or_default() += 1;
+    }
+    println!("  time estimate for all {} episodes on {threads} thread(s):", all.len());
+    println!("  | protocol | episodes | sampled | mean s/episode | mean steps | estimate (min) |");
+    println!("  |---|---|---|---|---|---|");
+    let mut total = 0.0;
+    for (protocol, count) in &counts {
+        let Some(&(ms, n, steps)) = measured.get(protocol).filter(|m| m.1 > 0) else { continue };
+        let mean = ms / n as f64 / 1e3;
+        let minutes = mean * *count as f64 / threads as f64 / 60.0;
+        total += minutes;
+        println!(
+            "  | {} | {count} | {n} | {mean:.2} | {:.0} | {minutes:.1} |",
+            protocol.name(),
+            steps as f64 / n as f64
+        );
+    }
+    println!("  | all | {} | {} | | | **{total:.1}** |", all.len(), keys.len());
+    Ok(())
+}

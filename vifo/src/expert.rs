@@ -6,6 +6,7 @@ use anyhow::Result;
 use serde::Serialize;
 use vifo_robots::action::Action;
 use vifo_scenes::expert::Expert;
+use vifo_scenes::init_states;
 use vifo_scenes::sim::SceneModel;
 
 use crate::start::Starts;
@@ -20,6 +21,9 @@ pub struct ExpertEpisode {
     pub success: bool,
     pub steps: usize,
     pub failure: Option<String>,
+    /// The first object seen below the table top or floor during the episode (checked every
+    /// step), if any.
+    pub below_support: Option<String>,
 }
 
 /// Runs the expert from initial state `init` (`seed` places the fixtures of LIBERO's states).
@@ -36,20 +40,24 @@ pub fn episode(model: &Arc<SceneModel>, starts: &Starts, init: usize, seed: u64,
     }
     let mut expert = match Expert::new(&sim) {
         Ok(e) => e,
-        Err(err) => return Ok(ExpertEpisode { init, success: false, steps: 0, failure: Some(err.to_string()) }),
+        Err(err) => return Ok(ExpertEpisode { init, success: false, steps: 0, failure: Some(err.to_string()), below_support: None }),
     };
     let mut steps = 0;
+    let mut below = None;
     while steps < budget {
+        if below.is_none() {
+            below = init_states::below_support(&sim).into_iter().next().map(|b| format!("step {steps}: {b}"));
+        }
         if sim.success()? {
-            return Ok(ExpertEpisode { init, success: true, steps, failure: None });
+            return Ok(ExpertEpisode { init, success: true, steps, failure: None, below_support: below });
         }
         let action = expert.act(&sim);
         if trace && steps % 5 == 0 {
             let ee = sim.model().robot.grip_site_pose(sim.world()).pos;
             let q = sim.model().robot.joints(sim.world()).q;
             eprintln!(
-                "step {steps:3} ee ({:.3} {:.3} {:.3}) fingers {:.4} {:.4} action {:?} {} contacts {:?}",
-                ee.x, ee.y, ee.z, q[7], q[8], action.0.map(|v| (v * 100.0).round() / 100.0), expert.describe(), sim.robot_contacts()
+                "step {steps:3} q {:?} ee ({:.3} {:.3} {:.3}) fingers {:.4} {:.4} action {:?} {} contacts {:?}",
+                q.iter().take(7).map(|v| (v * 100.0).round() / 100.0).collect::<Vec<_>>(), ee.x, ee.y, ee.z, q[7], q[8], action.0.map(|v| (v * 100.0).round() / 100.0), expert.describe(), sim.robot_contacts()
             );
         }
         sim.step(&action);
@@ -59,5 +67,8 @@ pub fn episode(model: &Arc<SceneModel>, starts: &Starts, init: usize, seed: u64,
         }
     }
     let success = sim.success()?;
-    Ok(ExpertEpisode { init, success, steps, failure: expert.failure().map(str::to_string) })
+    if below.is_none() {
+        below = init_states::below_support(&sim).into_iter().next().map(|b| format!("step {steps}: {b}"));
+    }
+    Ok(ExpertEpisode { init, success, steps, failure: expert.failure().map(str::to_string), below_support: below })
 }

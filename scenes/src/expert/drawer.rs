@@ -1,6 +1,6 @@
 //! Opening and closing drawers by their handle.
 
-use vifo_robots::spatial::{Mat3, Vec3};
+use vifo_robots::spatial::{Mat3, Vec3, rotation_vector};
 
 use super::geometry::{self, Obb};
 use super::motion::{self, Servo, Waypoint};
@@ -117,10 +117,14 @@ impl Drawer {
         let (s, c) = (libm::sin(PITCH), libm::cos(PITCH));
         let z = into * c - up * s;
         let across = up * c + into * s;
+        // Of the two hands pinching the bar (a half turn apart about the approach axis), the
+        // one the wrist reaches, with the smaller turn from where it is first.
         let current = sim.model().robot.grip_site_pose(sim.world()).rot;
-        let x = if (current * Vec3::x()).dot(&across) >= 0.0 { across } else { -across };
-        let y = z.cross(&x);
-        Mat3::from_columns(&[x, y, z])
+        let hand = |x: Vec3| Mat3::from_columns(&[x, z.cross(&x), z]);
+        let turn = |m: &Mat3| rotation_vector(&(m * current.transpose())).norm();
+        let (a, b) = (hand(across), hand(-across));
+        let (first, second) = if turn(&a) <= turn(&b) { (a, b) } else { (b, a) };
+        if motion::wrist_reaches(sim, &first) || !motion::wrist_reaches(sim, &second) { first } else { second }
     }
 
     /// Direction the gripper comes in along when opening (its approach axis), or straight in
@@ -136,8 +140,7 @@ impl Drawer {
         let dir = self.open_dir(sim);
         // Fingers side by side across the front (finger axis perpendicular to the motion).
         let across = Vec3::new(-dir.y, dir.x, 0.0);
-        let ee = sim.model().robot.grip_site_pose(sim.world());
-        motion::nearest_yaw(geometry::yaw_of_axis(&across), motion::current_yaw(&ee))
+        motion::reachable_yaw(sim, geometry::yaw_of_axis(&across))
     }
 
     /// Where the gripper works: on the handle (open) or just in front of it (close).

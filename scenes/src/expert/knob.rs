@@ -66,8 +66,7 @@ impl Knob {
             let o = self.axis_point(sim);
             Grasp { pos: Vec3::new(o.x, o.y, hi.z - 0.012), yaw: 0.0, width: 0.0, half_gap: 0.03 }
         });
-        let ee = sim.model().robot.grip_site_pose(sim.world());
-        Grasp { yaw: motion::nearest_yaw(g.yaw, motion::current_yaw(&ee)), half_gap: g.half_gap.max(0.025), ..g }
+        Grasp { yaw: motion::reachable_yaw(sim, g.yaw), half_gap: g.half_gap.max(0.025), ..g }
     }
 
     /// The grasp carried around the knob axis by `angle`.

@@ -49,6 +49,32 @@ pub fn nearest_yaw(yaw: f64, near: f64) -> f64 {
     y
 }
 
+/// Panda joint 7's limit (±2.8973 rad) less a margin for the servo's overshoot.
+const WRIST_LIMIT: f64 = 2.75;
+
+/// Joint 7 once the gripper has turned from where it is to `rot`: the turn about the approach
+/// axis is joint 7's own.
+pub fn wrist_after(sim: &Sim, rot: &Mat3) -> f64 {
+    let ee = sim.model().robot.grip_site_pose(sim.world());
+    let q7 = sim.model().robot.joints(sim.world()).q[6];
+    q7 + rotation_vector(&(rot * ee.rot.transpose())).dot(&(ee.rot * Vec3::z()))
+}
+
+/// Whether the wrist can turn to `rot` without running into its limit.
+pub fn wrist_reaches(sim: &Sim, rot: &Mat3) -> bool {
+    wrist_after(sim, rot).abs() < WRIST_LIMIT
+}
+
+/// The yaw equivalent to `yaw` (a half turn apart, the gripper being symmetric) that the wrist
+/// reaches, nearest the current one first.
+pub fn reachable_yaw(sim: &Sim, yaw: f64) -> f64 {
+    let ee = sim.model().robot.grip_site_pose(sim.world());
+    let near = nearest_yaw(yaw, current_yaw(&ee));
+    let pi = std::f64::consts::PI;
+    let far = if near > current_yaw(&ee) { near - pi } else { near + pi };
+    [near, far].into_iter().find(|y| wrist_reaches(sim, &orientation(*y))).unwrap_or(near)
+}
+
 /// Gains of the pose servo.
 #[derive(Clone, Copy, Debug)]
 pub struct Servo {

@@ -106,10 +106,9 @@ impl PickPlace {
 
     fn plan_grasp(&self, sim: &Sim) -> Grasp {
         let points = geometry::corners(sim, self.object, 0);
-        let ee = sim.model().robot.grip_site_pose(sim.world());
         let obstacles = geometry::Obstacles::around(sim, self.object);
         if let Some(g) = geometry::solid_grasp(&points, 0.025, &obstacles) {
-            return Grasp { yaw: motion::nearest_yaw(g.yaw, motion::current_yaw(&ee)), ..g };
+            return Grasp { yaw: motion::reachable_yaw(sim, g.yaw), ..g };
         }
         let origin = sim.entity_pose(self.object).pos;
         let (lo, hi) = geometry::bounds(&points);
@@ -117,7 +116,7 @@ impl PickPlace {
         // Grip the rim on the side facing the robot's base, where the arm comes from.
         let base = sim.model().robot.arm().base().pos;
         let g = geometry::rim_grasp(&points, &centre, &base, &obstacles);
-        Grasp { yaw: motion::nearest_yaw(g.yaw, motion::current_yaw(&ee)), ..g }
+        Grasp { yaw: motion::reachable_yaw(sim, g.yaw), ..g }
     }
 
     /// Height at which to travel: clear of everything between here and there (the carried

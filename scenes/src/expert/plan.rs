@@ -31,8 +31,6 @@ pub enum Skill {
 
 /// Categories too flat to grasp: LIBERO's tasks push them.
 const PUSHED: [&str; 1] = ["plate"];
-/// Open vessels small enough to push from inside with the closed fingers.
-const HOLLOW: [&str; 1] = ["akita_black_bowl"];
 /// How far a knob is turned past LIBERO's "on" threshold (0.5 rad).
 const KNOB_ON: f64 = 0.8;
 /// Drawers count as open below this joint position (LIBERO).
@@ -88,8 +86,9 @@ fn open_drawer(sim: &Sim, ordered: &mut Vec<(u8, Skill)>, drawer: Drawer, picked
             let c = sim.entity_pose(i).pos;
             let shift = sweep.along.1 + DRAWER_CLEARANCE - u.0;
             let to = c + sweep.dir * shift;
-            let hollow = HOLLOW.contains(&e.category.as_str());
-            ordered.push((0, Skill::Push(Push::new(i, [to.x, to.y], 0.015, hollow))));
+            // Behind it is the drawer's way: a vessel is pushed from inside.
+            let inside = push::inside_floor(&e.category);
+            ordered.push((0, Skill::Push(Push::new(i, [to.x, to.y], 0.015, inside))));
         }
     }
     ordered.push((0, Skill::Drawer(drawer)));
@@ -118,8 +117,8 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
                 }
                 let spot = spot_of(sim, atom, arg(1))?;
                 if PUSHED.contains(&e.category.as_str()) && atom.predicate == Predicate::On {
-                    for leg in push::legs(sim, object, spot.xy(sim)) {
-                        ordered.push((2, Skill::Push(Push::new(object, leg, 0.015, false))));
+                    for push in push::pushes(sim, object, spot.xy(sim), 0.015) {
+                        ordered.push((2, Skill::Push(push)));
                     }
                     continue;
                 }

@@ -16,16 +16,19 @@ enum Stage {
     Retreat,
 }
 
-/// Push `object` until its origin is within `tolerance` of `target` (xy). A hollow object
-/// (a bowl) is pushed from inside, by its far wall: there may be no room behind it.
+/// Push `object` until its origin is within `tolerance` of `target` (xy). An open vessel (a
+/// bowl, a plate) may be pushed from inside, by its far wall, where there is no room behind it.
 pub struct Push {
     object: usize,
-    hollow: bool,
+    /// Pushing from inside: the fingers' height above a solid push's (see [`inside_floor`]).
+    inside: Option<f64>,
     target: [f64; 2],
     tolerance: f64,
     stage: Stage,
     stage_steps: usize,
     cruise_z: f64,
+    /// The finger yaw, fixed at the start.
+    yaw: Option<f64>,
 }
 
 const STAGE_LIMIT: usize = 120;
@@ -34,7 +37,6 @@ const PUSH_HEIGHT: f64 = 0.02;
 /// Pushing a bowl from inside: the closed fingers go down this far behind its centre and stay
 /// this much higher, above its floor.
 const HOLLOW_OFFSET: f64 = 0.015;
-const HOLLOW_FLOOR: f64 = 0.01;
 
 /// Push direction from an object centred at `centre` (its current shape moved there) toward
 /// `target`, and the object's radius against that direction.
@@ -46,47 +48,71 @@ fn aim(sim: &Sim, object: usize, centre: &Vec3, target: [f64; 2]) -> (Vec3, Vec3
     (*centre, dir, radius)
 }
 
-/// Fingers side by side across the push (the widest front) unless the hand would then come
-/// down on something; otherwise the clearest of a few turns away from that. Also returns how
-/// many obstacles that hand still meets.
-fn finger_axis(obstacles: &geometry::Obstacles, dir: &Vec3, at: &Vec3) -> (Vec3, usize) {
-    (0..6)
+/// Fingers side by side across the push (the widest front) unless the hand would then meet
+/// something on its way from `from` over `travel`; otherwise the clearest of a few turns away
+/// from that, up to fingers along the push (the narrowest hand). Also returns how many
+/// obstacle meetings that hand still has along the way.
+fn finger_axis(obstacles: &geometry::Obstacles, dir: &Vec3, from: &Vec3, travel: &Vec3) -> (Vec3, usize) {
+    const SAMPLES: usize = 6;
+    (0..=6)
         .map(|k| {
             let a = std::f64::consts::PI * k as f64 / 12.0;
             let (s, c) = (libm::sin(a), libm::cos(a));
             let axis = Vec3::new(-dir.y, dir.x, 0.0) * c + dir * s;
-            (axis, geometry::gripper_hits(obstacles, at, &axis, 0.0))
+            let hits = (0..=SAMPLES)
+                .map(|i| geometry::gripper_hits(obstacles, &(from + travel * (i as f64 / SAMPLES as f64)), &axis, 0.0))
+                .sum::<usize>();
+            (axis, hits)
         })
         .min_by_key(|(_, hits)| *hits)
-        .expect("six candidates")
+        .expect("seven candidates")
 }
 
-/// The targets of the pushes that bring a solid `object` to `target`: straight there when the
-/// hand fits behind it, else two legs along the world axes (the first order whose two hand
-/// positions are clear), so the hand never has to come down between the object and a fixture.
-pub fn legs(sim: &Sim, object: usize, target: [f64; 2]) -> Vec<[f64; 2]> {
+/// The pushes that bring `object` to `target`: straight there when the hand fits behind it,
+/// else two legs along the world axes (the first order whose two hand positions are clear),
+/// else, for an open vessel, one push from inside it, so the hand never has to come down
+/// between the object and a fixture.
+pub fn pushes(sim: &Sim, object: usize, target: [f64; 2], tolerance: f64) -> Vec<Push> {
+    let solid = |to: [f64; 2]| Push::new(object, to, tolerance, None);
+    let category = sim.model().entities[object].category.as_str();
+    match legs(sim, object, target) {
+        Some(legs) => legs.into_iter().map(solid).collect(),
+        None => vec![Push::new(object, target, tolerance, inside_floor(category))],
+    }
+}
+
+/// Open vessels pushed from inside by their far wall, with how much higher than a solid push
+/// the fingers ride there (clear of the vessel's floor, below its rim).
+const HOLLOW: [(&str, f64); 2] = [("akita_black_bowl", 0.01), ("plate", -0.002)];
+
+/// How high above a solid push the fingers ride inside a vessel of this category, if it is one.
+pub fn inside_floor(category: &str) -> Option<f64> {
+    HOLLOW.iter().find(|(c, _)| *c == category).map(|(_, floor)| *floor)
+}
+
+/// Push targets from behind the object with the hand clear of everything, if there are any.
+fn legs(sim: &Sim, object: usize, target: [f64; 2]) -> Option<Vec<[f64; 2]>> {
     let obstacles = geometry::Obstacles::around(sim, object);
     let c = sim.entity_pose(object).pos;
     let clear = |from: Vec3, to: [f64; 2]| {
         let (c, dir, radius) = aim(sim, object, &from, to);
         let behind = c - dir * (radius + 0.025);
         let z = surface_height(sim, [behind.x, behind.y], 0.02, Some(object)) + PUSH_HEIGHT;
-        finger_axis(&obstacles, &dir, &Vec3::new(behind.x, behind.y, z)).1 == 0
+        let travel = Vec3::new(to[0] - c.x, to[1] - c.y, 0.0);
+        finger_axis(&obstacles, &dir, &Vec3::new(behind.x, behind.y, z), &travel).1 == 0
     };
     if clear(c, target) {
-        return vec![target];
+        return Some(vec![target]);
     }
-    for corner in [[target[0], c.y], [c.x, target[1]]] {
-        if clear(c, corner) && clear(Vec3::new(corner[0], corner[1], c.z), target) {
-            return vec![corner, target];
-        }
-    }
-    vec![target]
+    [[target[0], c.y], [c.x, target[1]]]
+        .into_iter()
+        .find(|corner| clear(c, *corner) && clear(Vec3::new(corner[0], corner[1], c.z), target))
+        .map(|corner| vec![corner, target])
 }
 
 impl Push {
-    pub fn new(object: usize, target: [f64; 2], tolerance: f64, hollow: bool) -> Self {
-        Push { object, hollow, target, tolerance, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0 }
+    pub fn new(object: usize, target: [f64; 2], tolerance: f64, inside: Option<f64>) -> Self {
+        Push { object, inside, target, tolerance, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0, yaw: None }
     }
 
     pub fn describe(&self) -> String {
@@ -103,12 +129,17 @@ impl Push {
         aim(sim, self.object, &sim.entity_pose(self.object).pos, self.target)
     }
 
-    /// The finger axis with the fewest obstacles around the hand at `at` (see [`finger_axis`]),
-    /// as a yaw near the current one.
-    fn yaw(&self, sim: &Sim, dir: &Vec3, at: &Vec3) -> f64 {
-        let (axis, _) = finger_axis(&geometry::Obstacles::around(sim, self.object), dir, at);
-        let ee = sim.model().robot.grip_site_pose(sim.world());
-        motion::nearest_yaw(geometry::yaw_of_axis(&axis), motion::current_yaw(&ee))
+    /// The finger axis with the fewest obstacles around the hand on its way from `at` (see
+    /// [`finger_axis`]), as a yaw near the current one; chosen once per push.
+    fn yaw(&mut self, sim: &Sim, dir: &Vec3, at: &Vec3, c: &Vec3) -> f64 {
+        if let Some(yaw) = self.yaw {
+            return yaw;
+        }
+        let travel = Vec3::new(self.target[0] - c.x, self.target[1] - c.y, 0.0);
+        let (axis, _) = finger_axis(&geometry::Obstacles::around(sim, self.object), dir, at, &travel);
+        let yaw = motion::reachable_yaw(sim, geometry::yaw_of_axis(&axis));
+        self.yaw = Some(yaw);
+        yaw
     }
 
     pub fn step(&mut self, sim: &Sim) -> Step {
@@ -119,14 +150,13 @@ impl Push {
         let ee = sim.model().robot.grip_site_pose(sim.world());
         let (c, dir, radius) = self.geometry(sim);
         let support = surface_height(sim, [c.x - dir.x * (radius + 0.03), c.y - dir.y * (radius + 0.03)], 0.02, Some(self.object));
-        let (behind, height) = if self.hollow {
-            // Closed fingers just behind the centre, low inside the bowl.
-            (c - dir * HOLLOW_OFFSET, support + PUSH_HEIGHT + HOLLOW_FLOOR)
-        } else {
-            (c - dir * (radius + 0.025), support + PUSH_HEIGHT)
+        let (behind, height) = match self.inside {
+            // Closed fingers just behind the centre, low inside the vessel.
+            Some(floor) => (c - dir * HOLLOW_OFFSET, support + PUSH_HEIGHT + floor),
+            None => (c - dir * (radius + 0.025), support + PUSH_HEIGHT),
         };
         let behind = Vec3::new(behind.x, behind.y, height);
-        let yaw = self.yaw(sim, &dir, &behind);
+        let yaw = self.yaw(sim, &dir, &behind, &c);
         let remaining = ((self.target[0] - c.x).powi(2) + (self.target[1] - c.y).powi(2)).sqrt();
         match self.stage {
             Stage::Rise => {
@@ -162,7 +192,7 @@ impl Push {
                 // Keep the fingers at the object's back edge and lead it toward the target.
                 // (From inside a bowl the fingers first cross to its far wall.)
                 let lead = (remaining).min(0.03);
-                let reach = if self.hollow { 0.035 } else { 0.02 };
+                let reach = if self.inside.is_some() { 0.035 } else { 0.02 };
                 let wp = Waypoint::down(behind + dir * (reach + lead), yaw);
                 Step::Act(Servo::FINE.act(sim, &wp, CLOSE))
             }

@@ -130,8 +130,8 @@ pub(super) fn problems(sim: &Sim, placed: &[(usize, Pose)]) -> Vec<String> {
     out
 }
 
-/// Objects whose lowest point is below the table top (or floor).
-fn below_support(sim: &Sim) -> Vec<String> {
+/// Objects whose lowest point is below the table top (or floor), one line each.
+pub fn below_support(sim: &Sim) -> Vec<String> {
     let floor = sim.model().class.support_z() - SINK;
     object_poses(sim)
         .into_iter()

@@ -48,6 +48,8 @@ struct TaskResult {
     budget: u32,
     /// `init:why` of every failed episode.
     failures: Vec<String>,
+    /// `init: step: what` of every episode in which an object went below the table or floor.
+    below_support: Vec<String>,
 }
 
 #[derive(Serialize)]
@@ -57,6 +59,8 @@ struct Summary {
     success_rate: f64,
     /// Tasks whose success rate is below 90 %.
     tasks_below_90: usize,
+    /// Episodes in which an object went below the table top or floor.
+    episodes_below_support: usize,
     init_source: String,
 }
 
@@ -99,6 +103,7 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
                 mean_steps: results.iter().map(|r| r.steps as f64).sum::<f64>() / results.len().max(1) as f64,
                 budget: suite.max_steps,
                 failures: results.iter().filter(|r| !r.success).map(|r| format!("{}:{}", r.init, r.failure.as_deref().unwrap_or("budget"))).collect(),
+                below_support: results.iter().filter_map(|r| Some(format!("{}: {}", r.init, r.below_support.as_ref()?))).collect(),
             };
             if !args.json {
                 println!(
@@ -123,6 +128,7 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
         episodes,
         success_rate: successes / episodes.max(1) as f64,
         tasks_below_90: tasks.iter().filter(|t| t.success_rate < 0.9).count(),
+        episodes_below_support: tasks.iter().map(|t| t.below_support.len()).sum(),
         init_source: match &source {
             InitSource::Shipped => "shipped".to_string(),
             InitSource::Libero(dir) => dir.display().to_string(),
@@ -133,12 +139,20 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
         println!(
-            "{} episodes, success {:.1}%, {} of {} tasks below 90%",
+            "{} episodes, success {:.1}%, {} of {} tasks below 90%, {} episodes with an object below the table or floor",
             summary.episodes,
             summary.success_rate * 100.0,
             summary.tasks_below_90,
-            summary.tasks.len()
+            summary.tasks.len(),
+            summary.episodes_below_support
         );
+        for t in tasks_with_sinking(&summary.tasks) {
+            println!("  below support in {}/{}: {}", t.suite, t.index, t.below_support.join("; "));
+        }
     }
     Ok(())
+}
+
+fn tasks_with_sinking(tasks: &[TaskResult]) -> impl Iterator<Item = &TaskResult> {
+    tasks.iter().filter(|t| !t.below_support.is_empty())
 }

@@ -1,0 +1,152 @@
+//! Where a cue's source and target are in the scene, and their world anchors at any state.
+//!
+//! A step names its source and target by goal-atom arguments (`akita_black_bowl_1`,
+//! `wooden_cabinet_1_top_region`); [`resolve`] turns them into [`ScenePoint`]s once per
+//! episode, and [`ScenePoint::world`] reads the current state every frame:
+//!
+//! * an object or fixture: the centre of its visual box (root body), with that box's extent, so
+//!   rings and glows fit the object as seen;
+//! * a region (`plate_right_region`, a stove's `cook_region`, a drawer's `top_region`): the
+//!   centre and extent of its box at the current state (sites move with their body);
+//! * the thing acted on by open/close/turn on/turn off: its moving part — a drawer's front face
+//!   (so the cue sits where the drawer is pulled), a door, the stove's knob.
+
+use vifo_cues::{CueSpec, Step, WorldAnchor};
+use vifo_robots::spatial::{Mat3, Pose, Vec3};
+use vifo_scenes::catalog::{Aabb, JointKind};
+use vifo_scenes::sim::Sim;
+
+use super::SceneCueError;
+
+/// A scene thing a cue anchors on.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ScenePoint {
+    /// An object or fixture as a whole (its root body's visual box).
+    Entity { entity: usize },
+    /// A moving part of a fixture: a drawer (front face), a door, a knob.
+    Part { entity: usize, body: usize },
+    /// A region key of the task.
+    Region { key: String },
+}
+
+/// The source and target of the step a cue shows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CuePoints {
+    pub source: ScenePoint,
+    pub target: Option<ScenePoint>,
+}
+
+/// Finds the spec's step in the scene: by the step's goal-atom names when it has them, else by
+/// word overlap with the scene's object and fixture names.
+pub fn resolve(sim: &Sim, spec: &CueSpec) -> Result<CuePoints, SceneCueError> {
+    let model = sim.model();
+    let mut step: Step = spec
+        .steps
+        .get(spec.step)
+        .cloned()
+        .ok_or_else(|| SceneCueError::Unsupported { cue: spec.id(), why: format!("the spec has no step {}", spec.step) })?;
+    if step.source_id.is_none() || (step.target.is_some() && step.target_id.is_none()) {
+        let names: Vec<&str> = model.entities.iter().map(|e| e.name.as_str()).collect();
+        vifo_cues::parse::ground_to_names(std::slice::from_mut(&mut step), &names);
+    }
+    let known_entities = || model.entities.iter().map(|e| e.name.as_str()).collect::<Vec<_>>().join(", ");
+    let ungrounded = |role: &'static str, phrase: &str| SceneCueError::Ungrounded {
+        cue: spec.id(),
+        role,
+        phrase: phrase.to_string(),
+        known: known_entities(),
+    };
+    let source_id = step.source_id.as_deref().ok_or_else(|| ungrounded("source", &step.source))?;
+    let acted_on = step.relation.is_state_change();
+    let source = point(sim, spec, "source", source_id, acted_on)?;
+    let target = match (&step.target, &step.target_id) {
+        (None, _) => None,
+        (Some(_), Some(id)) => Some(point(sim, spec, "target", id, false)?),
+        (Some(phrase), None) => return Err(ungrounded("target", phrase)),
+    };
+    Ok(CuePoints { source, target })
+}
+
+/// The scene point a name stands for; `acted_on` asks for the moving part of a fixture.
+fn point(sim: &Sim, spec: &CueSpec, role: &'static str, name: &str, acted_on: bool) -> Result<ScenePoint, SceneCueError> {
+    let model = sim.model();
+    if let Some((entity, e)) = model.entity(name) {
+        let part = e.model.bodies.iter().position(|b| b.joint.is_some());
+        return Ok(match part {
+            Some(body) if acted_on => ScenePoint::Part { entity, body },
+            _ => ScenePoint::Entity { entity },
+        });
+    }
+    if let Some(region) = model.region(name) {
+        if acted_on && let vifo_scenes::sim::RegionPlace::Site { entity, site } = region.place {
+            let body = model.entities[entity].model.sites[site].body;
+            if model.entities[entity].model.bodies[body].joint.is_some() {
+                return Ok(ScenePoint::Part { entity, body });
+            }
+        }
+        return Ok(ScenePoint::Region { key: name.to_string() });
+    }
+    let known: Vec<&str> =
+        model.entities.iter().map(|e| e.name.as_str()).chain(model.regions.iter().map(|r| r.key.as_str())).collect();
+    Err(SceneCueError::UnknownEntity {
+        cue: spec.id(),
+        role,
+        name: name.to_string(),
+        task: model.task.label(),
+        known: known.join(", "),
+    })
+}
+
+/// A body-frame box placed in the world: centre and axis-aligned half extents.
+fn world_box(pose: &Pose, center: Vec3, half: Vec3) -> WorldAnchor {
+    let c = pose.transform_point(&center);
+    let r: Mat3 = pose.rot.abs();
+    let h = r * half;
+    WorldAnchor { center: [c.x, c.y, c.z], half_extents: Some([h.x, h.y, h.z]) }
+}
+
+/// The visual box of one body of an entity, in the body's frame.
+fn visual_box(sim: &Sim, entity: usize, body: usize) -> Option<Aabb> {
+    let model = sim.model().entities[entity].model;
+    model.visuals.iter().filter(|v| v.body == body).map(|v| v.aabb()).reduce(|a, b| a.union(&b))
+}
+
+fn center_half(b: &Aabb) -> (Vec3, Vec3) {
+    let c = Vec3::from([0, 1, 2].map(|k| (b.min[k] + b.max[k]) / 2.0));
+    let h = Vec3::from([0, 1, 2].map(|k| (b.max[k] - b.min[k]) / 2.0));
+    (c, h)
+}
+
+impl ScenePoint {
+    /// The world anchor at the simulation's current state.
+    pub fn world(&self, sim: &Sim) -> WorldAnchor {
+        match self {
+            ScenePoint::Entity { entity } => self.body_anchor(sim, *entity, 0),
+            ScenePoint::Part { entity, body } => self.body_anchor(sim, *entity, *body),
+            ScenePoint::Region { key } => match sim.region_box(key) {
+                Some(b) => world_box(&b.pose, Vec3::zeros(), b.half_size),
+                // `resolve` checked the key against this scene's model.
+                None => WorldAnchor { center: [f64::NAN; 3], half_extents: None },
+            },
+        }
+    }
+
+    fn body_anchor(&self, sim: &Sim, entity: usize, body: usize) -> WorldAnchor {
+        let pose = sim.body_pose(entity, body);
+        let Some(b) = visual_box(sim, entity, body) else {
+            let p = pose.pos;
+            return WorldAnchor { center: [p.x, p.y, p.z], half_extents: None };
+        };
+        let (mut center, mut half) = center_half(&b);
+        let joint = sim.model().entities[entity].model.bodies[body].joint.as_ref();
+        if let Some(j) = joint.filter(|j| j.kind == JointKind::Slide && matches!(self, ScenePoint::Part { .. })) {
+            // A drawer: the face it is pulled out by, i.e. towards the far end of its range.
+            let axis = Vec3::from(j.axis).normalize();
+            let out = if j.range[0].abs() > j.range[1].abs() { -axis } else { axis };
+            let extent = half.component_mul(&axis).abs().sum();
+            center += out * extent;
+            half -= axis.abs() * extent;
+        }
+        world_box(&pose, center, half)
+    }
+}

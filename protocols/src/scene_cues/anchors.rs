@@ -11,10 +11,10 @@
 //! * the thing acted on by open/close/turn on/turn off: its moving part — a drawer's front face
 //!   (so the cue sits where the drawer is pulled), a door, the stove's knob.
 
-use vifo_cues::{CueSpec, Step, WorldAnchor};
+use vifo_cues::{CueSpec, Relation, Step, WorldAnchor};
 use vifo_robots::spatial::{Mat3, Pose, Vec3};
 use vifo_scenes::catalog::{Aabb, JointKind};
-use vifo_scenes::sim::Sim;
+use vifo_scenes::sim::{RegionPlace, Sim};
 
 use super::SceneCueError;
 
@@ -36,35 +36,52 @@ pub struct CuePoints {
     pub target: Option<ScenePoint>,
 }
 
-/// Finds the spec's step in the scene: by the step's goal-atom names when it has them, else by
-/// word overlap with the scene's object and fixture names.
+/// Finds the spec's step in the scene: by the step's goal-atom names when it has them (steps
+/// are grounded to the goal), else by word overlap with the scene's objects, fixtures and
+/// regions — for a state change only those with a moving part ("open the top drawer" when the
+/// goal only says where the bowl ends up).
 pub fn resolve(sim: &Sim, spec: &CueSpec) -> Result<CuePoints, SceneCueError> {
-    let model = sim.model();
-    let mut step: Step = spec
+    let step: &Step = spec
         .steps
         .get(spec.step)
-        .cloned()
         .ok_or_else(|| SceneCueError::Unsupported { cue: spec.id(), why: format!("the spec has no step {}", spec.step) })?;
-    if step.source_id.is_none() || (step.target.is_some() && step.target_id.is_none()) {
-        let names: Vec<&str> = model.entities.iter().map(|e| e.name.as_str()).collect();
-        vifo_cues::parse::ground_to_names(std::slice::from_mut(&mut step), &names);
-    }
-    let known_entities = || model.entities.iter().map(|e| e.name.as_str()).collect::<Vec<_>>().join(", ");
-    let ungrounded = |role: &'static str, phrase: &str| SceneCueError::Ungrounded {
-        cue: spec.id(),
-        role,
-        phrase: phrase.to_string(),
-        known: known_entities(),
-    };
-    let source_id = step.source_id.as_deref().ok_or_else(|| ungrounded("source", &step.source))?;
     let acted_on = step.relation.is_state_change();
-    let source = point(sim, spec, "source", source_id, acted_on)?;
+    let source_id = match &step.source_id {
+        Some(id) => id.clone(),
+        None => ground(sim, spec, "source", &step.source, acted_on)?,
+    };
+    let source = point(sim, spec, "source", &source_id, acted_on)?;
     let target = match (&step.target, &step.target_id) {
         (None, _) => None,
         (Some(_), Some(id)) => Some(point(sim, spec, "target", id, false)?),
-        (Some(phrase), None) => return Err(ungrounded("target", phrase)),
+        (Some(phrase), None) => Some(point(sim, spec, "target", &ground(sim, spec, "target", phrase, false)?, false)?),
     };
     Ok(CuePoints { source, target })
+}
+
+/// The scene name sharing most words with `phrase`; `moving` keeps only things with a moving
+/// part (jointed fixtures and the regions on their moving bodies).
+fn ground(sim: &Sim, spec: &CueSpec, role: &'static str, phrase: &str, moving: bool) -> Result<String, SceneCueError> {
+    let model = sim.model();
+    let jointed = |entity: usize, body: usize| model.entities[entity].model.bodies[body].joint.is_some();
+    let entities = model
+        .entities
+        .iter()
+        .enumerate()
+        .filter(|(i, e)| !moving || (0..e.model.bodies.len()).any(|b| jointed(*i, b)))
+        .map(|(_, e)| e.name.as_str());
+    let regions = model
+        .regions
+        .iter()
+        .filter(|r| {
+            !moving
+                || matches!(r.place, RegionPlace::Site { entity, site } if jointed(entity, model.entities[entity].model.sites[site].body))
+        })
+        .map(|r| r.key.as_str());
+    let names: Vec<&str> = entities.chain(regions).collect();
+    let mut probe = Step { source: phrase.to_string(), source_qualifier: None, relation: Relation::PickUp, target: None, source_id: None, target_id: None };
+    vifo_cues::parse::ground_to_names(std::slice::from_mut(&mut probe), &names);
+    probe.source_id.ok_or_else(|| SceneCueError::Ungrounded { cue: spec.id(), role, phrase: phrase.to_string(), known: names.join(", ") })
 }
 
 /// The scene point a name stands for; `acted_on` asks for the moving part of a fixture.
@@ -78,7 +95,7 @@ fn point(sim: &Sim, spec: &CueSpec, role: &'static str, name: &str, acted_on: bo
         });
     }
     if let Some(region) = model.region(name) {
-        if acted_on && let vifo_scenes::sim::RegionPlace::Site { entity, site } = region.place {
+        if acted_on && let RegionPlace::Site { entity, site } = region.place {
             let body = model.entities[entity].model.sites[site].body;
             if model.entities[entity].model.bodies[body].joint.is_some() {
                 return Ok(ScenePoint::Part { entity, body });

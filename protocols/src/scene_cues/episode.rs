@@ -171,4 +171,12 @@ impl EpisodeCue {
     pub fn ghost_count(&self) -> usize {
         self.ghost.as_ref().map_or(0, Ghost::len)
     }
+
+    /// The ghost layers as `camera` sees them, in time order (empty for non-ghost cues).
+    pub fn ghost_layers(&mut self, renderer: &mut Renderer, camera: &Camera) -> Result<&[RgbaImage], SceneCueError> {
+        match &mut self.ghost {
+            Some(g) => Ok(g.layers(renderer, camera)?),
+            None => Ok(&[]),
+        }
+    }
 }

@@ -14,7 +14,7 @@ pub enum SceneCueError {
     UnknownInstance { id: String, hint: String },
     #[error("cue {cue}: {role} '{name}' is not in the scene of {task} (objects, fixtures and regions: {known})")]
     UnknownEntity { cue: String, role: &'static str, name: String, task: String, known: String },
-    #[error("cue {cue}: no scene object matches the {role} '{phrase}' (objects and fixtures: {known})")]
+    #[error("cue {cue}: no scene name matches the {role} '{phrase}' (candidates: {known})")]
     Ungrounded { cue: String, role: &'static str, phrase: String, known: String },
     #[error("cue {cue}: {why}")]
     Unsupported { cue: String, why: String },

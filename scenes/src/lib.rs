@@ -4,6 +4,8 @@
 //! - [`bddl`]: reads LIBERO's BDDL files into a [`Task`].
 //! - [`scene_class`]: per problem class, the arena facts (table, robot base, camera, lights).
 //! - [`init_file`]: reads LIBERO's `.pruned_init` files and names the parts of a state row.
+//! - [`init_states`]: our own 50 initial states per task (LIBERO's placement rules, settled in
+//!   our physics), shipped in `init_states/<suite>.json`.
 //! - [`catalog`]: every object and fixture category the 40 tasks use (collision, mass, sites,
 //!   procedural looks).
 //! - [`sim`]: tasks running in the physics world; [`view`]: rendering them with LIBERO's cameras.
@@ -14,6 +16,7 @@ pub mod bddl;
 pub mod catalog;
 pub mod expert;
 pub mod init_file;
+pub mod init_states;
 pub mod scene_class;
 pub mod sim;
 pub mod task;

@@ -25,6 +25,7 @@ fn request(task: &str, init_files: std::path::PathBuf) -> RenderRequest {
         gif: None,
         frames: None,
         steps: 0,
+        expert: false,
     }
 }
 

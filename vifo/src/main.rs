@@ -31,6 +31,8 @@ enum Command {
     Report(cmd::report::Args),
     /// Render a task through agentview or the wrist camera (PNG, GIF or frames).
     Render(cmd::render::RenderArgs),
+    /// The shipped initial states: regenerate them or check them.
+    InitStates(cmd::init_states::Args),
 }
 
 fn main() {
@@ -44,6 +46,7 @@ fn main() {
         Command::Vqa(args) => cmd::vqa::run(args),
         Command::Report(args) => cmd::report::run(args),
         Command::Render(args) => cmd::render::run(args),
+        Command::InitStates(args) => cmd::init_states::run(args),
     };
     if let Err(err) = result {
         eprintln!("error: {err:#}");

@@ -3,7 +3,7 @@
 //! The episode starts as LIBERO's evaluations start it: fixtures placed by the seeded LIBERO-style
 //! sampler, then initial state `k` loaded. A still is the frame right after loading (what
 //! LIBERO's `set_init_state` observation shows); a rollout adds one frame per control step under
-//! the hold action (no motion, gripper open).
+//! the hold action (no motion, gripper open) or, with `expert`, under the scripted expert.
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -14,6 +14,7 @@ use rand::SeedableRng;
 use vifo_render::imageio::{GifWriter, save_png};
 use vifo_render::{Frame, Renderer};
 use vifo_robots::action::Action;
+use vifo_scenes::expert::Expert;
 use vifo_scenes::sim::{SceneModel, Sim, sample_fixtures};
 use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
 
@@ -43,6 +44,8 @@ pub struct RenderRequest {
     pub frames: Option<PathBuf>,
     /// Control steps after the first frame (rollouts only).
     pub steps: usize,
+    /// Drive the rollout with the scripted expert instead of the hold action.
+    pub expert: bool,
 }
 
 /// Parses `suite/index`.
@@ -100,10 +103,11 @@ pub fn run(request: &RenderRequest) -> Result<usize> {
     if let Some(dir) = &request.frames {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
-    let hold = Action::hold(-1.0);
+    let mut expert = if request.expert { Some(Expert::new(&sim)?) } else { None };
     for t in 0..=request.steps {
         if t > 0 {
-            sim.step(&hold);
+            let action = expert.as_mut().map_or(Action::hold(-1.0), |e| e.act(&sim));
+            sim.step(&action);
             render(&sim, &mut view, &mut frame)?;
         }
         if let Some(gif) = &mut gif {

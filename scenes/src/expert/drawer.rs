@@ -30,6 +30,16 @@ enum Stage {
     Move,
     Release,
     Back,
+    Upright,
+}
+
+/// The space an opening drawer takes (see [`Drawer::sweep`]); `along`/`across` are coordinates
+/// along the horizontal opening direction `dir` and perpendicular to it.
+pub struct Sweep {
+    pub dir: Vec3,
+    pub along: (f64, f64),
+    pub across: (f64, f64),
+    pub bottom: f64,
 }
 
 pub struct Drawer {
@@ -44,6 +54,9 @@ pub struct Drawer {
 }
 
 const STAGE_LIMIT: usize = 90;
+
+/// How far the gripper points down from level when it takes a handle (radians).
+const PITCH: f64 = 0.4;
 
 impl Drawer {
     pub fn new(entity: usize, body: usize, joint: String, goal: DrawerGoal) -> Self {
@@ -72,6 +85,19 @@ impl Drawer {
         flat.normalize()
     }
 
+    /// Where the drawer will be once pulled open: its extent along the opening direction
+    /// (`along`, from the back of the closed drawer to the front of the open one), across it, and
+    /// the height of its underside. Objects standing in that space block the hand later.
+    pub fn sweep(&self, sim: &Sim) -> Sweep {
+        let dir = self.open_dir(sim);
+        let across = Vec3::new(-dir.y, dir.x, 0.0);
+        let travel = (self.q(sim) - OPEN_TO).max(0.0);
+        let points = geometry::corners(sim, self.entity, self.body);
+        let fold = |f: &dyn Fn(&Vec3) -> f64| points.iter().map(f).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+        let (lo, hi) = fold(&|p| p.dot(&dir));
+        Sweep { dir, along: (lo, hi + travel), across: fold(&|p| p.dot(&across)), bottom: fold(&|p| p.z).0 }
+    }
+
     /// The handle: the drawer's box that sticks out furthest in the opening direction.
     fn handle(&self, sim: &Sim) -> Obb {
         let dir = self.open_dir(sim);
@@ -81,14 +107,29 @@ impl Drawer {
             .expect("drawers have boxes")
     }
 
-    /// Side grasp: pointing into the drawer front, fingers closing vertically onto the bar.
+    /// Side grasp: pointing into the drawer front and pitched down by [`PITCH`], fingers
+    /// pinching the bar across its height. The hand is 20 cm long along the finger axis; level,
+    /// its lower end would hang 10 cm below a low handle (onto the table or a plate in front of
+    /// the cabinet), pitched it stays near the handle's height.
     fn side_orientation(&self, sim: &Sim) -> Mat3 {
-        let z = -self.open_dir(sim);
-        let current = sim.model().robot.grip_site_pose(sim.world()).rot;
+        let into = -self.open_dir(sim);
         let up = Vec3::z();
-        let x = if (current * Vec3::x()).dot(&up) >= 0.0 { up } else { -up };
+        let (s, c) = (libm::sin(PITCH), libm::cos(PITCH));
+        let z = into * c - up * s;
+        let across = up * c + into * s;
+        let current = sim.model().robot.grip_site_pose(sim.world()).rot;
+        let x = if (current * Vec3::x()).dot(&across) >= 0.0 { across } else { -across };
         let y = z.cross(&x);
         Mat3::from_columns(&[x, y, z])
+    }
+
+    /// Direction the gripper comes in along when opening (its approach axis), or straight in
+    /// when closing.
+    fn approach(&self, sim: &Sim) -> Vec3 {
+        match self.goal {
+            DrawerGoal::Open => self.side_orientation(sim) * Vec3::z(),
+            DrawerGoal::Close => -self.open_dir(sim),
+        }
     }
 
     fn push_yaw(&self, sim: &Sim) -> f64 {
@@ -130,8 +171,8 @@ impl Drawer {
         let ee = sim.model().robot.grip_site_pose(sim.world());
         let dir = self.open_dir(sim);
         let work = self.work_point(sim);
-        // Stand-off in front of the drawer, at the working height.
-        let standoff = work + dir * 0.12;
+        // Stand-off back along the approach axis.
+        let standoff = work - self.approach(sim) * 0.12;
         let grip = match self.goal {
             DrawerGoal::Open => gripper_toward(sim, 0.022),
             DrawerGoal::Close => CLOSE,
@@ -169,7 +210,7 @@ impl Drawer {
                     self.last_q.clear();
                     self.next(if self.goal == DrawerGoal::Open { Stage::Grip } else { Stage::Move });
                 }
-                Step::Act(Servo::FINE.act(sim, &wp, grip))
+                Step::Act(Servo::closing_in(d).act(sim, &wp, grip))
             }
             Stage::Grip => {
                 if self.stage_steps >= 12 {
@@ -206,9 +247,26 @@ impl Drawer {
                     DrawerGoal::Close => ee.pos + Vec3::new(0.0, 0.0, 0.08),
                 };
                 if self.stage_steps >= 8 {
-                    return Step::Done;
+                    if self.goal == DrawerGoal::Close {
+                        return Step::Done;
+                    }
+                    self.next(Stage::Upright);
+                    return self.step(sim);
                 }
                 Step::Act(Servo::TRAVEL.act(sim, &self.waypoint(sim, away), OPEN))
+            }
+            Stage::Upright => {
+                // Turn back to pointing down by tipping about the handle's axis, which leaves
+                // the finger axis along the drawer's travel (the wrist's natural way round).
+                let into = -dir;
+                let finger = ee.rot * Vec3::x();
+                let axis = if finger.dot(&Vec3::z()) >= 0.0 { into } else { -into };
+                let wp = Waypoint::down(ee.pos + Vec3::new(0.0, 0.0, 0.03), geometry::yaw_of_axis(&axis));
+                let (_, r) = motion::error(sim, &wp);
+                if r < 0.2 || self.stage_steps >= 25 {
+                    return Step::Done;
+                }
+                Step::Act(Servo::TRAVEL.act(sim, &wp, OPEN))
             }
         }
     }

@@ -19,10 +19,12 @@ const FINGER_HALF_WIDTH: f64 = 0.011;
 /// The fingertips reach this far below the grip site, the hand starts this far above it.
 const TIP_BELOW_SITE: f64 = 0.009;
 const HAND_ABOVE_SITE: f64 = 0.031;
-/// The hand's half-extents along the finger axis and across it, and its height.
+/// The hand's half-extents along the finger axis and across it, and the height of the column
+/// it sweeps coming straight down to the grasp (the hand itself is 9 cm tall; the column also
+/// keeps the wrist clear of overhangs such as an open drawer).
 const HAND_HALF_LENGTH: f64 = 0.102;
 const HAND_HALF_WIDTH: f64 = 0.032;
-const HAND_HEIGHT: f64 = 0.092;
+const HAND_HEIGHT: f64 = 0.25;
 /// The grip site stays at least this far above the surface an object rests on, so the
 /// fingertips do not dig into it.
 const TIP_CLEARANCE: f64 = 0.010;
@@ -111,23 +113,19 @@ pub fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
 /// Everything the fingers must not run into: every other entity's shapes.
 pub struct Obstacles {
     boxes: Vec<Obb>,
-    owners: Vec<String>,
 }
 
 impl Obstacles {
     pub fn around(sim: &Sim, exclude: usize) -> Obstacles {
         let mut boxes = Vec::new();
-        let mut owners = Vec::new();
         for (i, e) in sim.model().entities.iter().enumerate() {
             if i != exclude {
                 for b in 0..e.model.bodies.len() {
-                    let bb = body_boxes(sim, i, b);
-                    owners.extend(bb.iter().map(|_| format!("{}:{}", e.name, e.model.bodies[b].name)));
-                    boxes.extend(bb);
+                    boxes.extend(body_boxes(sim, i, b));
                 }
             }
         }
-        Obstacles { boxes, owners }
+        Obstacles { boxes }
     }
 
     /// How many obstacle boxes the gripper volumes (fingers and hand) would overlap.
@@ -171,6 +169,12 @@ fn gripper_volumes(site: &Vec3, axis: &Vec3, half_gap: f64) -> [Obb; 3] {
         half: Vec3::new(HAND_HALF_LENGTH, HAND_HALF_WIDTH, 0.5 * HAND_HEIGHT),
     };
     [finger(-1.0), finger(1.0), hand]
+}
+
+/// How many obstacle boxes the gripper would overlap at `site`, fingers closing along `axis`
+/// with `half_gap` between them, the hand coming straight down.
+pub fn gripper_hits(obstacles: &Obstacles, site: &Vec3, axis: &Vec3, half_gap: f64) -> usize {
+    obstacles.hits(&gripper_volumes(site, axis, half_gap), 0.003)
 }
 
 /// Extent of `points` along `axis`: (min, max).
@@ -229,11 +233,6 @@ pub fn rim_grasp(points: &[Vec3], centre: &Vec3, toward: &Vec3, obstacles: &Obst
         let site = Vec3::new(at.x, at.y, hi.z - 0.012);
         let hits = obstacles.hits(&gripper_volumes(&site, &dir, RIM_HALF_GAP), 0.003);
         let misalignment = 1.0 - dir.dot(&preferred);
-        if std::env::var("VIFO_DEBUG_GRASP").is_ok() {
-            let v = gripper_volumes(&site, &dir, RIM_HALF_GAP);
-            let who: Vec<String> = obstacles.boxes.iter().zip(&obstacles.owners).filter(|(b, _)| v.iter().any(|x| x.overlaps(b, 0.003))).map(|(b, o)| format!("{o}@{:.3}", b.pose.pos.z)).collect();
-            eprintln!("rim dir {:.2} hits {hits} {who:?}", a);
-        }
         let grasp = Grasp { pos: site, yaw: yaw_of_axis(&dir), width: 2.0 * wall, half_gap: RIM_HALF_GAP };
         if best.is_none_or(|(h, m, _)| (hits, misalignment) < (h, m - 1e-9)) {
             best = Some((hits, misalignment, grasp));

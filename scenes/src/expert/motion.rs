@@ -64,6 +64,13 @@ impl Servo {
     pub const TRAVEL: Servo = Servo { pos_gain: 40.0, max_speed: 1.0, rot_gain: 3.0 };
     pub const FINE: Servo = Servo { pos_gain: 60.0, max_speed: 0.5, rot_gain: 3.0 };
 
+    /// Full speed while more than a few centimetres away, fine near the target: the OSC covers
+    /// only about a third of each step's commanded motion, so a fine servo all the way down
+    /// costs many steps.
+    pub fn closing_in(distance: f64) -> Servo {
+        if distance > 0.04 { Servo::TRAVEL } else { Servo::FINE }
+    }
+
     /// The action moving the gripper toward `target` with the gripper command `grip`.
     pub fn act(&self, sim: &Sim, target: &Waypoint, grip: f64) -> Action {
         let ee = sim.model().robot.grip_site_pose(sim.world());

@@ -151,10 +151,11 @@ impl PickPlace {
                 let horizontal = ((ee.pos.x - g.pos.x).powi(2) + (ee.pos.y - g.pos.y).powi(2)).sqrt();
                 let z = if horizontal > 0.005 { ee.pos.z.max(g.pos.z) } else { g.pos.z };
                 let wp = Waypoint::down(Vec3::new(g.pos.x, g.pos.y, z), g.yaw);
-                if (ee.pos - g.pos).norm() < 0.005 {
+                let d = (ee.pos - g.pos).norm();
+                if d < 0.005 {
                     self.next(Stage::Close);
                 }
-                Step::Act(Servo::FINE.act(sim, &wp, gripper_toward(sim, g.half_gap)))
+                Step::Act(Servo::closing_in(d).act(sim, &wp, gripper_toward(sim, g.half_gap)))
             }
             Stage::Close => {
                 let g = self.grasp.expect("planned");
@@ -228,7 +229,7 @@ impl PickPlace {
                     self.lowering.clear();
                     self.next(Stage::Release);
                 }
-                Step::Act(Servo::FINE.act(sim, &wp, CLOSE))
+                Step::Act(Servo::closing_in(d).act(sim, &wp, CLOSE))
             }
             Stage::Release => {
                 if self.stage_steps >= 10 {

@@ -2,7 +2,10 @@
 
 use thiserror::Error;
 
+use vifo_robots::spatial::Vec3;
+
 use super::drawer::{Drawer, DrawerGoal};
+use super::geometry;
 use super::knob::Knob;
 use super::pick_place::{PickPlace, Placement};
 use super::push::Push;
@@ -28,6 +31,8 @@ pub enum Skill {
 
 /// Categories too flat to grasp: LIBERO's tasks push them.
 const PUSHED: [&str; 1] = ["plate"];
+/// Open vessels small enough to push from inside with the closed fingers.
+const HOLLOW: [&str; 1] = ["akita_black_bowl"];
 /// How far a knob is turned past LIBERO's "on" threshold (0.5 rad).
 const KNOB_ON: f64 = 0.8;
 /// Drawers count as open below this joint position (LIBERO).
@@ -60,10 +65,48 @@ fn knob_of(sim: &Sim, name: &str) -> Option<(usize, usize, String)> {
     Some((entity, body, b.joint.as_ref()?.name.clone()))
 }
 
+/// Room left between an object's edge and the open drawer's handle: the hand takes the object
+/// with its 6.4 cm width toward the drawer, just past the object's middle.
+const DRAWER_CLEARANCE: f64 = 0.025;
+
+/// Queues opening `drawer`, first pushing out of its way each object the plan picks later
+/// that stands where the open drawer will hang (the hand could not reach under it afterwards).
+fn open_drawer(sim: &Sim, ordered: &mut Vec<(u8, Skill)>, drawer: Drawer, picked: &[usize]) {
+    let sweep = drawer.sweep(sim);
+    let across = Vec3::new(-sweep.dir.y, sweep.dir.x, 0.0);
+    for &i in picked {
+        let e = &sim.model().entities[i];
+        let points = geometry::corners(sim, i, 0);
+        let (lo, hi) = geometry::bounds(&points);
+        let span = |axis: &Vec3| points.iter().map(|p| p.dot(axis)).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+        let (u, v) = (span(&sweep.dir), span(&across));
+        let under = lo.z < sweep.bottom && hi.z > sweep.bottom - 0.15;
+        let inside_closed = u.0 < sweep.along.0 + 0.02;
+        let overlaps = u.0 < sweep.along.1 + DRAWER_CLEARANCE
+            && v.1 > sweep.across.0 - DRAWER_CLEARANCE
+            && v.0 < sweep.across.1 + DRAWER_CLEARANCE;
+        if under && !inside_closed && overlaps {
+            let c = sim.entity_pose(i).pos;
+            let shift = sweep.along.1 + DRAWER_CLEARANCE - u.0;
+            let to = c + sweep.dir * shift;
+            let hollow = HOLLOW.contains(&e.category.as_str());
+            ordered.push((0, Skill::Push(Push::new(i, [to.x, to.y], 0.015, hollow))));
+        }
+    }
+    ordered.push((0, Skill::Drawer(drawer)));
+}
+
 /// The skills achieving `goals`, in order: opening drawers first, then switches, then moving
 /// objects, and closing last (so things can be put into a drawer before it is shut).
 pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
     let mut ordered: Vec<(u8, Skill)> = Vec::new();
+    let picked: Vec<usize> = goals
+        .iter()
+        .filter(|a| matches!(a.predicate, Predicate::On | Predicate::In))
+        .filter_map(|a| sim.model().entity(a.args.first()?))
+        .filter(|(_, e)| e.movable() && !PUSHED.contains(&e.category.as_str()))
+        .map(|(i, _)| i)
+        .collect();
     for atom in goals {
         let unsupported = || PlanError::Unsupported(atom.to_string());
         let unknown = |name: &str| PlanError::UnknownName { atom: atom.to_string(), name: name.to_string() };
@@ -76,13 +119,13 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
                 }
                 let xy = xy_of(sim, atom, arg(1))?;
                 if PUSHED.contains(&e.category.as_str()) && atom.predicate == Predicate::On {
-                    ordered.push((2, Skill::Push(Push::new(object, xy, 0.015))));
+                    ordered.push((2, Skill::Push(Push::new(object, xy, 0.015, false))));
                     continue;
                 }
                 if atom.predicate == Predicate::In {
                     if let Some((entity, body, joint)) = drawer_of(sim, arg(1)) {
                         if sim.joint_position(entity, &joint).is_some_and(|q| q > DRAWER_OPEN_BELOW) {
-                            ordered.push((0, Skill::Drawer(Drawer::new(entity, body, joint, DrawerGoal::Open))));
+                            open_drawer(sim, &mut ordered, Drawer::new(entity, body, joint, DrawerGoal::Open), &picked);
                         }
                     }
                 }
@@ -91,8 +134,11 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
             }
             Predicate::Open | Predicate::Close => {
                 let (entity, body, joint) = drawer_of(sim, arg(0)).ok_or_else(unsupported)?;
-                let (rank, goal) = if atom.predicate == Predicate::Open { (0, DrawerGoal::Open) } else { (3, DrawerGoal::Close) };
-                ordered.push((rank, Skill::Drawer(Drawer::new(entity, body, joint, goal))));
+                if atom.predicate == Predicate::Open {
+                    open_drawer(sim, &mut ordered, Drawer::new(entity, body, joint, DrawerGoal::Open), &picked);
+                } else {
+                    ordered.push((3, Skill::Drawer(Drawer::new(entity, body, joint, DrawerGoal::Close))));
+                }
             }
             Predicate::TurnOn => {
                 let (entity, body, joint) = knob_of(sim, arg(0)).ok_or_else(unsupported)?;

@@ -16,9 +16,11 @@ enum Stage {
     Retreat,
 }
 
-/// Push `object` until its origin is within `tolerance` of `target` (xy).
+/// Push `object` until its origin is within `tolerance` of `target` (xy). A hollow object
+/// (a bowl) is pushed from inside, by its far wall: there may be no room behind it.
 pub struct Push {
     object: usize,
+    hollow: bool,
     target: [f64; 2],
     tolerance: f64,
     stage: Stage,
@@ -29,10 +31,14 @@ pub struct Push {
 const STAGE_LIMIT: usize = 120;
 /// Grip-site height above the support while pushing: fingertips about a centimetre up.
 const PUSH_HEIGHT: f64 = 0.02;
+/// Pushing a bowl from inside: the closed fingers go down this far behind its centre and stay
+/// this much higher, above its floor.
+const HOLLOW_OFFSET: f64 = 0.015;
+const HOLLOW_FLOOR: f64 = 0.01;
 
 impl Push {
-    pub fn new(object: usize, target: [f64; 2], tolerance: f64) -> Self {
-        Push { object, target, tolerance, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0 }
+    pub fn new(object: usize, target: [f64; 2], tolerance: f64, hollow: bool) -> Self {
+        Push { object, hollow, target, tolerance, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0 }
     }
 
     pub fn describe(&self) -> String {
@@ -54,10 +60,21 @@ impl Push {
         (c, dir, radius)
     }
 
-    fn yaw(&self, sim: &Sim, dir: &Vec3) -> f64 {
-        let across = Vec3::new(-dir.y, dir.x, 0.0);
+    /// Fingers side by side across the push (the widest front) unless the hand would then
+    /// come down on something; otherwise the clearest of a few turns away from that.
+    fn yaw(&self, sim: &Sim, dir: &Vec3, at: &Vec3) -> f64 {
+        let obstacles = geometry::Obstacles::around(sim, self.object);
+        let axis = (0..6)
+            .map(|k| {
+                let a = std::f64::consts::PI * k as f64 / 12.0;
+                let (s, c) = (libm::sin(a), libm::cos(a));
+                let across = Vec3::new(-dir.y, dir.x, 0.0);
+                across * c + dir * s
+            })
+            .min_by_key(|axis| geometry::gripper_hits(&obstacles, at, axis, 0.0))
+            .expect("six candidates");
         let ee = sim.model().robot.grip_site_pose(sim.world());
-        motion::nearest_yaw(geometry::yaw_of_axis(&across), motion::current_yaw(&ee))
+        motion::nearest_yaw(geometry::yaw_of_axis(&axis), motion::current_yaw(&ee))
     }
 
     pub fn step(&mut self, sim: &Sim) -> Step {
@@ -67,10 +84,15 @@ impl Push {
         }
         let ee = sim.model().robot.grip_site_pose(sim.world());
         let (c, dir, radius) = self.geometry(sim);
-        let yaw = self.yaw(sim, &dir);
         let support = surface_height(sim, [c.x - dir.x * (radius + 0.03), c.y - dir.y * (radius + 0.03)], 0.02, Some(self.object));
-        let behind = c - dir * (radius + 0.025);
-        let behind = Vec3::new(behind.x, behind.y, support + PUSH_HEIGHT);
+        let (behind, height) = if self.hollow {
+            // Closed fingers just behind the centre, low inside the bowl.
+            (c - dir * HOLLOW_OFFSET, support + PUSH_HEIGHT + HOLLOW_FLOOR)
+        } else {
+            (c - dir * (radius + 0.025), support + PUSH_HEIGHT)
+        };
+        let behind = Vec3::new(behind.x, behind.y, height);
+        let yaw = self.yaw(sim, &dir, &behind);
         let remaining = ((self.target[0] - c.x).powi(2) + (self.target[1] - c.y).powi(2)).sqrt();
         match self.stage {
             Stage::Rise => {
@@ -96,7 +118,7 @@ impl Push {
                 if d < 0.006 {
                     self.next(Stage::Push);
                 }
-                Step::Act(Servo::FINE.act(sim, &wp, CLOSE))
+                Step::Act(Servo::closing_in(d).act(sim, &wp, CLOSE))
             }
             Stage::Push => {
                 if remaining < self.tolerance {
@@ -104,8 +126,10 @@ impl Push {
                     return self.step(sim);
                 }
                 // Keep the fingers at the object's back edge and lead it toward the target.
+                // (From inside a bowl the fingers first cross to its far wall.)
                 let lead = (remaining).min(0.03);
-                let wp = Waypoint::down(behind + dir * (0.02 + lead), yaw);
+                let reach = if self.hollow { 0.035 } else { 0.02 };
+                let wp = Waypoint::down(behind + dir * (reach + lead), yaw);
                 Step::Act(Servo::FINE.act(sim, &wp, CLOSE))
             }
             Stage::Retreat => {

@@ -91,7 +91,7 @@ impl Sim {
 
     /// The entity and joint names an articulation predicate reads: a region on a moving part
     /// (a drawer's `top_region`) means that part's joint; a whole object means all its joints.
-    fn articulation_joints(&self, name: &str) -> Option<(usize, Vec<String>)> {
+    pub(crate) fn articulation_joints(&self, name: &str) -> Option<(usize, Vec<String>)> {
         let joint_names = |entity: usize, body: Option<usize>| -> Vec<String> {
             let model = self.model().entities[entity].model;
             model

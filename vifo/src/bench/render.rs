@@ -56,6 +56,7 @@ pub fn run(source: InitSource, batches: usize) -> Result<RenderBench> {
         gif: None,
         frames: None,
         steps: 0,
+        expert: false,
     };
     let sim = episode(&request)?;
     let mut view = SceneView::new(sim.model());

@@ -8,3 +8,4 @@ pub mod bench;
 pub mod cues;
 pub mod expert;
 pub mod render;
+pub mod init_states;

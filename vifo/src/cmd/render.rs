@@ -51,6 +51,9 @@ pub struct RenderArgs {
     /// Control steps of the rollout (GIF or frames).
     #[arg(long, default_value_t = 40)]
     pub steps: usize,
+    /// Let the scripted expert drive the rollout (it solves the task) instead of holding still.
+    #[arg(long)]
+    pub expert: bool,
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
@@ -69,6 +72,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         gif: args.gif,
         frames: args.frames,
         steps: args.steps,
+        expert: args.expert,
     };
     let frames = render::run(&request)?;
     println!("rendered {frames} frame(s) of {} (init {}) with {}", request.task, request.init, request.camera);

@@ -112,6 +112,9 @@ fn a_drawer_anchor_follows_the_drawer() {
     let ScenePoint::Part { entity, .. } = cue.points().source else { panic!("{:?}", cue.points()) };
     let closed = cue.points().source.world(&e.sim).center;
     let before = cue.anchors(&e.sim, &e.agent).source.unwrap();
+    // The anchor fits the handle (about 9 cm wide), not the whole drawer seen edge-on.
+    let radius = before.radius.unwrap();
+    assert!((2.0..10.0).contains(&radius), "radius {radius} px at {SIZE}²");
     e.sim.set_joint(entity, "middle_level", -0.15);
     let open = cue.points().source.world(&e.sim).center;
     let after = cue.anchors(&e.sim, &e.agent).source.unwrap();

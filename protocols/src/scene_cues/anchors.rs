@@ -8,7 +8,7 @@
 //!   rings and glows fit the object as seen;
 //! * a region (`plate_right_region`, a stove's `cook_region`, a drawer's `top_region`): the
 //!   centre and extent of its box at the current state (sites move with their body);
-//! * the thing acted on by open/close/turn on/turn off: its moving part — a drawer's front face
+//! * the thing acted on by open/close/turn on/turn off: its moving part — a drawer's handle
 //!   (so the cue sits where the drawer is pulled), a door, the stove's knob.
 
 use vifo_cues::{CueSpec, Relation, Step, WorldAnchor};
@@ -23,7 +23,7 @@ use super::SceneCueError;
 pub enum ScenePoint {
     /// An object or fixture as a whole (its root body's visual box).
     Entity { entity: usize },
-    /// A moving part of a fixture: a drawer (front face), a door, a knob.
+    /// A moving part of a fixture: a drawer (its handle), a door, a knob.
     Part { entity: usize, body: usize },
     /// A region key of the task.
     Region { key: String },
@@ -122,10 +122,21 @@ fn world_box(pose: &Pose, center: Vec3, half: Vec3) -> WorldAnchor {
     WorldAnchor { center: [c.x, c.y, c.z], half_extents: Some([h.x, h.y, h.z]) }
 }
 
-/// The visual box of one body of an entity, in the body's frame.
-fn visual_box(sim: &Sim, entity: usize, body: usize) -> Option<Aabb> {
+/// Depth (m) of a drawer's front slab: what lies this close to its outermost point along the
+/// pull direction — the handle where there is one, else the front panel.
+const FRONT_SLAB: f64 = 0.02;
+
+/// The visual box of one body of an entity, in the body's frame. With `pull` (a drawer's
+/// outward direction) only the front slab counts, so a ring or glow fits the handle the
+/// gripper pulls rather than the whole drawer seen edge-on.
+fn visual_box(sim: &Sim, entity: usize, body: usize, pull: Option<Vec3>) -> Option<Aabb> {
     let model = sim.model().entities[entity].model;
-    model.visuals.iter().filter(|v| v.body == body).map(|v| v.aabb()).reduce(|a, b| a.union(&b))
+    let boxes: Vec<Aabb> = model.visuals.iter().filter(|v| v.body == body).map(|v| v.aabb()).collect();
+    let Some(out) = pull else { return boxes.into_iter().reduce(|a, b| a.union(&b)) };
+    // The farthest a box reaches along `out` (the maximum of out·x over its corners).
+    let reach = |b: &Aabb| (0..3).map(|k| out[k] * if out[k] > 0.0 { b.max[k] } else { b.min[k] }).sum::<f64>();
+    let front = boxes.iter().map(reach).fold(f64::NEG_INFINITY, f64::max);
+    boxes.into_iter().filter(|b| reach(b) >= front - FRONT_SLAB).reduce(|a, b| a.union(&b))
 }
 
 fn center_half(b: &Aabb) -> (Vec3, Vec3) {
@@ -150,20 +161,18 @@ impl ScenePoint {
 
     fn body_anchor(&self, sim: &Sim, entity: usize, body: usize) -> WorldAnchor {
         let pose = sim.body_pose(entity, body);
-        let Some(b) = visual_box(sim, entity, body) else {
+        let model = sim.model().entities[entity].model;
+        let joint = model.bodies[body].joint.as_ref();
+        let drawer = joint.filter(|j| j.kind == JointKind::Slide && matches!(self, ScenePoint::Part { .. }));
+        let pull = drawer.map(|j| {
+            let axis = Vec3::from(j.axis).normalize();
+            if j.range[0].abs() > j.range[1].abs() { -axis } else { axis }
+        });
+        let Some(b) = visual_box(sim, entity, body, pull) else {
             let p = pose.pos;
             return WorldAnchor { center: [p.x, p.y, p.z], half_extents: None };
         };
-        let (mut center, mut half) = center_half(&b);
-        let joint = sim.model().entities[entity].model.bodies[body].joint.as_ref();
-        if let Some(j) = joint.filter(|j| j.kind == JointKind::Slide && matches!(self, ScenePoint::Part { .. })) {
-            // A drawer: the face it is pulled out by, i.e. towards the far end of its range.
-            let axis = Vec3::from(j.axis).normalize();
-            let out = if j.range[0].abs() > j.range[1].abs() { -axis } else { axis };
-            let extent = half.component_mul(&axis).abs().sum();
-            center += out * extent;
-            half -= axis.abs() * extent;
-        }
+        let (center, half) = center_half(&b);
         world_box(&pose, center, half)
     }
 }

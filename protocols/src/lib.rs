@@ -7,6 +7,7 @@
 //! - [`remote`]: the openpi websocket client, a [`Policy`] served by a VLA server.
 //! - [`report`]: the paper's Tables 1 and 2 (Markdown, CSV, JSON) and per-family bar charts.
 //! - [`runner`]: parallel, resumable, shardable runs writing one JSON line per episode.
+//! - [`scene_cues`]: cue instances drawn on simulated scenes (anchors, ghosts, goal pictures).
 //! - [`vqa`]: Part I-A questions, their export, answer extraction, scoring and answerers.
 
 pub mod benchmark;
@@ -16,6 +17,7 @@ pub mod policy;
 pub mod remote;
 pub mod report;
 pub mod runner;
+pub mod scene_cues;
 pub mod spec;
 pub mod vqa;
 

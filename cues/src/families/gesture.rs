@@ -22,6 +22,18 @@ fn approach(at: V2, size: (u32, u32), reach: f32) -> V2 {
     v2(x, y).unit()
 }
 
+/// Like [`approach`], but from the side facing away from `other`, so two hands showing two
+/// nearby anchors do not cover each other.
+fn approach_away(at: V2, other: V2, size: (u32, u32), reach: f32) -> V2 {
+    let d = approach(at, size, reach);
+    if (at.x - other.x).abs() < 1.0 {
+        return d;
+    }
+    // The hand's body lies along −dir from the tip: put it on the far side from `other`.
+    let x = if at.x > other.x { -d.x.abs() } else { d.x.abs() };
+    v2(x, d.y)
+}
+
 /// Draws a hand from a cached sprite: each (pose, direction, length, colour) is rasterised
 /// once with its point of action at the sprite's centre, then only placed. Approach
 /// directions come from a small set and lengths are rounded to 2 px, so few sprites exist.
@@ -40,18 +52,19 @@ fn draw_hand(ctx: &mut Ctx<'_>, pose: Pose, at: V2, dir: V2, length: f32) -> Res
     Ok(())
 }
 
-/// A hand whose fingertip stops at the rim of the anchored object.
-fn point_at(ctx: &mut Ctx<'_>, a: Placed, pose: Pose, length: f32) -> Result<(), CueError> {
-    let dir = approach(a.at, ctx.size(), length);
+/// A hand coming along `dir` whose fingertip stops at the rim of the anchored object; returns
+/// the fingertip.
+fn point_at(ctx: &mut Ctx<'_>, a: Placed, pose: Pose, dir: V2, length: f32) -> Result<V2, CueError> {
     let tip = a.at.sub(dir.scale(a.radius * 0.8 + 2.0));
-    draw_hand(ctx, pose, tip, dir, length)
+    draw_hand(ctx, pose, tip, dir, length)?;
+    Ok(tip)
 }
 
 pub fn point_source(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     let length = 62.0 * ctx.scale();
     let sleeve = colors(ctx).sleeve;
     match ctx.place(Which::Source, sleeve) {
-        Some(src) => point_at(ctx, src, Pose::Point, length),
+        Some(src) => point_at(ctx, src, Pose::Point, approach(src.at, ctx.size(), length), length).map(|_| ()),
         None => Ok(()),
     }
 }
@@ -105,13 +118,14 @@ pub fn point_then_place(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
             draw::fill_outlined(pm, &p, WHITE, [20, 20, 20, 255], 1.2 * s, ID);
         }
     }
-    for (placed, pose, n, badge) in
-        [(src, Pose::Point, "1", [30, 170, 70, 255]), (tgt, Pose::Flat, "2", [30, 110, 235, 255])]
-    {
+    let ends = [(src, tgt, Pose::Point, "1", [30, 170, 70, 255]), (tgt, src, Pose::Flat, "2", [30, 110, 235, 255])];
+    for (placed, other, pose, n, badge) in ends {
         if let Some(p) = placed {
-            let dir = approach(p.at, ctx.size(), length);
-            let tip = p.at.sub(dir.scale(p.radius * 0.8 + 2.0));
-            point_at(ctx, p, pose, length)?;
+            let dir = match other {
+                Some(o) => approach_away(p.at, o.at, ctx.size(), length),
+                None => approach(p.at, ctx.size(), length),
+            };
+            let tip = point_at(ctx, p, pose, dir, length)?;
             // Badge on the back of the hand.
             number_badge(ctx, tip.sub(dir.scale(length * 0.75)), n, badge)?;
         }

@@ -223,6 +223,27 @@ impl SceneView {
         }
     }
 
+    /// One entity alone, as if its root body stood at `root` (its other bodies keep their pose
+    /// relative to the root in `sim`), lit like the scene, on an empty background (segment 0):
+    /// for drawing an object where it is not, e.g. the future poses of a ghost trajectory.
+    pub fn entity_scene(&self, sim: &Sim, entity: usize, root: &Pose) -> Scene {
+        let to_root = sim.entity_pose(entity).inverse();
+        let instances = self
+            .scene
+            .instances
+            .iter()
+            .zip(&self.anchors)
+            .filter_map(|(instance, anchor)| match anchor {
+                Anchor::Entity { entity: e, body, local, scale } if *e == entity => {
+                    let relative = to_root.mul(&sim.body_pose(entity, *body));
+                    Some(Instance { transform: transform(&root.mul(&relative).mul(local), *scale), ..instance.clone() })
+                }
+                _ => None,
+            })
+            .collect();
+        Scene { instances, lights: self.scene.lights.clone(), headlight: self.scene.headlight, background: Background::Solid([0.0; 3]) }
+    }
+
     /// The scene as of the last [`SceneView::update`].
     pub fn scene(&self) -> &Scene {
         &self.scene
@@ -317,6 +338,32 @@ mod tests {
         let moved = before.iter().zip(&after).filter(|(a, b)| (**a - **b).length() > 0.09).count();
         // The middle drawer's pieces moved by 10 cm; the carcass and other drawers did not.
         assert!(moved > 0 && moved < before.len(), "{moved} of {}", before.len());
+    }
+
+    #[test]
+    fn an_entity_scene_holds_that_entity_alone_at_the_given_pose() {
+        let (sim, view) = view_of("libero_goal", 0);
+        let (bowl, _) = sim.model().entity("akita_black_bowl_1").unwrap();
+        let segment = view.segment_of("akita_black_bowl_1").unwrap();
+        let here = sim.entity_pose(bowl);
+        let shift = Vec3::new(0.1, -0.2, 0.3);
+        let there = Pose { pos: here.pos + vifo_robots::spatial::Vec3::new(0.1, -0.2, 0.3), ..here };
+        let alone = view.entity_scene(&sim, bowl, &there);
+        let originals: Vec<&Instance> = view.scene().instances.iter().filter(|i| i.segment == segment).collect();
+        assert!(!alone.instances.is_empty());
+        assert_eq!(alone.instances.len(), originals.len());
+        assert!(alone.instances.iter().all(|i| i.segment == segment));
+        for (moved, original) in alone.instances.iter().zip(originals) {
+            assert!((moved.transform.translation - original.transform.translation - shift).length() < 1e-5);
+        }
+        assert_eq!(alone.lights, view.scene().lights);
+        // The cabinet's drawers keep their place relative to its root.
+        let (cabinet, _) = sim.model().entity("wooden_cabinet_1").unwrap();
+        let at_home = view.entity_scene(&sim, cabinet, &sim.entity_pose(cabinet));
+        let in_view: Vec<Vec3> = view.scene().instances.iter().filter(|i| i.segment == view.segment_of("wooden_cabinet_1").unwrap()).map(|i| i.transform.translation).collect();
+        let alone: Vec<Vec3> = at_home.instances.iter().map(|i| i.transform.translation).collect();
+        assert_eq!(in_view.len(), alone.len());
+        assert!(in_view.iter().zip(&alone).all(|(a, b)| (*a - *b).length() < 1e-5));
     }
 
     #[test]

@@ -1,4 +1,6 @@
 //! Speed measurements printed by `vifo bench`. Benches measure; tests never assert timings.
 
+pub mod cues;
 pub mod physics;
 pub mod render;
+pub mod timing;

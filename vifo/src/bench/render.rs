@@ -5,20 +5,17 @@
 //! cameras; that is timed as a whole, and each camera alone. Times are medians over batches
 //! after a warm-up, in this thread's CPU time where Linux reports it (the machine is shared).
 
-use std::time::Instant;
-
 use anyhow::Result;
 use serde::Serialize;
 use vifo_render::{Frame, Renderer};
 use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
 
+use super::timing::{Clock, median_ms};
 use crate::start::InitSource;
 use crate::render::{RenderRequest, episode};
 
 const TASK: &str = "libero_spatial/0";
 const SIZE: u32 = 256;
-/// Calls before timing starts.
-const WARMUP: usize = 20;
 /// Target length of one timed batch.
 const BATCH_MS: f64 = 100.0;
 
@@ -45,53 +42,7 @@ pub struct RenderBench {
     pub steps_per_second_two_cameras_256: f64,
 }
 
-/// This thread's CPU time (Linux `schedstat`), or wall-clock time elsewhere.
-enum Clock {
-    Cpu(u64),
-    Wall(Instant),
-}
-
-impl Clock {
-    fn cpu_ns() -> Option<u64> {
-        std::fs::read_to_string("/proc/thread-self/schedstat").ok()?.split_whitespace().next()?.parse().ok()
-    }
-
-    fn now() -> Clock {
-        Clock::cpu_ns().map_or_else(|| Clock::Wall(Instant::now()), Clock::Cpu)
-    }
-
-    fn elapsed_ms(&self) -> f64 {
-        match self {
-            Clock::Cpu(start) => Clock::cpu_ns().map_or(f64::NAN, |now| now.saturating_sub(*start) as f64 * 1e-6),
-            Clock::Wall(start) => start.elapsed().as_secs_f64() * 1e3,
-        }
-    }
-}
-
-/// Median over `batches` of the mean time of one call of `work`. The CPU clock advances in
-/// scheduler ticks, so each batch runs long enough (about [`BATCH_MS`]) for a tick to be a small
-/// error; the first, calibrating batch is the warm-up.
-fn median_ms(batches: usize, mut work: impl FnMut() -> Result<()>) -> Result<f64> {
-    let clock = Clock::now();
-    let mut calls = 0usize;
-    while calls < WARMUP || clock.elapsed_ms() < BATCH_MS / 2.0 {
-        work()?;
-        calls += 1;
-    }
-    let per_batch = ((calls as f64 * BATCH_MS / clock.elapsed_ms().max(1e-3)) as usize).max(1);
-    let mut times = Vec::with_capacity(batches);
-    for _ in 0..batches {
-        let clock = Clock::now();
-        for _ in 0..per_batch {
-            work()?;
-        }
-        times.push(clock.elapsed_ms() / per_batch as f64);
-    }
-    times.sort_by(f64::total_cmp);
-    Ok(times[times.len() / 2])
-}
-
-/// Runs the benchmark on initial state 0 from `source`.
+/// Runs the benchmark with LIBERO's initial states from `source`.
 pub fn run(source: InitSource, batches: usize) -> Result<RenderBench> {
     let request = RenderRequest {
         task: TASK.to_string(),
@@ -116,16 +67,16 @@ pub fn run(source: InitSource, batches: usize) -> Result<RenderBench> {
     let agent = cameras.agentview(sim.model().class);
     let batches = batches.max(1);
 
-    let ms_per_frame_agentview_256 = median_ms(batches, || Ok(view.render_into(&mut renderer, &agent, ImageOrder::Upright, &mut frame)?))?;
+    let ms_per_frame_agentview_256 = median_ms(batches, BATCH_MS, || Ok(view.render_into(&mut renderer, &agent, ImageOrder::Upright, &mut frame)?))?;
     let triangles_in_view_agentview = renderer.stats().triangles_in_view;
     let wrist = cameras.eye_in_hand(&sim);
-    let ms_per_frame_eye_in_hand_256 = median_ms(batches, || Ok(view.render_into(&mut renderer, &wrist, ImageOrder::Upright, &mut frame)?))?;
+    let ms_per_frame_eye_in_hand_256 = median_ms(batches, BATCH_MS, || Ok(view.render_into(&mut renderer, &wrist, ImageOrder::Upright, &mut frame)?))?;
     let triangles_in_view_eye_in_hand = renderer.stats().triangles_in_view;
-    let ms_per_update = median_ms(batches, || {
+    let ms_per_update = median_ms(batches, BATCH_MS, || {
         view.update(&sim);
         Ok(())
     })?;
-    let ms_per_step_two_cameras_256 = median_ms(batches, || {
+    let ms_per_step_two_cameras_256 = median_ms(batches, BATCH_MS, || {
         view.update(&sim);
         for name in CameraName::ALL {
             view.render_into(&mut renderer, &cameras.get(name, &sim), ImageOrder::Upright, &mut frame)?;

@@ -1,4 +1,4 @@
-//! `vifo bench physics|render`: speed figures.
+//! `vifo bench physics|render|cues`: speed figures.
 
 use std::path::PathBuf;
 
@@ -34,6 +34,15 @@ pub enum BenchWhat {
         #[arg(long, default_value_t = 9)]
         batches: usize,
     },
+    /// Cost of drawing a cue instance into a 256² frame, per family, on real frames.
+    Cues {
+        /// Tasks (<suite>/<index>) whose instances are timed; repeatable.
+        #[arg(long = "task", default_values_t = bench::cues::TASKS.map(String::from))]
+        tasks: Vec<String>,
+        /// Timed batches of about 40 ms per instance and camera (the median is reported).
+        #[arg(long, default_value_t = 3)]
+        batches: usize,
+    },
 }
 
 pub fn run(args: &BenchArgs) -> Result<()> {
@@ -61,6 +70,25 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 println!("robot0_eye_in_hand frame {:>8.4} ms", r.ms_per_frame_eye_in_hand_256);
                 println!("scene update             {:>8.4} ms", r.ms_per_update);
                 println!("control step, 2 cameras  {:>8.4} ms  ({:.0} steps/s)", r.ms_per_step_two_cameras_256, r.steps_per_second_two_cameras_256);
+            }
+        }
+        BenchWhat::Cues { tasks, batches } => {
+            let r = bench::cues::run(tasks, *batches)?;
+            if args.json {
+                println!("{}", serde_json::to_string_pretty(&r)?);
+            } else {
+                println!("cue insertion at {}², {}, median of {} batches; tasks {}", r.size, r.clock, r.batches, r.tasks.join(", "));
+                println!("(ms per frame: anchors + ghost layers + drawing + compositing, not the scene render; F3 wrist renders its layers every frame)");
+                println!("{:<28} {:>9} {:>16} {:>16} {:>12}  slowest", "family", "instances", "agentview mean/max", "wrist mean/max", "prepare ms");
+                for f in &r.families {
+                    println!(
+                        "{} {:<25} {:>9} {:>8.3} / {:<7.3} {:>7.3} / {:<7.3} {:>12.1}  {}",
+                        f.family, f.family.name(), f.instances, f.ms_agentview_mean, f.ms_agentview_max, f.ms_wrist_mean, f.ms_wrist_max, f.ms_prepare_mean, f.slowest
+                    );
+                }
+                for id in &r.failed_demos {
+                    println!("note: {id}: the expert's demonstration failed (timed all the same)");
+                }
             }
         }
     }

@@ -1,12 +1,16 @@
 //! `vifo cues`: the task parser, the variant catalogue, the instance set and a quick renderer.
 
-use std::path::PathBuf;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
 use clap::{Args as ClapArgs, Subcommand};
+use serde::Serialize;
+use vifo_render::imageio::save_png;
 use vifo_cues::instances::{InstanceSet, TaskDescription};
 use vifo_cues::parse::{GoalAtom, instruction_from_task_name, parse, parse_with_goals};
-use vifo_cues::{Anchor, Anchors, CueSpec, FrameInputs, Inserter, RgbImage, VARIANTS, variants};
+use vifo_cues::{Anchor, Anchors, CueSpec, Family, FrameInputs, Inserter, RgbImage, VARIANTS, variants};
+use vifo_protocols::scene_cues::{builtin_instances, gallery};
 
 #[derive(ClapArgs)]
 pub struct Args {
@@ -39,6 +43,30 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// The instance set of the 40 built-in tasks: counts per family and per task, the variants.
+    List {
+        /// Print JSON (keys total, per_family, tasks_per_family, per_task, variants).
+        #[arg(long)]
+        json: bool,
+    },
+    /// One contact-sheet PNG per family: every variant drawn on a real scene frame.
+    Gallery {
+        /// Folder for the sheets (`F1.png` ... `F8.png`).
+        #[arg(short = 'o', long = "output", value_name = "DIR")]
+        output: PathBuf,
+        /// Task shown (<suite>/<index>); variants it cannot carry use another task.
+        #[arg(long, default_value = gallery::SHOWCASE)]
+        task: String,
+        /// Only this family (F1..F8).
+        #[arg(long)]
+        family: Option<String>,
+        /// Index of the shipped initial state.
+        #[arg(long, default_value_t = 0)]
+        init: usize,
+        /// Tile width and height in pixels.
+        #[arg(long, default_value_t = 256)]
+        size: u32,
+    },
     /// Draw one cue over a plain grey frame and write it as a binary PPM image.
     Render {
         variant: String,
@@ -70,6 +98,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Instances { tasks, json } => instances_cmd(&tasks, json),
+        Command::List { json } => list_cmd(json),
+        Command::Gallery { output, task, family, init, size } => gallery_cmd(&output, &task, family.as_deref(), init, size),
         Command::Render { variant, instruction, out, size, source, target } => {
             render_cmd(&variant, &instruction, &out, size, &source, &target)
         }
@@ -110,6 +140,112 @@ fn instances_cmd(path: &PathBuf, json: bool) -> anyhow::Result<()> {
     println!("{} instances over {} tasks", set.instances.len(), tasks.len());
     for (family, c) in set.composition() {
         println!("{family} {:<24} {:>5} {:>5.1} %  {:>3} tasks", family.name(), c.instances, c.share * 100.0, c.tasks);
+    }
+    Ok(())
+}
+
+/// Counts of the built-in instance set, as `vifo cues list --json` prints them.
+#[derive(Serialize)]
+struct Listing {
+    total: usize,
+    per_family: BTreeMap<Family, usize>,
+    tasks_per_family: BTreeMap<Family, usize>,
+    /// Tasks in suite order.
+    per_task: Vec<TaskCount>,
+    variants: Vec<VariantCount>,
+}
+
+#[derive(Serialize)]
+struct TaskCount {
+    task: String,
+    total: usize,
+    per_family: BTreeMap<Family, usize>,
+}
+
+#[derive(Serialize)]
+struct VariantCount {
+    name: &'static str,
+    family: Family,
+    description: &'static str,
+    instances: usize,
+}
+
+fn listing() -> anyhow::Result<Listing> {
+    let set = builtin_instances()?;
+    let composition = set.composition();
+    let mut per_task: Vec<TaskCount> = Vec::new();
+    for spec in &set.instances {
+        if per_task.last().is_none_or(|t| t.task != spec.task) {
+            per_task.push(TaskCount { task: spec.task.clone(), total: 0, per_family: BTreeMap::new() });
+        }
+        if let Some(t) = per_task.last_mut() {
+            t.total += 1;
+            *t.per_family.entry(spec.family).or_default() += 1;
+        }
+    }
+    Ok(Listing {
+        total: set.instances.len(),
+        per_family: composition.iter().map(|(f, c)| (*f, c.instances)).collect(),
+        tasks_per_family: composition.iter().map(|(f, c)| (*f, c.tasks)).collect(),
+        per_task,
+        variants: VARIANTS
+            .iter()
+            .map(|v| VariantCount {
+                name: v.name,
+                family: v.family,
+                description: v.description,
+                instances: set.instances.iter().filter(|s| s.variant == v.name).count(),
+            })
+            .collect(),
+    })
+}
+
+fn list_cmd(json: bool) -> anyhow::Result<()> {
+    let l = listing()?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&l)?);
+        return Ok(());
+    }
+    println!("{} instances over {} tasks (paper: 1,347)\n", l.total, l.per_task.len());
+    println!("family                        variants  instances  share  tasks");
+    for family in Family::ALL {
+        let n = l.per_family[&family];
+        let variants = l.variants.iter().filter(|v| v.family == family).count();
+        let share = 100.0 * n as f64 / l.total.max(1) as f64;
+        println!("{family} {:<26} {variants:>8} {n:>10} {share:>5.1} % {:>6}", family.name(), l.tasks_per_family[&family]);
+    }
+    println!("\ntask                 {} total", Family::ALL.map(|f| format!("{:>4}", f.to_string())).join(""));
+    for t in &l.per_task {
+        let cells = Family::ALL.map(|f| format!("{:>4}", t.per_family.get(&f).copied().unwrap_or(0))).join("");
+        println!("{:<20} {cells} {:>5}", t.task, t.total);
+    }
+    println!("\nvariants ({}):", l.variants.len());
+    for v in &l.variants {
+        println!("{} {:<26} {:>4}  {}", v.family, v.name, v.instances, v.description);
+    }
+    let smallest = Family::ALL.iter().map(|f| l.variants.iter().filter(|v| v.family == *f).count()).min().unwrap_or(0);
+    let full = Family::ALL.iter().filter(|f| **f != Family::F3 && l.tasks_per_family[f] == 40).count();
+    println!("\ngates: {} variants (>= 33), smallest family {smallest} (>= 3), total {} within 1,347 ± 10 % [1212, 1482]: {}, {full} of 7 non-ghost families on 40 tasks, ghosts on {} (>= 38)",
+        l.variants.len(), l.total, (1212..=1482).contains(&l.total), l.tasks_per_family[&Family::F3]);
+    Ok(())
+}
+
+fn gallery_cmd(dir: &Path, task: &str, family: Option<&str>, init: usize, size: u32) -> anyhow::Result<()> {
+    let families: Vec<Family> = match family {
+        Some(f) => vec![
+            *Family::ALL.iter().find(|x| x.to_string() == f).with_context(|| format!("family {f:?}: expected F1..F8"))?,
+        ],
+        None => Family::ALL.to_vec(),
+    };
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    for family in families {
+        let sheet = gallery::sheet(family, task, size, init)?;
+        let path = dir.join(format!("{family}.png"));
+        save_png(&sheet.image, &path)?;
+        println!("{} ({} variants) -> {}", family, sheet.instances.len(), path.display());
+        for id in &sheet.failed_demos {
+            println!("  {id}: the expert's demonstration failed; the ghost/pictures show where it stopped");
+        }
     }
     Ok(())
 }

@@ -2,17 +2,25 @@
 
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{Result, anyhow, bail};
 use clap::Args;
 use vifo::start::InitSource;
 use vifo::render::{self, RenderRequest};
-use vifo_scenes::view::{CameraName, ImageOrder};
+use vifo_protocols::scene_cues::{self, EpisodeCue, start::settled_start};
+use vifo_render::Renderer;
+use vifo_render::imageio::save_png;
+use vifo_scenes::sim::SceneModel;
+use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
 
 #[derive(Args)]
 pub struct RenderArgs {
-    /// Task as <suite>/<index>, e.g. libero_spatial/0.
-    #[arg(long)]
-    pub task: String,
+    /// Task as <suite>/<index>, e.g. libero_spatial/0 (implied by --cue).
+    #[arg(long, required_unless_present = "cue")]
+    pub task: Option<String>,
+    /// Draw this cue instance (e.g. libero_goal/1/F2/straight_arrow_red; `vifo cues list` counts
+    /// them) on the frame of the shipped initial state --init after LIBERO's settle steps.
+    #[arg(long, value_name = "INSTANCE", conflicts_with_all = ["libero_init", "gif", "frames"])]
+    pub cue: Option<String>,
     /// Index of the initial state.
     #[arg(long, default_value_t = 0)]
     pub init: usize,
@@ -50,8 +58,11 @@ pub struct RenderArgs {
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
+    if let Some(id) = &args.cue {
+        return render_cue(id, &args);
+    }
     let request = RenderRequest {
-        task: args.task,
+        task: args.task.unwrap_or_default(),
         init: args.init,
         source: InitSource::from_libero_dir(args.libero_init),
         seed: args.seed,
@@ -66,5 +77,33 @@ pub fn run(args: RenderArgs) -> Result<()> {
     };
     let frames = render::run(&request)?;
     println!("rendered {frames} frame(s) of {} (init {}) with {}", request.task, request.init, request.camera);
+    Ok(())
+}
+
+/// `--cue`: the instance's scene at a shipped initial state, the cue drawn on the chosen camera.
+fn render_cue(id: &str, args: &RenderArgs) -> Result<()> {
+    let spec = scene_cues::instance(id)?;
+    if let Some(task) = args.task.as_deref().filter(|t| *t != spec.task) {
+        bail!("--task {task} differs from the task of cue {id} ({}); leave --task out", spec.task);
+    }
+    let output = args.output.as_ref().ok_or_else(|| anyhow!("give -o FILE.png for the frame with the cue"))?;
+    if args.bottom_up {
+        bail!("--bottom-up is not available with --cue (cues are drawn on upright frames)");
+    }
+    let task = scene_cues::task_of(spec)?;
+    let model = SceneModel::build(task)?;
+    let sim = settled_start(&model, args.init)?;
+    let mut view = SceneView::new(&model);
+    view.update(&sim);
+    let mut renderer = Renderer::default();
+    let camera = Cameras::new(args.size, args.size).get(args.camera, &sim);
+    let mut cue = EpisodeCue::prepare(&sim, &view, &mut renderer, spec, &task.goal, (args.size, args.size))?;
+    let mut frame = view.render(&mut renderer, &camera, ImageOrder::Upright)?.color;
+    let report = cue.apply(&sim, &mut renderer, &camera, &mut frame)?;
+    save_png(&frame, output)?;
+    println!("{id} on {} (init {}) with {} -> {} ({})", spec.task, args.init, args.camera, output.display(), serde_json::to_string(&report)?);
+    if let Some(demo) = cue.demo().filter(|d| !d.success) {
+        println!("note: the expert's demonstration failed ({}); the cue shows the states it reached", demo.failure.as_deref().unwrap_or("unknown"));
+    }
     Ok(())
 }

@@ -1,0 +1,142 @@
+//! The future a ghost or a goal picture shows: the scripted expert achieving the cue's goals on
+//! a fork of the episode, recording the manipulated object's pose at every step and handing
+//! out the states worth a picture.
+
+use serde::Serialize;
+use vifo_robots::spatial::Pose;
+use vifo_scenes::expert::Expert;
+use vifo_scenes::sim::Sim;
+use vifo_scenes::task::Atom;
+
+use super::SceneCueError;
+
+/// Steps the expert may take when the task belongs to no suite (the longest suite budget).
+pub const DEFAULT_STEP_CAP: usize = 520;
+/// Steps to wait after the expert is done before the demonstration is called finished (things
+/// settle into their goal relations).
+const SETTLE_AFTER_DONE: usize = 20;
+/// Height (m) the manipulated object must rise above its start to count as lifted.
+const LIFTED: f64 = 0.05;
+
+/// How the demonstration ended, for the caller to log: a failed one still gives ghosts and
+/// pictures, of the states it reached.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DemoOutcome {
+    /// Every goal atom held at the end.
+    pub success: bool,
+    /// Control steps run.
+    pub steps: usize,
+    /// Why the expert gave up or could not finish (`None` on success).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failure: Option<String>,
+}
+
+/// A finished demonstration.
+pub struct Demo {
+    pub outcome: DemoOutcome,
+    /// Root pose of the tracked entity at the start and after every step.
+    pub track: Vec<Pose>,
+}
+
+/// Runs the expert on a fork of `sim` until `goals` hold, it gives up, or `cap` steps.
+/// `keyframe` sees the states worth a picture, in time order: the moment the tracked object is
+/// first lifted, every moment a goal atom becomes true (the end of a step), and the final state.
+pub fn run(
+    sim: &Sim,
+    cue: &str,
+    goals: &[Atom],
+    tracked: Option<usize>,
+    cap: usize,
+    mut keyframe: impl FnMut(&Sim) -> Result<(), SceneCueError>,
+) -> Result<Demo, SceneCueError> {
+    let predicate = |source| SceneCueError::Predicate { cue: cue.to_string(), source };
+    let mut fork = sim.fork();
+    let mut expert = Expert::for_goals(&fork, goals).map_err(|source| SceneCueError::Plan { cue: cue.to_string(), source })?;
+    let pose = |s: &Sim| tracked.map_or(Pose::IDENTITY, |e| s.entity_pose(e));
+    let mut track = vec![pose(&fork)];
+    let start_z = track[0].pos.z;
+    let mut lifted = tracked.is_none();
+    let mut held: Vec<bool> = goals.iter().map(|a| fork.holds(a)).collect::<Result<_, _>>().map_err(predicate)?;
+    let mut idle = 0;
+    let mut success = held.iter().all(|h| *h);
+    while !success && track.len() <= cap && idle < SETTLE_AFTER_DONE && expert.failure().is_none() {
+        let action = expert.act(&fork);
+        fork.step(&action);
+        track.push(pose(&fork));
+        if expert.finished() {
+            idle += 1;
+        }
+        let mut picture = false;
+        if !lifted && track[track.len() - 1].pos.z > start_z + LIFTED {
+            lifted = true;
+            picture = true;
+        }
+        for (atom, was) in goals.iter().zip(held.iter_mut()) {
+            let now = fork.holds(atom).map_err(predicate)?;
+            picture |= now && !*was;
+            *was = now;
+        }
+        success = held.iter().all(|h| *h);
+        if picture && !success {
+            keyframe(&fork)?;
+        }
+    }
+    keyframe(&fork)?;
+    let failure = match (success, expert.failure()) {
+        (true, _) => None,
+        (false, Some(why)) => Some(why.to_string()),
+        (false, None) if track.len() > cap => Some(format!("goals not reached within {cap} steps")),
+        (false, None) => Some("the expert finished but the goals do not hold".to_string()),
+    };
+    Ok(Demo { outcome: DemoOutcome { success, steps: track.len() - 1, failure }, track })
+}
+
+/// `k` poses along the track, evenly spaced by the distance the object travelled (so pauses
+/// while the gripper approaches take no ghosts), the final pose included and the start left
+/// out (the object itself is there). A track that never moved gives `k` copies of its end.
+pub fn spaced_poses(track: &[Pose], k: usize) -> Vec<Pose> {
+    let Some(last) = track.last() else { return Vec::new() };
+    let mut travelled = Vec::with_capacity(track.len());
+    let mut total = 0.0;
+    travelled.push(0.0);
+    for w in track.windows(2) {
+        total += (w[1].pos - w[0].pos).norm();
+        travelled.push(total);
+    }
+    (1..=k)
+        .map(|i| {
+            if total <= 0.0 {
+                return *last;
+            }
+            let goal = total * i as f64 / k as f64;
+            let at = travelled.iter().position(|&d| d >= goal - 1e-12).unwrap_or(track.len() - 1);
+            track[at]
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use vifo_robots::spatial::Vec3;
+
+    fn at(x: f64) -> Pose {
+        Pose { pos: Vec3::new(x, 0.0, 0.0), ..Pose::IDENTITY }
+    }
+
+    #[test]
+    fn poses_are_spaced_by_distance_and_end_at_the_last() {
+        // Idle for three steps, then 0.1 m per step to x = 0.4.
+        let track: Vec<Pose> = [0.0, 0.0, 0.0, 0.0, 0.1, 0.2, 0.3, 0.4].map(at).to_vec();
+        let xs: Vec<f64> = spaced_poses(&track, 4).iter().map(|p| p.pos.x).collect();
+        assert_eq!(xs, [0.1, 0.2, 0.3, 0.4]);
+        let xs: Vec<f64> = spaced_poses(&track, 2).iter().map(|p| p.pos.x).collect();
+        assert_eq!(xs, [0.2, 0.4]);
+    }
+
+    #[test]
+    fn a_still_track_gives_copies_of_its_end_and_an_empty_one_nothing() {
+        assert_eq!(spaced_poses(&[at(0.3), at(0.3)], 3), vec![at(0.3); 3]);
+        assert!(spaced_poses(&[], 3).is_empty());
+    }
+}

@@ -1,0 +1,66 @@
+//! F3 ghost layers: the manipulated object alone at K future poses, rendered from the frame's
+//! camera into RGBA layers (opaque where the object is, transparent elsewhere).
+//!
+//! The poses are fixed for the episode, so the K one-object scenes are built once; layers only
+//! need rendering again when the camera moves. The last two cameras' layers are kept, so the
+//! fixed agentview costs nothing after its first frame while the wrist camera re-renders.
+
+use vifo_cues::RgbaImage;
+use vifo_render::{Camera, Frame, RenderError, Renderer, Scene};
+use vifo_robots::spatial::Pose;
+use vifo_scenes::sim::Sim;
+use vifo_scenes::view::SceneView;
+
+/// Cameras whose layers are kept (agentview and the wrist camera, called alternately).
+const KEPT: usize = 2;
+
+pub struct Ghost {
+    scenes: Vec<Scene>,
+    /// Most recently used first.
+    kept: Vec<(Camera, Vec<RgbaImage>)>,
+    scratch: Frame,
+}
+
+impl Ghost {
+    /// Ghosts of `entity` at `poses` (in time order), looking as it does in `view`.
+    pub fn new(view: &SceneView, sim: &Sim, entity: usize, poses: &[Pose]) -> Ghost {
+        let scenes = poses.iter().map(|p| view.entity_scene(sim, entity, p)).collect();
+        Ghost { scenes, kept: Vec::new(), scratch: Frame::default() }
+    }
+
+    /// Number of layers.
+    pub fn len(&self) -> usize {
+        self.scenes.len()
+    }
+
+    /// The layers as `camera` sees them.
+    pub fn layers(&mut self, renderer: &mut Renderer, camera: &Camera) -> Result<&[RgbaImage], RenderError> {
+        match self.kept.iter().position(|(c, _)| c == camera) {
+            Some(i) => {
+                let entry = self.kept.remove(i);
+                self.kept.insert(0, entry);
+            }
+            None => {
+                let mut layers = Vec::with_capacity(self.scenes.len());
+                for scene in &self.scenes {
+                    renderer.render_into(scene, camera, &mut self.scratch)?;
+                    layers.push(layer_of(&self.scratch));
+                }
+                self.kept.insert(0, (*camera, layers));
+                self.kept.truncate(KEPT);
+            }
+        }
+        Ok(&self.kept[0].1)
+    }
+}
+
+/// A rendered frame as an RGBA layer: opaque where something was drawn (segment ≠ 0).
+fn layer_of(frame: &Frame) -> RgbaImage {
+    let mut data = vec![0u8; frame.segmentation.len() * 4];
+    for ((out, rgb), &segment) in data.chunks_exact_mut(4).zip(frame.color.data.chunks_exact(3)).zip(&frame.segmentation) {
+        if segment != 0 {
+            out.copy_from_slice(&[rgb[0], rgb[1], rgb[2], 255]);
+        }
+    }
+    RgbaImage { width: frame.width(), height: frame.height(), data }
+}

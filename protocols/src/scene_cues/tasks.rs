@@ -1,0 +1,68 @@
+//! The instance set of the 40 built-in LIBERO tasks, and looking instances up by id.
+
+use std::sync::OnceLock;
+
+use vifo_cues::instances::{InstanceError, InstanceSet, TaskDescription};
+use vifo_cues::parse::GoalAtom;
+use vifo_cues::CueSpec;
+use vifo_scenes::Task;
+
+use super::SceneCueError;
+
+/// What the instance generator needs of a task: its key, instruction, goal atoms (so steps are
+/// grounded to the simulator's names) and the scene's object and fixture names.
+pub fn describe(task: &Task) -> TaskDescription {
+    TaskDescription {
+        suite: task.suite.clone().unwrap_or_default(),
+        index: task.index.unwrap_or_default(),
+        instruction: task.instruction.clone(),
+        goals: task.goal.iter().map(|a| GoalAtom { predicate: a.predicate.name().to_string(), args: a.args.clone() }).collect(),
+        objects: task.objects.iter().map(|e| e.name.clone()).collect(),
+        fixtures: task.fixtures.iter().map(|e| e.name.clone()).collect(),
+    }
+}
+
+/// The instance set of the 40 built-in tasks (built once).
+pub fn builtin_instances() -> Result<&'static InstanceSet, SceneCueError> {
+    static SET: OnceLock<Result<InstanceSet, InstanceError>> = OnceLock::new();
+    let set = SET.get_or_init(|| {
+        let tasks: Vec<TaskDescription> = vifo_scenes::all_tasks().map(describe).collect();
+        InstanceSet::build(&tasks)
+    });
+    set.as_ref().map_err(|e| SceneCueError::Instances(e.clone()))
+}
+
+/// The built-in instance with this id (`libero_goal/3/F2/curved_arrow_yellow`).
+pub fn instance(id: &str) -> Result<&'static CueSpec, SceneCueError> {
+    let set = builtin_instances()?;
+    if let Some(spec) = set.instances.iter().find(|s| s.id() == id) {
+        return Ok(spec);
+    }
+    let unknown = |hint: String| SceneCueError::UnknownInstance { id: id.to_string(), hint };
+    let parts: Vec<&str> = id.split('/').collect();
+    let [suite, index, _family, variant] = parts[..] else {
+        return Err(unknown("expected <suite>/<index>/<family>/<variant>, e.g. libero_goal/3/F2/curved_arrow_yellow".into()));
+    };
+    let key = format!("{suite}/{index}");
+    let of_task: Vec<&str> = set.instances.iter().filter(|s| s.task == key).map(|s| s.variant.as_str()).collect();
+    if of_task.is_empty() {
+        return Err(unknown(format!("no built-in task {key} (suites: {}; indices 0-9)", vifo_scenes::suite_names().join(", "))));
+    }
+    let hint = match vifo_cues::variants::find(variant) {
+        None => format!("no variant '{variant}' (`vifo cues variants` lists them)"),
+        Some(v) if !of_task.contains(&variant) => format!("task {key} cannot carry {variant} (needs: {:?})", v.needs),
+        Some(v) => format!("{variant} belongs to family {}", v.family),
+    };
+    Err(unknown(hint))
+}
+
+/// The built-in task a spec's `task` key (`suite/index`) names.
+pub fn task_of(spec: &CueSpec) -> Result<&'static Task, SceneCueError> {
+    spec.task
+        .split_once('/')
+        .and_then(|(suite, index)| vifo_scenes::task(suite, index.parse().ok()?))
+        .ok_or_else(|| SceneCueError::UnknownInstance {
+            id: spec.id(),
+            hint: format!("'{}' is not a built-in task (expected <suite>/<index>)", spec.task),
+        })
+}

@@ -1,0 +1,55 @@
+//! Timing for the benches: this thread's CPU time where Linux reports it (the machine is
+//! shared), medians over batches after a warm-up.
+
+use std::time::Instant;
+
+use anyhow::Result;
+
+/// Calls before timing starts.
+const WARMUP: usize = 20;
+
+/// This thread's CPU time (Linux `schedstat`), or wall-clock time elsewhere.
+pub enum Clock {
+    Cpu(u64),
+    Wall(Instant),
+}
+
+impl Clock {
+    pub fn cpu_ns() -> Option<u64> {
+        std::fs::read_to_string("/proc/thread-self/schedstat").ok()?.split_whitespace().next()?.parse().ok()
+    }
+
+    pub fn now() -> Clock {
+        Clock::cpu_ns().map_or_else(|| Clock::Wall(Instant::now()), Clock::Cpu)
+    }
+
+    pub fn elapsed_ms(&self) -> f64 {
+        match self {
+            Clock::Cpu(start) => Clock::cpu_ns().map_or(f64::NAN, |now| now.saturating_sub(*start) as f64 * 1e-6),
+            Clock::Wall(start) => start.elapsed().as_secs_f64() * 1e3,
+        }
+    }
+}
+
+/// Median over `batches` of the mean time of one call of `work`. The CPU clock advances in
+/// scheduler ticks, so each batch runs long enough (about `batch_ms`) for a tick to be a small
+/// error; the first, calibrating batch is the warm-up.
+pub fn median_ms(batches: usize, batch_ms: f64, mut work: impl FnMut() -> Result<()>) -> Result<f64> {
+    let clock = Clock::now();
+    let mut calls = 0usize;
+    while calls < WARMUP || clock.elapsed_ms() < batch_ms / 2.0 {
+        work()?;
+        calls += 1;
+    }
+    let per_batch = ((calls as f64 * batch_ms / clock.elapsed_ms().max(1e-3)) as usize).max(1);
+    let mut times = Vec::with_capacity(batches);
+    for _ in 0..batches {
+        let clock = Clock::now();
+        for _ in 0..per_batch {
+            work()?;
+        }
+        times.push(clock.elapsed_ms() / per_batch as f64);
+    }
+    times.sort_by(f64::total_cmp);
+    Ok(times[times.len() / 2])
+}

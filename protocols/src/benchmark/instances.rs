@@ -3,36 +3,19 @@
 use std::collections::BTreeMap;
 use std::sync::OnceLock;
 
-use vifo_cues::instances::{InstanceSet, TaskDescription};
-use vifo_cues::parse::GoalAtom;
 use vifo_cues::CueSpec;
-use vifo_scenes::task::{Entity, Task};
+use vifo_scenes::task::Entity;
 
 use super::BenchmarkError;
+use crate::scene_cues;
 use crate::spec::TaskRef;
 use crate::vqa::{Scene, SceneEntity};
 
-/// What the instance generator needs to know about a built-in task.
-pub fn description(task: &Task) -> TaskDescription {
-    TaskDescription {
-        suite: task.suite.clone().unwrap_or_default(),
-        index: task.index.unwrap_or_default(),
-        instruction: task.instruction.clone(),
-        goals: task.goal.iter().map(|a| GoalAtom { predicate: a.predicate.name().to_string(), args: a.args.clone() }).collect(),
-        objects: task.objects.iter().map(|e| e.name.clone()).collect(),
-        fixtures: task.fixtures.iter().map(|e| e.name.clone()).collect(),
-    }
-}
-
 /// Every cue instance of the 40 built-in tasks, in suite, task and catalogue order.
 pub fn all() -> &'static [CueSpec] {
-    static SET: OnceLock<Vec<CueSpec>> = OnceLock::new();
-    SET.get_or_init(|| {
-        let descriptions: Vec<TaskDescription> = vifo_scenes::all_tasks().map(description).collect();
-        // The tasks and the parser are compiled in and `benchmark` tests build this set, so a
-        // failure here is a build defect, not bad input.
-        InstanceSet::build(&descriptions).unwrap_or_else(|e| panic!("instance set of the built-in tasks: {e}")).instances
-    })
+    // The tasks and the parser are compiled in and `benchmark` tests build this set, so a
+    // failure here is a build defect, not bad input.
+    &scene_cues::builtin_instances().unwrap_or_else(|e| panic!("instance set of the built-in tasks: {e}")).instances
 }
 
 /// The instance with this id (`libero_goal/3/F2/curved_arrow_yellow`).
@@ -77,7 +60,7 @@ pub fn vqa_scenes() -> BTreeMap<String, Scene> {
     };
     vifo_scenes::all_tasks()
         .map(|t| {
-            let d = description(t);
+            let d = scene_cues::describe(t);
             (d.key(), Scene { objects: entities(&t.objects), fixtures: entities(&t.fixtures) })
         })
         .collect()

@@ -1,59 +1,64 @@
-//! The episode's cue, drawn into every rendered camera frame of the current state.
-//!
-//! Drawing a cue into a simulated scene (anchors projected from the current state, ghost
-//! layers, goal pictures) is the scene_cues bridge's job (`protocols::scene_cues`, written in
-//! parallel). Until it is merged, [`DRAWING`] is [`CueDrawing::Unavailable`]: observations
-//! carry no cue and `vifo run` says so before it starts. The environment already calls
-//! [`EpisodeCue::draw`] once per rendered camera frame, so wiring the bridge in changes only
-//! this file.
+//! The episode's cue, drawn into every rendered camera frame of the current state through the
+//! scene_cues bridge (anchors projected from the current state, ghost layers, goal pictures).
 
-use vifo_cues::{CueSpec, RgbImage};
-use vifo_render::{Camera, Renderer};
+use vifo_cues::CueSpec;
+use vifo_render::{Camera, Renderer, RgbImage};
 use vifo_scenes::sim::Sim;
-use vifo_scenes::view::{CameraName, SceneView};
+use vifo_scenes::task::Atom;
+use vifo_scenes::view::SceneView;
 
 use super::EnvError;
+use crate::scene_cues;
 
-/// Whether the episode's observations show its cue.
+/// Whether the episode's observations show a cue.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CueDrawing {
     /// The protocol has no cue (original).
     NoCue,
     /// The cue is drawn into every rendered frame.
     Drawn,
-    /// The episode has a cue but this build cannot draw it into scene frames yet.
-    Unavailable,
 }
-
-/// What this build does with an episode's cue.
-pub const DRAWING: CueDrawing = CueDrawing::Unavailable;
 
 /// The cue of one episode, prepared at reset.
 pub struct EpisodeCue {
     spec: &'static CueSpec,
+    /// The bridge's state; `None` when no camera is rendered (nothing to draw into, and the
+    /// ghost's expert rollout and the goal pictures are not worth preparing).
+    bridge: Option<scene_cues::EpisodeCue>,
 }
 
 impl EpisodeCue {
-    /// Prepares `spec` for an episode starting from `sim`'s state with `size`² frames.
-    pub fn prepare(_sim: &Sim, _view: &mut SceneView, spec: &'static CueSpec, _size: u32) -> Result<EpisodeCue, EnvError> {
+    /// Prepares `spec` for an episode starting from `sim`'s state with `size`² frames;
+    /// `render` is whether any camera will be drawn.
+    pub fn prepare(
+        sim: &Sim,
+        view: &SceneView,
+        renderer: &mut Renderer,
+        spec: &'static CueSpec,
+        goals: &[Atom],
+        size: u32,
+        render: bool,
+    ) -> Result<EpisodeCue, EnvError> {
         spec.check().map_err(|e| EnvError::Cue(format!("{}: {e}", spec.id())))?;
-        Ok(EpisodeCue { spec })
+        let bridge = if render {
+            let cue = scene_cues::EpisodeCue::prepare(sim, view, renderer, spec, goals, (size, size))
+                .map_err(|e| EnvError::Cue(e.to_string()))?;
+            Some(cue)
+        } else {
+            None
+        };
+        Ok(EpisodeCue { spec, bridge })
     }
 
     pub fn spec(&self) -> &'static CueSpec {
         self.spec
     }
 
-    /// Draws the cue into one upright camera frame of the current state (see [`DRAWING`]).
-    pub fn draw(
-        &mut self,
-        _sim: &Sim,
-        _view: &SceneView,
-        _renderer: &mut Renderer,
-        _camera: &Camera,
-        _name: CameraName,
-        _frame: &mut RgbImage,
-    ) -> Result<(), EnvError> {
+    /// Draws the cue into one upright camera frame of the current state.
+    pub fn draw(&mut self, sim: &Sim, renderer: &mut Renderer, camera: &Camera, frame: &mut RgbImage) -> Result<(), EnvError> {
+        if let Some(bridge) = self.bridge.as_mut() {
+            bridge.apply(sim, renderer, camera, frame).map_err(|e| EnvError::Cue(e.to_string()))?;
+        }
         Ok(())
     }
 }

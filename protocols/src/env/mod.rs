@@ -212,7 +212,10 @@ impl Env {
                 Some(cue)
             }
         };
-        let cue = cue_spec.map(|c| EpisodeCue::prepare(&sim, &mut view, c, self.config.size)).transpose()?;
+        let render = !self.config.cameras.is_empty();
+        let cue = cue_spec
+            .map(|c| EpisodeCue::prepare(&sim, &view, &mut self.renderer, c, &task.goal, self.config.size, render))
+            .transpose()?;
         let budget = vifo_scenes::suite(&spec.task.suite).map_or(0, |s| s.max_steps as usize);
         self.episode = Some(Episode {
             spec: spec.clone(),
@@ -245,7 +248,7 @@ impl Env {
     /// Whether this episode's frames show its cue.
     pub fn cue_drawing(&self) -> CueDrawing {
         match self.episode.as_ref().and_then(|e| e.cue.as_ref()) {
-            Some(_) => cue::DRAWING,
+            Some(_) => CueDrawing::Drawn,
             None => CueDrawing::NoCue,
         }
     }
@@ -315,6 +318,9 @@ impl Env {
         for &name in &config.cameras {
             let camera = cameras.get(name, &ep.sim);
             ep.view.render_into(renderer, &camera, ImageOrder::Upright, frame).map_err(|e| EnvError::Render(e.to_string()))?;
+            if let Some(cue) = ep.cue.as_mut() {
+                cue.draw(&ep.sim, renderer, &camera, &mut frame.color)?;
+            }
             let image = match name {
                 CameraName::AgentView => &mut observation.agentview,
                 CameraName::EyeInHand => &mut observation.wrist,
@@ -322,9 +328,6 @@ impl Env {
             image.width = frame.color.width;
             image.height = frame.color.height;
             image.data.clone_from(&frame.color.data);
-            if let Some(cue) = ep.cue.as_mut() {
-                cue.draw(&ep.sim, &ep.view, renderer, &camera, name, image)?;
-            }
             if config.order == ImageOrder::BottomUp {
                 flip_rows(image);
             }

@@ -16,7 +16,7 @@ use vifo_cues::Family;
 use vifo_protocols::benchmark::language::conflict;
 use vifo_protocols::benchmark::specs::{self, Selection};
 use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
-use vifo_protocols::env::{CueDrawing, EnvConfig, cue};
+use vifo_protocols::env::EnvConfig;
 use vifo_protocols::policies::{self, builtin};
 use vifo_protocols::remote::RemotePolicy;
 use vifo_protocols::runner::{RunOptions, Shard, read_records};
@@ -124,12 +124,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         if policies.len() == 1 { "y" } else { "ies" },
         out.display()
     );
-    if cue::DRAWING == CueDrawing::Unavailable && specs.iter().any(|s| s.protocol.uses_cue()) {
-        eprintln!(
-            "WARNING: this build cannot draw cues into scene frames yet (the scene_cues bridge is not merged): \
-             observations of cue protocols show no cue. Scripted policies read the cue task from the episode and are unaffected."
-        );
-    }
     eprintln!("(stop at any time: the results files stay valid; run again with --resume to continue)");
     let mut results = Vec::new();
     for policy in &policies {

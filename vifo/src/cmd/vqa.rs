@@ -11,7 +11,7 @@ use vifo_protocols::vqa::answerers::{self, Blind};
 use vifo_protocols::vqa::client::{ChatClient, ClientConfig};
 use vifo_protocols::vqa::files::{append_predictions, read_predictions, read_questions};
 use vifo_protocols::benchmark;
-use vifo_protocols::env::{CueDrawing, Env, EnvConfig, cue};
+use vifo_protocols::env::{Env, EnvConfig};
 use vifo_protocols::vqa::{self, Prediction, score};
 use vifo_protocols::Protocol;
 use vifo_scenes::view::CameraName;
@@ -174,9 +174,6 @@ fn export(out: &Path, size: u32) -> anyhow::Result<()> {
     anyhow::ensure!((16..=4096).contains(&size), "--size must be between 16 and 4096 pixels");
     let instances: Vec<vifo_cues::CueSpec> = benchmark::instances::all().to_vec();
     let questions = vqa::generate(&instances, &benchmark::instances::vqa_scenes())?;
-    if cue::DRAWING == CueDrawing::Unavailable {
-        eprintln!("WARNING: this build cannot draw cues into scene frames yet (the scene_cues bridge is not merged): the images show the scenes without cues.");
-    }
     let mut env = Env::new(EnvConfig { size, cameras: vec![CameraName::AgentView], ..EnvConfig::default() });
     let mut done = 0;
     let written = vqa::files::export(out, &questions, |id| {

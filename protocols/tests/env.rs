@@ -25,9 +25,12 @@ fn goal0(protocol: Protocol) -> EpisodeSpec {
 #[test]
 fn reset_gives_the_protocols_observation() {
     let mut env = Env::new(small(&CameraName::ALL));
+    let plain = env.reset(&goal0(Protocol::Original)).unwrap().agentview.clone();
     for protocol in Protocol::ALL {
         let s = goal0(protocol);
         let obs = env.reset(&s).unwrap().clone();
+        // The same scene, with the cue drawn on it exactly when the protocol has one.
+        assert_eq!(obs.agentview.data != plain.data, protocol.uses_cue(), "{protocol:?}");
         assert_eq!(obs.instruction, s.instruction);
         assert_eq!(obs.step, 0);
         for image in [&obs.agentview, &obs.wrist] {

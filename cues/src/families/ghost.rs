@@ -8,7 +8,7 @@ use crate::draw::geom::{self, V2, v2};
 use crate::draw::{self, Rgba};
 use crate::error::CueError;
 use crate::image::RgbaImage;
-use crate::insert::Ctx;
+use crate::insert::{Ctx, Which};
 
 /// α_i: `params.alphas` (one per layer), else a linear ramp from `first` to `last`.
 fn alphas(ctx: &Ctx<'_>, k: usize, first: f32, last: f32) -> Result<Vec<f32>, CueError> {
@@ -115,7 +115,10 @@ pub fn trail_path(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     for (layer, alpha) in layers.iter().zip(a) {
         draw::composite_rgba(frame, layer, alpha, None);
     }
-    let centres: Vec<V2> = layers.iter().filter_map(centroid).collect();
+    // The trail starts at the object itself where its anchor is known, then runs through the
+    // ghosts' centres.
+    let start = ctx.place(Which::Source, color).map(|p| p.at);
+    let centres: Vec<V2> = start.into_iter().chain(layers.iter().filter_map(centroid)).collect();
     if centres.len() < 2 {
         return Ok(());
     }

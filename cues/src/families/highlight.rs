@@ -26,11 +26,11 @@ fn pool(pm: &mut tiny_skia::Pixmap, at: V2, r: f32, color: Rgba, stops: &[(f32, 
     }
 }
 
-/// The highlight's radius: the anchor's, at least 10 px, and at most 48 px (at 256²) so that
+/// The highlight's radius: the anchor's, at least 10 px, and at most 36 px (at 256²) so that
 /// an object filling the wrist camera gets a spot, not a frame-wide wash (and the pools stay
 /// within the insertion budget).
 fn radius(p: &Placed, s: f32) -> f32 {
-    p.radius.clamp(10.0 * s, 48.0 * s)
+    p.radius.clamp(10.0 * s, 36.0 * s)
 }
 
 pub fn spotlight_cone(ctx: &mut Ctx<'_>) -> Result<(), CueError> {

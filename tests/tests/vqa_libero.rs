@@ -7,31 +7,10 @@ use std::collections::{BTreeMap, BTreeSet};
 use vifo_cues::instances::{InstanceSet, TaskDescription};
 use vifo_cues::parse::GoalAtom;
 use vifo_cues::{CueSpec, Family, RgbImage};
+use vifo_protocols::benchmark::instances::human_name;
 use vifo_protocols::vqa::answerers::{self, Blind};
 use vifo_protocols::vqa::files::{export, read_questions};
 use vifo_protocols::vqa::{Question, Scene, SceneEntity, Stage, generate, score};
-
-/// A name in the style of the instructions for a LIBERO asset category.
-fn human_name(category: &str) -> Option<String> {
-    Some(
-        match category {
-            "floor" => return None,
-            "akita_black_bowl" => "black bowl",
-            "glazed_rim_porcelain_ramekin" => "ramekin",
-            "cookies" => "cookie box",
-            "flat_stove" => "stove",
-            "black_book" => "book",
-            "chefmate_8_frypan" => "frying pan",
-            "desk_caddy" => "caddy",
-            "porcelain_mug" => "white mug",
-            "red_coffee_mug" => "red mug",
-            "white_yellow_mug" => "yellow and white mug",
-            "kitchen_table" | "living_room_table" | "study_table" => "table",
-            other => return Some(other.replace('_', " ")),
-        }
-        .to_string(),
-    )
-}
 
 fn libero() -> (Vec<CueSpec>, BTreeMap<String, Scene>) {
     let mut descriptions = Vec::new();

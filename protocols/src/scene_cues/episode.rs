@@ -125,8 +125,9 @@ impl EpisodeCue {
                 frame_h: frame.height,
             });
         }
+        // Ghosts use the anchors too: a trail starts at the object where it stands now.
         let anchors = match self.spec.insert_mode {
-            InsertMode::SceneAnchored => self.anchors(sim, camera),
+            InsertMode::SceneAnchored | InsertMode::SimulatorState => self.anchors(sim, camera),
             _ => Anchors::default(),
         };
         let ghost_layers = match &mut self.ghost {

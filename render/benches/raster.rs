@@ -9,7 +9,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use vifo_render::glam::{Vec2, Vec3};
-use vifo_render::{Background, Camera, Frame, Headlight, Instance, Light, LightKind, Material, Mesh, Renderer, Scene, Transform};
+use vifo_render::{Background, Camera, Frame, Headlight, Instance, Light, Material, Mesh, Renderer, Scene, Transform};
 
 fn main() {
     let save = std::env::args().skip_while(|a| a != "--save").nth(1);
@@ -160,13 +160,7 @@ fn libero_like_scene(detail: u32) -> Scene {
     }
 
     // LIBERO's two scene lights plus MuJoCo's default headlight.
-    let light = |pos: Vec3| Light {
-        kind: LightKind::Spot { position: pos, direction: Vec3::new(0.0, -0.15, -1.0), cutoff_deg: 45.0, exponent: 10.0, attenuation: [1.0, 0.0, 0.0] },
-        ambient: [0.0; 3],
-        diffuse: [0.8; 3],
-        specular: [0.3; 3],
-        cast_shadow: false,
-    };
+    let light = |pos: Vec3| Light { diffuse: [0.8; 3], cast_shadow: false, ..Light::mujoco_spot(pos, Vec3::new(0.0, -0.15, -1.0)) };
     Scene {
         instances,
         lights: vec![light(Vec3::new(1.0, 1.0, 4.0)), light(Vec3::new(-3.0, -3.0, 4.0))],

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use vifo_render::assets::load_texture_png;
 use vifo_render::glam::{Vec2, Vec3};
 use vifo_render::imageio::{load_png, save_png, side_by_side};
-use vifo_render::{Background, Camera, Headlight, Instance, Light, LightKind, Material, Mesh, Renderer, Scene, Transform};
+use vifo_render::{Background, Camera, Headlight, Instance, Light, Material, Mesh, Renderer, Scene, Transform};
 use vifo_tests::shared;
 
 const TABLE: u32 = 1;
@@ -46,11 +46,9 @@ fn tabletop(textures: &Path) -> Scene {
         instances.push(Instance::new(mesh, Transform::from_pos_quat(Vec3::from(pos), quat), 4).with_material(walls.clone()));
     }
     let light = |x: f32, y: f32| Light {
-        kind: LightKind::Spot { position: Vec3::new(x, y, 4.0), direction: Vec3::new(0.0, -0.15, -1.0), cutoff_deg: 45.0, exponent: 10.0, attenuation: [1.0, 0.0, 0.0] },
-        ambient: [0.0; 3],
         diffuse: [0.8; 3],
-        specular: [0.3; 3],
         cast_shadow: false,
+        ..Light::mujoco_spot(Vec3::new(x, y, 4.0), Vec3::new(0.0, -0.15, -1.0))
     };
     Scene {
         instances,

@@ -13,20 +13,7 @@ use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
 use vifo_tests::shared;
 
 fn request(task: &str, init_files: std::path::PathBuf) -> RenderRequest {
-    RenderRequest {
-        task: task.to_string(),
-        init: 0,
-        source: InitSource::Libero(init_files),
-        seed: 0,
-        camera: CameraName::AgentView,
-        size: 256,
-        order: ImageOrder::Upright,
-        png: None,
-        gif: None,
-        frames: None,
-        steps: 0,
-        expert: false,
-    }
+    RenderRequest::still(task, InitSource::Libero(init_files))
 }
 
 fn render(sim: &Sim, camera: CameraName) -> Frame {

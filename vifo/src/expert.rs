@@ -4,15 +4,11 @@ use std::sync::Arc;
 
 use anyhow::Result;
 use serde::Serialize;
-use vifo_robots::action::Action;
 use vifo_scenes::expert::Expert;
 use vifo_scenes::init_states;
 use vifo_scenes::sim::SceneModel;
 
 use crate::start::Starts;
-
-/// LIBERO's no-op settle steps before a policy takes over.
-pub const SETTLE_STEPS: usize = 10;
 
 /// One expert episode.
 #[derive(Clone, Debug, Serialize)]
@@ -29,9 +25,7 @@ pub struct ExpertEpisode {
 /// Runs the expert from initial state `init` (`seed` places the fixtures of LIBERO's states).
 pub fn episode(model: &Arc<SceneModel>, starts: &Starts, init: usize, seed: u64, budget: usize, trace: bool) -> Result<ExpertEpisode> {
     let mut sim = starts.begin(model, init, seed)?;
-    for _ in 0..SETTLE_STEPS {
-        sim.step(&Action::hold(-1.0));
-    }
+    init_states::wait(&mut sim);
     if trace {
         for (i, e) in sim.model().entities.iter().enumerate() {
             let p = sim.entity_pose(i);

@@ -46,6 +46,27 @@ pub struct RenderRequest {
     pub expert: bool,
 }
 
+impl RenderRequest {
+    /// Initial state 0 of `task` (`suite/index`) through agentview at 256², upright, writing
+    /// nothing: the fields a caller then changes.
+    pub fn still(task: &str, source: InitSource) -> RenderRequest {
+        RenderRequest {
+            task: task.to_string(),
+            init: 0,
+            source,
+            seed: 0,
+            camera: CameraName::AgentView,
+            size: 256,
+            order: ImageOrder::Upright,
+            png: None,
+            gif: None,
+            frames: None,
+            steps: 0,
+            expert: false,
+        }
+    }
+}
+
 /// Parses `suite/index`.
 pub fn parse_task(spec: &str) -> Result<&'static vifo_scenes::Task> {
     let (suite, index) = spec.split_once('/').ok_or_else(|| anyhow!("task '{spec}': expected <suite>/<index>, e.g. libero_spatial/0"))?;

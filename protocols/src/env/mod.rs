@@ -49,11 +49,9 @@ use crate::spec::{EpisodeSpec, Protocol};
 pub use cue::CueDrawing;
 use cue::EpisodeCue;
 
-/// LIBERO's no-op steps after loading a state, before the policy acts (`num_steps_wait`).
-pub const SETTLE_STEPS: usize = 10;
-
-/// LIBERO's dummy action during the settle steps: hold still, gripper open.
-pub const SETTLE_ACTION: Action = Action([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]);
+/// LIBERO's no-op steps after loading a state, before the policy acts (`num_steps_wait`; run by
+/// `init_states::wait`).
+pub const SETTLE_STEPS: usize = init_states::WAIT_STEPS;
 
 /// How observations are made.
 #[derive(Clone, Debug, PartialEq)]
@@ -189,9 +187,7 @@ impl Env {
         })?;
         let mut sim = Sim::new(assets.model.clone());
         init_states::apply(&mut sim, start).map_err(|e| EnvError::Scene(format!("{}: initial state {}: {e}", spec.task, spec.init)))?;
-        for _ in 0..SETTLE_STEPS {
-            sim.step(&SETTLE_ACTION);
-        }
+        init_states::wait(&mut sim);
         let mut view = assets.view.clone();
         view.update(&sim);
         let cue_spec = match (spec.protocol.uses_cue(), spec.instance.as_deref()) {

@@ -2,8 +2,7 @@
 
 use std::sync::Arc;
 
-use vifo_robots::action::Action;
-use vifo_scenes::init_states::{self, WAIT_STEPS};
+use vifo_scenes::init_states;
 use vifo_scenes::sim::{SceneModel, Sim};
 
 use super::SceneCueError;
@@ -17,8 +16,6 @@ pub fn settled_start(model: &Arc<SceneModel>, init: usize) -> Result<Sim, SceneC
     let start = starts.get(init).ok_or_else(|| start_error(format!("{} shipped states (0..{})", starts.len(), starts.len())))?;
     let mut sim = Sim::new(model.clone());
     init_states::apply(&mut sim, start).map_err(|e| start_error(e.to_string()))?;
-    for _ in 0..WAIT_STEPS {
-        sim.step(&Action::hold(-1.0));
-    }
+    init_states::wait(&mut sim);
     Ok(sim)
 }

@@ -108,18 +108,8 @@ impl Power<'_> {
     #[inline]
     fn of_lanes(&self, x: Vec4) -> Vec4 {
         match *self {
-            Power::Int(mut k) => {
-                // The same multiplications as `powi`, on four lanes at once.
-                let (mut base, mut acc) = (x, Vec4::ONE);
-                while k > 0 {
-                    if k & 1 == 1 {
-                        acc *= base;
-                    }
-                    base *= base;
-                    k >>= 1;
-                }
-                acc
-            }
+            // The same multiplications as `powi`, on four lanes at once.
+            Power::Int(k) => repeated_squaring(x, Vec4::ONE, k),
             _ => Vec4::from_array(x.to_array().map(|v| self.of(v))),
         }
     }
@@ -337,8 +327,15 @@ fn powi_lanes(x: Vec4, bit_masks: &[Vec4; 8], bits: u32) -> Vec4 {
 
 /// `x^k` by repeated squaring (a fixed sequence of multiplications).
 #[inline]
-fn powi(x: f32, mut k: u32) -> f32 {
-    let (mut base, mut acc) = (x, 1.0f32);
+fn powi(x: f32, k: u32) -> f32 {
+    repeated_squaring(x, 1.0, k)
+}
+
+/// `x^k` by repeated squaring from `one`, for a scalar or lanes: the same multiplications in the
+/// same order either way, so lanes and scalars agree bit for bit.
+#[inline]
+fn repeated_squaring<T: Copy + std::ops::MulAssign>(x: T, one: T, mut k: u32) -> T {
+    let (mut base, mut acc) = (x, one);
     while k > 0 {
         if k & 1 == 1 {
             acc *= base;

@@ -68,10 +68,10 @@ pub fn wrist_reaches(sim: &Sim, rot: &Mat3) -> bool {
 /// The yaw equivalent to `yaw` (a half turn apart, the gripper being symmetric) that the wrist
 /// reaches, nearest the current one first.
 pub fn reachable_yaw(sim: &Sim, yaw: f64) -> f64 {
-    let ee = sim.model().robot.grip_site_pose(sim.world());
-    let near = nearest_yaw(yaw, current_yaw(&ee));
+    let now = current_yaw(&sim.model().robot.grip_site_pose(sim.world()));
+    let near = nearest_yaw(yaw, now);
     let pi = std::f64::consts::PI;
-    let far = if near > current_yaw(&ee) { near - pi } else { near + pi };
+    let far = if near > now { near - pi } else { near + pi };
     [near, far].into_iter().find(|y| wrist_reaches(sim, &orientation(*y))).unwrap_or(near)
 }
 

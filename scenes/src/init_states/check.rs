@@ -13,6 +13,14 @@ use crate::task::Predicate;
 
 /// LIBERO's no-op steps (gripper opening) before the policy acts.
 pub const WAIT_STEPS: usize = 10;
+
+/// LIBERO's wait after loading a state (`num_steps_wait`): [`WAIT_STEPS`] control steps of its
+/// dummy action, holding still with the gripper open. Every episode start runs this.
+pub fn wait(sim: &mut Sim) {
+    for _ in 0..WAIT_STEPS {
+        sim.step(&Action::hold(-1.0));
+    }
+}
 /// Zero-action steps over which drift is measured.
 pub const DRIFT_STEPS: usize = 200;
 /// The stability gate: no object moves further than this (m) over [`DRIFT_STEPS`].
@@ -50,9 +58,7 @@ pub fn check(model: &Arc<SceneModel>, start: &EpisodeStart, drift: bool) -> Resu
     let mut sim = Sim::new(model.clone());
     apply(&mut sim, start)?;
     let placed = object_poses(&sim);
-    for _ in 0..WAIT_STEPS {
-        sim.step(&Action::hold(-1.0));
-    }
+    wait(&mut sim);
     let mut problems = problems(&sim, &placed);
     let settle_shift = largest_shift(&sim, &placed).0;
     let drift = drift.then(|| {

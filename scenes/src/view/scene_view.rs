@@ -2,7 +2,7 @@
 
 use vifo_render::glam::{Mat3, Vec3};
 use vifo_render::{Frame, Instance, Material, RenderError, Renderer, Scene, Transform};
-use vifo_render::{Background, Camera, Headlight, Light, LightKind};
+use vifo_render::{Background, Camera, Headlight, Light};
 use vifo_robots::model::Shape;
 use vifo_robots::spatial::Pose;
 
@@ -99,13 +99,9 @@ fn transform(pose: &Pose, scale: [f64; 3]) -> Transform {
 
 fn light(l: &crate::scene_class::Light) -> Light {
     let v = |a: [f64; 3]| Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32);
-    let kind = if l.directional {
-        LightKind::Directional { direction: v(l.dir) }
-    } else {
-        LightKind::Spot { position: v(l.pos), direction: v(l.dir), cutoff_deg: 45.0, exponent: 10.0, attenuation: [1.0, 0.0, 0.0] }
-    };
+    let base = if l.directional { Light::mujoco_directional(v(l.dir)) } else { Light::mujoco_spot(v(l.pos), v(l.dir)) };
     let f = |a: [f64; 3]| a.map(|x| x as f32);
-    Light { kind, ambient: [0.0; 3], diffuse: f(l.diffuse), specular: f(l.specular), cast_shadow: false }
+    Light { diffuse: f(l.diffuse), specular: f(l.specular), cast_shadow: false, ..base }
 }
 
 /// Builds the legend and instance list in a fixed order: entities, robot bodies, arena.

@@ -42,22 +42,9 @@ pub struct RenderBench {
     pub steps_per_second_two_cameras_256: f64,
 }
 
-/// Runs the benchmark with LIBERO's initial states from `source`.
+/// Runs the benchmark on initial state 0 from `source`.
 pub fn run(source: InitSource, batches: usize) -> Result<RenderBench> {
-    let request = RenderRequest {
-        task: TASK.to_string(),
-        init: 0,
-        source,
-        seed: 0,
-        camera: CameraName::AgentView,
-        size: SIZE,
-        order: ImageOrder::Upright,
-        png: None,
-        gif: None,
-        frames: None,
-        steps: 0,
-        expert: false,
-    };
+    let request = RenderRequest { size: SIZE, ..RenderRequest::still(TASK, source) };
     let sim = episode(&request)?;
     let mut view = SceneView::new(sim.model());
     view.update(&sim);

@@ -146,13 +146,9 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
             summary.tasks.len(),
             summary.episodes_below_support
         );
-        for t in tasks_with_sinking(&summary.tasks) {
+        for t in summary.tasks.iter().filter(|t| !t.below_support.is_empty()) {
             println!("  below support in {}/{}: {}", t.suite, t.index, t.below_support.join("; "));
         }
     }
     Ok(())
-}
-
-fn tasks_with_sinking(tasks: &[TaskResult]) -> impl Iterator<Item = &TaskResult> {
-    tasks.iter().filter(|t| !t.below_support.is_empty())
 }

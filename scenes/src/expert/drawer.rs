@@ -93,9 +93,9 @@ impl Drawer {
         let across = Vec3::new(-dir.y, dir.x, 0.0);
         let travel = (self.q(sim) - OPEN_TO).max(0.0);
         let points = geometry::corners(sim, self.entity, self.body);
-        let fold = |f: &dyn Fn(&Vec3) -> f64| points.iter().map(f).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
-        let (lo, hi) = fold(&|p| p.dot(&dir));
-        Sweep { dir, along: (lo, hi + travel), across: fold(&|p| p.dot(&across)), bottom: fold(&|p| p.z).0 }
+        let (lo, hi) = geometry::extent(&points, &dir);
+        let bottom = geometry::extent(&points, &Vec3::z()).0;
+        Sweep { dir, along: (lo, hi + travel), across: geometry::extent(&points, &across), bottom }
     }
 
     /// The handle: the drawer's box that sticks out furthest in the opening direction.

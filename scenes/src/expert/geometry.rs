@@ -178,7 +178,7 @@ pub fn gripper_hits(obstacles: &Obstacles, site: &Vec3, axis: &Vec3, half_gap: f
 }
 
 /// Extent of `points` along `axis`: (min, max).
-fn extent(points: &[Vec3], axis: &Vec3) -> (f64, f64) {
+pub fn extent(points: &[Vec3], axis: &Vec3) -> (f64, f64) {
     points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), p| {
         let d = p.dot(axis);
         (mn.min(d), mx.max(d))

@@ -75,8 +75,7 @@ fn open_drawer(sim: &Sim, ordered: &mut Vec<(u8, Skill)>, drawer: Drawer, picked
         let e = &sim.model().entities[i];
         let points = geometry::corners(sim, i, 0);
         let (lo, hi) = geometry::bounds(&points);
-        let span = |axis: &Vec3| points.iter().map(|p| p.dot(axis)).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
-        let (u, v) = (span(&sweep.dir), span(&across));
+        let (u, v) = (geometry::extent(&points, &sweep.dir), geometry::extent(&points, &across));
         let under = lo.z < sweep.bottom && hi.z > sweep.bottom - 0.15;
         let inside_closed = u.0 < sweep.along.0 + 0.02;
         let overlaps = u.0 < sweep.along.1 + DRAWER_CLEARANCE

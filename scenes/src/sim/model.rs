@@ -9,7 +9,7 @@ use std::sync::Arc;
 use thiserror::Error;
 use vifo_physics::rapier::prelude::*;
 use vifo_physics::{SimParams, Snapshot, World};
-use vifo_robots::contact::SCENE_GROUPS;
+use vifo_robots::contact::{ARENA_GROUPS, PART_GROUPS, SCENE_GROUPS};
 use vifo_robots::convert::{dmat3, rapier_pose, vector};
 use vifo_robots::joint;
 use vifo_robots::model::JointKind as RobotJointKind;
@@ -164,14 +164,14 @@ fn collider(shape: &ColliderShape) -> SharedShape {
     }
 }
 
-fn scene_collider(shape: SharedShape, local: &Pose, friction: f64) -> ColliderBuilder {
+fn scene_collider(shape: SharedShape, local: &Pose, friction: f64, groups: InteractionGroups) -> ColliderBuilder {
     ColliderBuilder::new(shape)
         .position(rapier_pose(local))
         .density(0.0)
         .friction(friction)
         .friction_combine_rule(CoefficientCombineRule::Max)
-        .collision_groups(SCENE_GROUPS)
-        .solver_groups(SCENE_GROUPS)
+        .collision_groups(groups)
+        .solver_groups(groups)
 }
 
 /// The table top slabs (or the floor) as fixed colliders.
@@ -180,7 +180,7 @@ fn build_arena(world: &mut World, class: &SceneClass) -> Vec<ColliderHandle> {
     let ground = r.bodies.insert(RigidBodyBuilder::fixed());
     let mut handles = Vec::new();
     // The floor: a thick slab whose top is z = 0, wide enough for every scene.
-    let floor = scene_collider(SharedShape::cuboid(4.0, 4.0, 0.1), &Pose::from_wxyz([0.0, 0.0, -0.1], [1.0, 0.0, 0.0, 0.0]), class.floor.friction[0]);
+    let floor = scene_collider(SharedShape::cuboid(4.0, 4.0, 0.1), &Pose::from_wxyz([0.0, 0.0, -0.1], [1.0, 0.0, 0.0, 0.0]), class.floor.friction[0], ARENA_GROUPS);
     handles.push(r.colliders.insert_with_parent(floor, ground, &mut r.bodies));
     if let Some(table) = &class.table {
         for slab in table.top {
@@ -188,6 +188,7 @@ fn build_arena(world: &mut World, class: &SceneClass) -> Vec<ColliderHandle> {
                 SharedShape::cuboid(slab.half_size[0], slab.half_size[1], slab.half_size[2]),
                 &Pose::from_wxyz(slab.center, [1.0, 0.0, 0.0, 0.0]),
                 table.friction[0],
+                ARENA_GROUPS,
             );
             handles.push(r.colliders.insert_with_parent(c, ground, &mut r.bodies));
         }
@@ -222,7 +223,8 @@ fn insert_entity(world: &mut World, name: &str, model: &'static ObjectModel) -> 
         let handle = r.bodies.insert(builder.additional_mass_properties(mass_properties(&body.inertial)));
         for c in &body.colliders {
             let shape_pose = Pose::from_wxyz(c.pos, c.quat_wxyz);
-            let builder = scene_collider(collider(&c.shape), &shape_pose, c.friction[0]);
+            let groups = if body.parent.is_some() { PART_GROUPS } else { SCENE_GROUPS };
+            let builder = scene_collider(collider(&c.shape), &shape_pose, c.friction[0], groups);
             colliders.push(r.colliders.insert_with_parent(builder, handle, &mut r.bodies));
         }
         if let (Some(parent), Some(j)) = (body.parent, &body.joint) {

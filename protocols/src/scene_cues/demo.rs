@@ -1,8 +1,19 @@
 //! The future a ghost or a goal picture shows: the scripted expert achieving the cue's goals on
 //! a fork of the episode, recording the manipulated object's pose at every step and handing
 //! out the states worth a picture.
+//!
+//! A demonstration depends only on the start state, the goals and what is tracked, and every
+//! cue protocol of every ghost and picture variant of a task starts from the same shipped state:
+//! [`recorded`] keeps finished recordings for the life of the process, so a benchmark run
+//! simulates each demonstration once instead of once per episode (a quarter of the expert-cue
+//! run's physics). Recordings are pure functions of their key, so sharing them between threads
+//! changes no result.
+
+use std::collections::{BTreeMap, VecDeque};
+use std::sync::{Arc, Mutex};
 
 use serde::Serialize;
+use vifo_cues::RgbaImage;
 use vifo_robots::spatial::Pose;
 use vifo_scenes::expert::Expert;
 use vifo_scenes::sim::Sim;
@@ -36,6 +47,64 @@ pub struct Demo {
     pub outcome: DemoOutcome,
     /// Root pose of the tracked entity at the start and after every step.
     pub track: Vec<Pose>,
+}
+
+/// A demonstration with the pictures taken along it (empty when none were asked for).
+pub struct Recording {
+    pub demo: Demo,
+    pub pictures: Vec<RgbaImage>,
+}
+
+/// Recordings kept; beyond this the oldest is dropped (a run over every task and initial state
+/// needs 2 per task and state, each about 1 MB with pictures).
+const KEPT: usize = 256;
+
+/// Everything a recording depends on: the task, the exact start (state bits and step count),
+/// the goals, the tracked entity, the step cap and the picture size (`None`: no pictures).
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct RecordingKey {
+    task: String,
+    start: (u64, usize),
+    goals: String,
+    tracked: Option<usize>,
+    cap: usize,
+    pictures: Option<(u32, u32)>,
+}
+
+impl RecordingKey {
+    pub fn new(sim: &Sim, goals: &[Atom], tracked: Option<usize>, cap: usize, pictures: Option<(u32, u32)>) -> RecordingKey {
+        RecordingKey {
+            task: sim.model().task.label(),
+            start: (sim.world().fingerprint().0, sim.steps()),
+            goals: format!("{goals:?}"),
+            tracked,
+            cap,
+            pictures,
+        }
+    }
+}
+
+/// The recording of `key`, made with `record` the first time it is asked for (errors are not
+/// kept). Two threads asking at once may both record; they get equal recordings.
+pub fn recorded(key: RecordingKey, record: impl FnOnce() -> Result<Recording, SceneCueError>) -> Result<Arc<Recording>, SceneCueError> {
+    static KEEP: Mutex<(BTreeMap<RecordingKey, Arc<Recording>>, VecDeque<RecordingKey>)> =
+        Mutex::new((BTreeMap::new(), VecDeque::new()));
+    let lock = || KEEP.lock().unwrap_or_else(|p| p.into_inner());
+    if let Some(r) = lock().0.get(&key) {
+        return Ok(r.clone());
+    }
+    let made = Arc::new(record()?);
+    let mut keep = lock();
+    let (map, order) = &mut *keep;
+    if map.insert(key.clone(), made.clone()).is_none() {
+        order.push_back(key);
+        while order.len() > KEPT {
+            if let Some(old) = order.pop_front() {
+                map.remove(&old);
+            }
+        }
+    }
+    Ok(made)
 }
 
 /// Runs the expert on a fork of `sim` until `goals` hold, it gives up, or `cap` steps.

@@ -81,27 +81,31 @@ impl EpisodeCue {
             return Err(SceneCueError::Unsupported { cue, why: "no goal atoms to demonstrate".into() });
         }
         let cap = sim.model().task.suite.as_deref().and_then(vifo_scenes::suite).map_or(DEFAULT_STEP_CAP, |s| s.max_steps as usize);
-        let camera = Cameras::new(size.0, size.1).agentview(sim.model().class);
-        let mut painter = view.clone();
-        let mut pictures = Vec::new();
-        let mut picture = |s: &Sim| -> Result<(), SceneCueError> {
-            if wants_pictures {
-                painter.update(s);
-                let frame = painter.render(renderer, &camera, ImageOrder::Upright)?;
-                let data = frame.color.data.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect();
-                pictures.push(RgbaImage { width: frame.width(), height: frame.height(), data });
-            }
-            Ok(())
-        };
-        picture(sim)?;
-        let demo = demo::run(sim, &cue, goals, moved, cap, &mut picture)?;
+        let key = demo::RecordingKey::new(sim, goals, moved, cap, wants_pictures.then_some(size));
+        let recording = demo::recorded(key, || {
+            let camera = Cameras::new(size.0, size.1).agentview(sim.model().class);
+            let mut painter = view.clone();
+            let mut pictures = Vec::new();
+            let mut picture = |s: &Sim| -> Result<(), SceneCueError> {
+                if wants_pictures {
+                    painter.update(s);
+                    let frame = painter.render(renderer, &camera, ImageOrder::Upright)?;
+                    let data = frame.color.data.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect();
+                    pictures.push(RgbaImage { width: frame.width(), height: frame.height(), data });
+                }
+                Ok(())
+            };
+            picture(sim)?;
+            let demo = demo::run(sim, &cue, goals, moved, cap, &mut picture)?;
+            Ok(demo::Recording { demo, pictures })
+        })?;
         if let (true, Some(entity)) = (wants_ghost, moved) {
             let k = spec.params.alphas.as_ref().map_or(DEFAULT_GHOSTS, Vec::len);
-            let poses = demo::spaced_poses(&demo.track, k);
+            let poses = demo::spaced_poses(&recording.demo.track, k);
             cue_state.ghost = Some(Ghost::new(view, sim, entity, &poses));
         }
-        cue_state.pictures = pictures;
-        cue_state.demo = Some(demo.outcome);
+        cue_state.pictures = recording.pictures.clone();
+        cue_state.demo = Some(recording.demo.outcome.clone());
         Ok(cue_state)
     }
 

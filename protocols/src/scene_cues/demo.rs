@@ -204,6 +204,25 @@ mod tests {
     }
 
     #[test]
+    fn a_recording_is_made_once_per_key() {
+        let task = vifo_scenes::task("libero_object", 0).unwrap();
+        let sim = Sim::new(vifo_scenes::sim::SceneModel::build(task).unwrap());
+        let made = std::cell::Cell::new(0);
+        let record = || {
+            made.set(made.get() + 1);
+            let outcome = DemoOutcome { success: false, steps: 0, failure: None };
+            Ok(Recording { demo: Demo { outcome, track: vec![at(made.get() as f64)] }, pictures: Vec::new() })
+        };
+        let first = recorded(RecordingKey::new(&sim, &task.goal, None, 7, None), record).unwrap();
+        let again = recorded(RecordingKey::new(&sim, &task.goal, None, 7, None), record).unwrap();
+        assert!(Arc::ptr_eq(&first, &again));
+        assert_eq!(made.get(), 1);
+        // Another cap (or start, goals, tracked object, picture size) is another recording.
+        let other = recorded(RecordingKey::new(&sim, &task.goal, None, 8, None), record).unwrap();
+        assert_eq!((made.get(), other.demo.track[0]), (2, at(2.0)));
+    }
+
+    #[test]
     fn a_still_track_gives_copies_of_its_end_and_an_empty_one_nothing() {
         assert_eq!(spaced_poses(&[at(0.3), at(0.3)], 3), vec![at(0.3); 3]);
         assert!(spaced_poses(&[], 3).is_empty());

@@ -1,5 +1,6 @@
 //! `vifo expert`: run the scripted expert and print success rates.
 
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -83,16 +84,22 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
             let starts = Starts::load(task, &model, &source)?;
             let range: Vec<usize> = (args.first..(args.first + args.episodes).min(starts.len())).collect();
             let done = AtomicUsize::new(0);
+            // The counter rewrites one line, which only a terminal shows as such.
+            let live = std::io::stderr().is_terminal();
             let results = range
                 .par_iter()
                 .map(|&k| {
                     let r = expert::episode(&model, &starts, k, k as u64, suite.max_steps as usize, args.trace);
                     let n = done.fetch_add(1, Ordering::Relaxed) + 1;
-                    eprint!("\r{}/{index}: {n}/{} episodes", suite.name, range.len());
+                    if live {
+                        eprint!("\r{}/{index}: {n}/{} episodes", suite.name, range.len());
+                    }
                     r
                 })
                 .collect::<Result<Vec<ExpertEpisode>>>()?;
-            eprint!("\r\x1b[K");
+            if live {
+                eprint!("\r\x1b[K");
+            }
             let ok = results.iter().filter(|r| r.success).count();
             let result = TaskResult {
                 suite: suite.name.to_string(),

@@ -24,8 +24,9 @@ pub enum Placement {
 pub enum Spot {
     /// An object's or fixture's origin.
     Entity(usize),
-    /// A region's (or site's) centre.
-    Region(String),
+    /// A region's (or site's) centre, moved by `offset` (world xy) where several objects
+    /// share the region.
+    Region { name: String, offset: [f64; 2] },
 }
 
 impl Spot {
@@ -33,7 +34,9 @@ impl Spot {
     pub fn xy(&self, sim: &Sim) -> [f64; 2] {
         let p = match self {
             Spot::Entity(i) => sim.entity_pose(*i).pos,
-            Spot::Region(name) => sim.region_box(name).map_or(Vec3::zeros(), |r| r.pose.pos),
+            Spot::Region { name, offset } => {
+                sim.region_box(name).map_or(Vec3::zeros(), |r| r.pose.pos) + Vec3::new(offset[0], offset[1], 0.0)
+            }
         };
         [p.x, p.y]
     }
@@ -111,6 +114,12 @@ impl PickPlace {
             return Grasp { yaw: motion::reachable_yaw(sim, g.yaw), ..g };
         }
         let origin = sim.entity_pose(self.object).pos;
+        let parts = geometry::body_boxes(sim, self.object, 0);
+        if geometry::closed_top(&parts, &origin) {
+            if let Some(g) = geometry::part_grasp(&parts, &obstacles, &origin) {
+                return Grasp { yaw: motion::reachable_yaw(sim, g.yaw), ..g };
+            }
+        }
         let (lo, hi) = geometry::bounds(&points);
         let centre = Vec3::new(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), origin.z);
         // Grip the rim on the side facing the robot's base, where the arm comes from.

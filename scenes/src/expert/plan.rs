@@ -41,7 +41,7 @@ fn spot_of(sim: &Sim, atom: &Atom, name: &str) -> Result<Spot, PlanError> {
         return Ok(Spot::Entity(i));
     }
     match sim.region_box(name) {
-        Some(_) => Ok(Spot::Region(name.to_string())),
+        Some(_) => Ok(Spot::Region { name: name.to_string(), offset: [0.0; 2] }),
         None => Err(PlanError::UnknownName { atom: atom.to_string(), name: name.to_string() }),
     }
 }
@@ -93,6 +93,41 @@ fn open_drawer(sim: &Sim, ordered: &mut Vec<(u8, Skill)>, drawer: Drawer, picked
     ordered.push((0, Skill::Drawer(drawer)));
 }
 
+/// Gap left between objects put on the same region.
+const SHARE_GAP: f64 = 0.012;
+
+/// Where each object put on a region shared with others goes (world xy offsets from the
+/// region's centre, by goal index): side by side along the world axis across which the
+/// objects are narrowest, centred on the region, as far as the region allows.
+fn shared_offsets(sim: &Sim, goals: &[Atom]) -> Vec<[f64; 2]> {
+    let mut offsets = vec![[0.0; 2]; goals.len()];
+    let on_region = |a: &Atom| {
+        let object = sim.model().entity(a.args.first()?)?.0;
+        let region = a.args.get(1)?;
+        (a.predicate == Predicate::On && sim.region_box(region).is_some()).then_some((object, region.clone()))
+    };
+    let placed: Vec<(usize, usize, String)> = goals.iter().enumerate().filter_map(|(g, a)| on_region(a).map(|(o, r)| (g, o, r))).collect();
+    for (_, _, region) in &placed {
+        let sharing: Vec<(usize, usize)> = placed.iter().filter(|(_, _, r)| r == region).map(|(g, o, _)| (*g, *o)).collect();
+        if sharing.len() < 2 {
+            continue;
+        }
+        let widths = |axis: &Vec3| -> Vec<f64> {
+            sharing.iter().map(|(_, o)| { let (lo, hi) = geometry::extent(&geometry::corners(sim, *o, 0), axis); hi - lo }).collect()
+        };
+        let (wx, wy) = (widths(&Vec3::x()), widths(&Vec3::y()));
+        let (axis, w) = if wx.iter().sum::<f64>() <= wy.iter().sum::<f64>() { (0, wx) } else { (1, wy) };
+        let room = sim.region_box(region).map_or(0.0, |r| (r.pose.rot * r.half_size)[axis].abs());
+        let total = w.iter().sum::<f64>() + SHARE_GAP * (w.len() - 1) as f64;
+        let mut at = -0.5 * total;
+        for ((g, _), width) in sharing.iter().zip(&w) {
+            offsets[*g][axis] = (at + 0.5 * width).clamp(-room, room);
+            at += width + SHARE_GAP;
+        }
+    }
+    offsets
+}
+
 /// The skills achieving `goals`, in order: opening drawers first, then switches, then moving
 /// objects, and closing last (so things can be put into a drawer before it is shut).
 pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
@@ -104,7 +139,8 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
         .filter(|(_, e)| e.movable() && !PUSHED.contains(&e.category.as_str()))
         .map(|(i, _)| i)
         .collect();
-    for atom in goals {
+    let offsets = shared_offsets(sim, goals);
+    for (g, atom) in goals.iter().enumerate() {
         let unsupported = || PlanError::Unsupported(atom.to_string());
         let unknown = |name: &str| PlanError::UnknownName { atom: atom.to_string(), name: name.to_string() };
         let arg = |i: usize| atom.args.get(i).map(String::as_str).unwrap_or("");
@@ -114,7 +150,10 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
                 if !e.movable() {
                     return Err(unsupported());
                 }
-                let spot = spot_of(sim, atom, arg(1))?;
+                let spot = match spot_of(sim, atom, arg(1))? {
+                    Spot::Region { name, .. } => Spot::Region { name, offset: offsets[g] },
+                    entity => entity,
+                };
                 if PUSHED.contains(&e.category.as_str()) && atom.predicate == Predicate::On {
                     for push in push::pushes(sim, object, spot.xy(sim), 0.015) {
                         ordered.push((2, Skill::Push(push)));
@@ -139,6 +178,8 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
                     ordered.push((3, Skill::Drawer(Drawer::new(entity, body, joint, DrawerGoal::Close))));
                 }
             }
+            // A knob already on is left alone.
+            Predicate::TurnOn if sim.holds(atom) == Ok(true) => {}
             Predicate::TurnOn => {
                 let (entity, body, joint) = knob_of(sim, arg(0)).ok_or_else(unsupported)?;
                 ordered.push((1, Skill::Knob(Knob::new(entity, body, joint, KNOB_ON))));

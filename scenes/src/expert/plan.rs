@@ -4,11 +4,13 @@ use thiserror::Error;
 
 use vifo_robots::spatial::Vec3;
 
+use super::door::Door;
 use super::drawer::{Drawer, DrawerGoal};
 use super::geometry;
 use super::knob::Knob;
 use super::pick_place::{PickPlace, Placement, Spot};
 use super::push::{self, Push};
+use crate::catalog::JointKind;
 use crate::sim::{RegionPlace, Sim};
 use crate::task::{Atom, Predicate};
 
@@ -25,6 +27,7 @@ pub enum PlanError {
 pub enum Skill {
     PickPlace(PickPlace),
     Drawer(Drawer),
+    Door(Door),
     Knob(Knob),
     Push(Push),
 }
@@ -59,6 +62,15 @@ fn drawer_of(sim: &Sim, region: &str) -> Option<(usize, usize, String)> {
 fn knob_of(sim: &Sim, name: &str) -> Option<(usize, usize, String)> {
     let (entity, e) = sim.model().entity(name)?;
     let (body, b) = e.model.bodies.iter().enumerate().find(|(_, b)| b.joint.is_some() && b.name == "button")?;
+    Some((entity, body, b.joint.as_ref()?.name.clone()))
+}
+
+/// The door (entity, body, joint) of an entity: a hinged body other than a knob.
+fn door_of(sim: &Sim, name: &str) -> Option<(usize, usize, String)> {
+    let (entity, e) = sim.model().entity(name)?;
+    let (body, b) = e.model.bodies.iter().enumerate().find(|(_, b)| {
+        b.name != "button" && b.joint.as_ref().is_some_and(|j| j.kind == JointKind::Hinge)
+    })?;
     Some((entity, body, b.joint.as_ref()?.name.clone()))
 }
 
@@ -169,6 +181,10 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
                 }
                 let placement = if atom.predicate == Predicate::In { Placement::Into(spot) } else { Placement::On(spot) };
                 ordered.push((2, Skill::PickPlace(PickPlace::new(object, placement))));
+            }
+            Predicate::Close if door_of(sim, arg(0)).is_some() => {
+                let (entity, body, joint) = door_of(sim, arg(0)).ok_or_else(unsupported)?;
+                ordered.push((3, Skill::Door(Door::new(entity, body, joint))));
             }
             Predicate::Open | Predicate::Close => {
                 let (entity, body, joint) = drawer_of(sim, arg(0)).ok_or_else(unsupported)?;

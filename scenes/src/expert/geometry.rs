@@ -94,6 +94,11 @@ pub fn body_boxes(sim: &Sim, entity: usize, body: usize) -> Vec<Obb> {
         .collect()
 }
 
+/// The eight corners of a box.
+pub fn obb_corners(b: &Obb) -> Vec<Vec3> {
+    b.corners().collect()
+}
+
 /// World-frame corners of every collision shape of one body of an entity.
 pub fn corners(sim: &Sim, entity: usize, body: usize) -> Vec<Vec3> {
     body_boxes(sim, entity, body).iter().flat_map(|b| b.corners().collect::<Vec<_>>()).collect()

@@ -3,6 +3,7 @@
 use vifo_robots::action::Action;
 use vifo_robots::spatial::Vec3;
 
+use super::drawer;
 use super::geometry::{self, Grasp};
 use super::motion::{self, Servo, Waypoint};
 use super::skill::{CLOSE, OPEN, Step, gripper_toward, path_height, surface_height};
@@ -137,8 +138,23 @@ impl PickPlace {
 
     fn target_xy(&self, sim: &Sim) -> [f64; 2] {
         match &self.placement {
+            Placement::Into(Spot::Region { name, .. }) => {
+                drawer::drop_point(sim, name, self.radius(sim)).unwrap_or_else(|| self.placement_spot().xy(sim))
+            }
             Placement::On(spot) | Placement::Into(spot) => spot.xy(sim),
         }
+    }
+
+    fn placement_spot(&self) -> &Spot {
+        match &self.placement {
+            Placement::On(spot) | Placement::Into(spot) => spot,
+        }
+    }
+
+    /// The carried object's horizontal radius (half its larger horizontal extent).
+    fn radius(&self, sim: &Sim) -> f64 {
+        let (lo, hi) = geometry::bounds(&geometry::corners(sim, self.object, 0));
+        0.5 * (hi.x - lo.x).max(hi.y - lo.y)
     }
 
     pub fn step(&mut self, sim: &Sim) -> Step {
@@ -244,8 +260,7 @@ impl PickPlace {
             Stage::Lower => {
                 let offset = self.carry_offset.expect("measured");
                 let xy = self.target;
-                let (lo, hi) = geometry::bounds(&geometry::corners(sim, self.object, 0));
-                let radius = 0.5 * (hi.x - lo.x).max(hi.y - lo.y);
+                let radius = self.radius(sim);
                 let surface = surface_height(sim, xy, radius.max(0.02), Some(self.object));
                 let clearance = match self.placement {
                     Placement::On(_) => 0.012,

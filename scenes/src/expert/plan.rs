@@ -5,13 +5,13 @@ use thiserror::Error;
 use vifo_robots::spatial::Vec3;
 
 use super::door::Door;
-use super::drawer::{Drawer, DrawerGoal};
+use super::drawer::{self, Drawer, DrawerGoal, drawer_of};
 use super::geometry;
 use super::knob::Knob;
 use super::pick_place::{PickPlace, Placement, Spot};
 use super::push::{self, Push};
 use crate::catalog::JointKind;
-use crate::sim::{RegionPlace, Sim};
+use crate::sim::Sim;
 use crate::task::{Atom, Predicate};
 
 /// A goal the expert has no skill for.
@@ -36,8 +36,10 @@ pub enum Skill {
 const PUSHED: [&str; 1] = ["plate"];
 /// How far a knob is turned past LIBERO's "on" threshold (0.5 rad).
 const KNOB_ON: f64 = 0.8;
-/// Drawers count as open below this joint position (LIBERO).
-const DRAWER_OPEN_BELOW: f64 = -0.14;
+/// A drawer to put something in is pulled out unless already past this joint position (LIBERO
+/// counts it open below -0.14, but the closed drawers' handles above hang over its front, so
+/// an object only fits in with the drawer nearly all the way out).
+const DRAWER_OPEN_BELOW: f64 = -0.15;
 
 fn spot_of(sim: &Sim, atom: &Atom, name: &str) -> Result<Spot, PlanError> {
     if let Some((i, _)) = sim.model().entity(name) {
@@ -47,15 +49,6 @@ fn spot_of(sim: &Sim, atom: &Atom, name: &str) -> Result<Spot, PlanError> {
         Some(_) => Ok(Spot::Region { name: name.to_string(), offset: [0.0; 2] }),
         None => Err(PlanError::UnknownName { atom: atom.to_string(), name: name.to_string() }),
     }
-}
-
-/// The drawer (entity, body, joint) a region lives on, if it is a drawer's region.
-fn drawer_of(sim: &Sim, region: &str) -> Option<(usize, usize, String)> {
-    let RegionPlace::Site { entity, site } = &sim.model().region(region)?.place else { return None };
-    let model = sim.model().entities[*entity].model;
-    let body = model.sites[*site].body;
-    let joint = model.bodies[body].joint.as_ref()?;
-    Some((*entity, body, joint.name.clone()))
 }
 
 /// The knob (entity, body, joint) of an entity, if it has one.
@@ -174,8 +167,9 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
                 }
                 if atom.predicate == Predicate::In {
                     if let Some((entity, body, joint)) = drawer_of(sim, arg(1)) {
-                        if sim.joint_position(entity, &joint).is_some_and(|q| q > DRAWER_OPEN_BELOW) {
-                            open_drawer(sim, &mut ordered, Drawer::new(entity, body, joint, DrawerGoal::Open), &picked);
+                        if let Some(q) = sim.joint_position(entity, &joint).filter(|&q| q > DRAWER_OPEN_BELOW) {
+                            let goal = if q < drawer::PARTLY_OPEN { DrawerGoal::Widen } else { DrawerGoal::Open };
+                            open_drawer(sim, &mut ordered, Drawer::new(entity, body, joint, goal), &picked);
                         }
                     }
                 }

@@ -5,19 +5,29 @@ use vifo_robots::spatial::{Mat3, Vec3, rotation_vector};
 use super::geometry::{self, Obb};
 use super::motion::{self, Servo, Waypoint};
 use super::skill::{CLOSE, OPEN, Step, gripper_toward, path_height};
-use crate::sim::Sim;
+use crate::sim::{RegionPlace, Sim};
 
 /// What to do with the drawer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DrawerGoal {
     /// Pull it out (LIBERO's cabinets open toward negative joint positions).
     Open,
+    /// Pull an already open drawer further out, by its front wall from inside (the hand
+    /// cannot take the handle of a drawer that sticks out toward the robot without the arm
+    /// sweeping what stands in front of the cabinet).
+    Widen,
+    /// Push it in, pointing down in front of the handle.
     Close,
+    /// The last centimetres of a close, pitched into the front with the fingertips on the
+    /// handle: a hand pointing down meets the handle of the drawer above before a lower drawer
+    /// is fully in, and, pitched, the arm would sweep what stands in front of the cabinet
+    /// while the drawer is far out.
+    Shut,
 }
 
 /// Joint position the drawer is pulled to when opening, and pushed past when closing
 /// (LIBERO: open below -0.14 m, closed above 0).
-const OPEN_TO: f64 = -0.152;
+const OPEN_TO: f64 = -0.156;
 const CLOSED_PAST: f64 = 0.002;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -42,6 +52,52 @@ pub struct Sweep {
     pub bottom: f64,
 }
 
+/// Direction a drawer moves when it opens (world, horizontal).
+fn open_dir(sim: &Sim, entity: usize, body: usize) -> Vec3 {
+    let b = &sim.model().entities[entity].model.bodies[body];
+    let axis = Vec3::from(b.joint.as_ref().map_or([0.0, 1.0, 0.0], |j| j.axis));
+    let world = sim.body_pose(entity, body).rot * axis;
+    Vec3::new(-world.x, -world.y, 0.0).normalize()
+}
+
+/// The drawer (entity, body, joint) a region lives on, if it is a drawer's region.
+pub fn drawer_of(sim: &Sim, region: &str) -> Option<(usize, usize, String)> {
+    let RegionPlace::Site { entity, site } = &sim.model().region(region)?.place else { return None };
+    let model = sim.model().entities[*entity].model;
+    let body = model.sites[*site].body;
+    let joint = model.bodies[body].joint.as_ref()?;
+    Some((*entity, body, joint.name.clone()))
+}
+
+/// Where to drop an object of horizontal `radius` into a drawer's `region`: its centre, moved
+/// out along the drawer's travel as far as needed for the object to come straight down clear
+/// of what overhangs the drawer's back part (the cabinet, the drawers above and their
+/// handles), but no further than the drawer's front wall allows.
+pub fn drop_point(sim: &Sim, region: &str, radius: f64) -> Option<[f64; 2]> {
+    let (entity, body, _) = drawer_of(sim, region)?;
+    let bounds = sim.region_box(region)?;
+    let dir = open_dir(sim, entity, body);
+    let across = Vec3::new(-dir.y, dir.x, 0.0);
+    let inside = Obb { pose: bounds.pose, half: bounds.half_size };
+    let room: Vec<Vec3> = geometry::obb_corners(&inside);
+    let (front, bottom, span) = (geometry::extent(&room, &dir).1, geometry::extent(&room, &Vec3::z()).0, geometry::extent(&room, &across));
+    let overhang = (0..sim.model().entities[entity].model.bodies.len())
+        .filter(|&b| b != body)
+        .flat_map(|b| geometry::body_boxes(sim, entity, b))
+        .map(|b| geometry::obb_corners(&b))
+        .filter(|c| {
+            let v = geometry::extent(c, &across);
+            geometry::extent(c, &Vec3::z()).0 > bottom + 0.01 && v.1 > span.0 && v.0 < span.1
+        })
+        .map(|c| geometry::extent(&c, &dir).1)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let centre = bounds.pose.pos;
+    let (lo, hi) = (overhang + radius + 0.005, front - radius);
+    let at = if lo <= hi { centre.dot(&dir).clamp(lo, hi) } else { 0.5 * (lo + hi) };
+    let p = centre + dir * (at - centre.dot(&dir));
+    Some([p.x, p.y])
+}
+
 pub struct Drawer {
     entity: usize,
     body: usize,
@@ -51,16 +107,31 @@ pub struct Drawer {
     stage_steps: usize,
     cruise_z: f64,
     last_q: Vec<f64>,
+    /// A close stalled near the end: back off, then shut.
+    shut_next: bool,
 }
 
 const STAGE_LIMIT: usize = 90;
+
+/// Widening: the grip site this far behind the front wall's inner face (finger half-width and
+/// some room for the servo's error) and this far below its top edge.
+const WIDEN_GAP: f64 = 0.03;
+const WIDEN_DEPTH: f64 = 0.022;
+/// Shutting: the grip site this far in front of the handle (the fingertips reach 9 mm past it).
+const CLOSE_GAP: f64 = 0.013;
+/// A close that stalls past this joint position is finished by shutting.
+const SHUT_FROM: f64 = -0.04;
+
+/// A drawer open at least this far (joint position) has room behind its front wall for the
+/// fingers, and is widened from inside rather than taken by the handle.
+pub const PARTLY_OPEN: f64 = -0.09;
 
 /// How far the gripper points down from level when it takes a handle (radians).
 const PITCH: f64 = 0.4;
 
 impl Drawer {
     pub fn new(entity: usize, body: usize, joint: String, goal: DrawerGoal) -> Self {
-        Drawer { entity, body, joint, goal, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0, last_q: Vec::new() }
+        Drawer { entity, body, joint, goal, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0, last_q: Vec::new(), shut_next: false }
     }
 
     pub fn describe(&self) -> String {
@@ -76,13 +147,8 @@ impl Drawer {
         sim.joint_position(self.entity, &self.joint).unwrap_or(0.0)
     }
 
-    /// Direction the drawer moves when it opens (world, horizontal).
     fn open_dir(&self, sim: &Sim) -> Vec3 {
-        let body = &sim.model().entities[self.entity].model.bodies[self.body];
-        let axis = Vec3::from(body.joint.as_ref().map_or([0.0, 1.0, 0.0], |j| j.axis));
-        let world = sim.body_pose(self.entity, self.body).rot * axis;
-        let flat = Vec3::new(-world.x, -world.y, 0.0);
-        flat.normalize()
+        open_dir(sim, self.entity, self.body)
     }
 
     /// Where the drawer will be once pulled open: its extent along the opening direction
@@ -116,7 +182,9 @@ impl Drawer {
         let up = Vec3::z();
         let (s, c) = (libm::sin(PITCH), libm::cos(PITCH));
         let z = into * c - up * s;
-        let across = up * c + into * s;
+        // Opening pinches the bar across its height; shutting pushes with the closed fingers
+        // side by side along the bar, so the 20 cm hand lies flat instead of reaching down.
+        let across = if self.goal == DrawerGoal::Shut { into.cross(&up) } else { up * c + into * s };
         // Of the two hands pinching the bar (a half turn apart about the approach axis), the
         // one the wrist reaches, with the smaller turn from where it is first.
         let current = sim.model().robot.grip_site_pose(sim.world()).rot;
@@ -127,11 +195,12 @@ impl Drawer {
         if motion::wrist_reaches(sim, &first) || !motion::wrist_reaches(sim, &second) { first } else { second }
     }
 
-    /// Direction the gripper comes in along when opening (its approach axis), or straight in
-    /// when closing.
+    /// Direction the gripper comes in along (its approach axis): pitched into the front when
+    /// opening or shutting, straight down when widening, straight in when closing.
     fn approach(&self, sim: &Sim) -> Vec3 {
         match self.goal {
-            DrawerGoal::Open => self.side_orientation(sim) * Vec3::z(),
+            DrawerGoal::Open | DrawerGoal::Shut => self.side_orientation(sim) * Vec3::z(),
+            DrawerGoal::Widen => -Vec3::z(),
             DrawerGoal::Close => -self.open_dir(sim),
         }
     }
@@ -143,26 +212,56 @@ impl Drawer {
         motion::reachable_yaw(sim, geometry::yaw_of_axis(&across))
     }
 
-    /// Where the gripper works: on the handle (open) or just in front of it (close).
+    /// Where the gripper works: on the handle (open), behind the front wall (widen), just in
+    /// front of the handle (close) or with the fingertips there (shut).
     fn work_point(&self, sim: &Sim) -> Vec3 {
         let h = self.handle(sim).pose.pos;
         match self.goal {
             DrawerGoal::Open => h,
+            DrawerGoal::Widen => {
+                let (dir, wall) = (self.open_dir(sim), self.front_wall(sim));
+                let inner = geometry::extent(&wall, &dir).0;
+                let top = geometry::extent(&wall, &Vec3::z()).1;
+                let p = h + dir * (inner - WIDEN_GAP - h.dot(&dir));
+                Vec3::new(p.x, p.y, top - WIDEN_DEPTH)
+            }
             DrawerGoal::Close => h + self.open_dir(sim) * 0.035,
+            DrawerGoal::Shut => {
+                let dir = self.open_dir(sim);
+                let handle = self.handle(sim);
+                let front = geometry::extent(&geometry::obb_corners(&handle), &dir).1 - h.dot(&dir);
+                h + dir * (front + CLOSE_GAP)
+            }
         }
+    }
+
+    /// Corners of the drawer's front wall: of the boxes spanning most of its width, the one
+    /// furthest out that stands up (not the floor).
+    fn front_wall(&self, sim: &Sim) -> Vec<Vec3> {
+        let dir = self.open_dir(sim);
+        let across = Vec3::new(-dir.y, dir.x, 0.0);
+        let boxes: Vec<Vec<Vec3>> = geometry::body_boxes(sim, self.entity, self.body).iter().map(geometry::obb_corners).collect();
+        let width = |c: &Vec<Vec3>| { let (a, b) = geometry::extent(c, &across); b - a };
+        let widest = boxes.iter().map(width).fold(0.0, f64::max);
+        let size = |c: &Vec<Vec3>, axis: &Vec3| { let (a, b) = geometry::extent(c, axis); b - a };
+        boxes
+            .into_iter()
+            .filter(|c| width(c) > 0.6 * widest && size(c, &Vec3::z()) > size(c, &dir))
+            .max_by(|a, b| geometry::extent(a, &dir).1.total_cmp(&geometry::extent(b, &dir).1))
+            .expect("drawers have a front wall")
     }
 
     fn waypoint(&self, sim: &Sim, pos: Vec3) -> Waypoint {
         match self.goal {
-            DrawerGoal::Open => Waypoint { pos, rot: self.side_orientation(sim) },
-            DrawerGoal::Close => Waypoint::down(pos, self.push_yaw(sim)),
+            DrawerGoal::Open | DrawerGoal::Shut => Waypoint { pos, rot: self.side_orientation(sim) },
+            DrawerGoal::Widen | DrawerGoal::Close => Waypoint::down(pos, self.push_yaw(sim)),
         }
     }
 
     fn done(&self, sim: &Sim) -> bool {
         match self.goal {
-            DrawerGoal::Open => self.q(sim) < OPEN_TO,
-            DrawerGoal::Close => self.q(sim) > CLOSED_PAST,
+            DrawerGoal::Open | DrawerGoal::Widen => self.q(sim) < OPEN_TO,
+            DrawerGoal::Close | DrawerGoal::Shut => self.q(sim) > CLOSED_PAST,
         }
     }
 
@@ -174,11 +273,13 @@ impl Drawer {
         let ee = sim.model().robot.grip_site_pose(sim.world());
         let dir = self.open_dir(sim);
         let work = self.work_point(sim);
-        // Stand-off back along the approach axis.
-        let standoff = work - self.approach(sim) * 0.12;
+        // Stand-off back along the approach axis: room to come around the handle when taking
+        // it, little when pushing (the hand and arm trail behind, toward what stands in front).
+        let back = if self.goal == DrawerGoal::Shut { 0.04 } else { 0.12 };
+        let standoff = work - self.approach(sim) * back;
         let grip = match self.goal {
             DrawerGoal::Open => gripper_toward(sim, 0.022),
-            DrawerGoal::Close => CLOSE,
+            DrawerGoal::Widen | DrawerGoal::Close | DrawerGoal::Shut => CLOSE,
         };
         match self.stage {
             Stage::Rise => {
@@ -228,29 +329,41 @@ impl Drawer {
                 }
                 // Lead the drawer a few centimetres along its travel.
                 let lead = match self.goal {
-                    DrawerGoal::Open => dir * 0.04,
-                    DrawerGoal::Close => -dir * 0.04,
+                    DrawerGoal::Open | DrawerGoal::Widen => dir * 0.04,
+                    DrawerGoal::Close | DrawerGoal::Shut => -dir * 0.04,
                 };
                 self.last_q.push(self.q(sim));
                 let n = self.last_q.len();
                 if n > 15 && (self.last_q[n - 10] - self.last_q[n - 1]).abs() < 0.001 {
+                    if self.goal == DrawerGoal::Close && self.q(sim) > SHUT_FROM {
+                        self.shut_next = true;
+                        self.next(Stage::Back);
+                        return self.step(sim);
+                    }
                     return Step::Failed("the drawer stopped moving");
                 }
                 Step::Act(Servo::FINE.act(sim, &self.waypoint(sim, work + lead), CLOSE))
             }
             Stage::Release => {
-                if self.stage_steps >= 8 || self.goal == DrawerGoal::Close {
+                if self.stage_steps >= 8 || matches!(self.goal, DrawerGoal::Widen | DrawerGoal::Close) {
                     self.next(Stage::Back);
                 }
                 Step::Act(Servo::FINE.act(sim, &self.waypoint(sim, ee.pos), OPEN))
             }
             Stage::Back => {
                 let away = match self.goal {
-                    DrawerGoal::Open => ee.pos + dir * 0.06,
-                    DrawerGoal::Close => ee.pos + Vec3::new(0.0, 0.0, 0.08),
+                    DrawerGoal::Open | DrawerGoal::Shut => ee.pos + dir * 0.06,
+                    DrawerGoal::Widen => ee.pos + Vec3::new(0.0, 0.0, 0.08),
+                    DrawerGoal::Close => ee.pos + dir * 0.05 + Vec3::new(0.0, 0.0, 0.05),
                 };
                 if self.stage_steps >= 8 {
-                    if self.goal == DrawerGoal::Close {
+                    if self.shut_next {
+                        self.shut_next = false;
+                        self.goal = DrawerGoal::Shut;
+                        self.next(Stage::Rise);
+                        return self.step(sim);
+                    }
+                    if matches!(self.goal, DrawerGoal::Widen | DrawerGoal::Close) {
                         return Step::Done;
                     }
                     self.next(Stage::Upright);

@@ -94,6 +94,11 @@ pub fn body_boxes(sim: &Sim, entity: usize, body: usize) -> Vec<Obb> {
         .collect()
 }
 
+/// The eight corners of a box.
+pub fn obb_corners(b: &Obb) -> Vec<Vec3> {
+    b.corners().collect()
+}
+
 /// World-frame corners of every collision shape of one body of an entity.
 pub fn corners(sim: &Sim, entity: usize, body: usize) -> Vec<Vec3> {
     body_boxes(sim, entity, body).iter().flat_map(|b| b.corners().collect::<Vec<_>>()).collect()
@@ -239,4 +244,63 @@ pub fn rim_grasp(points: &[Vec3], centre: &Vec3, toward: &Vec3, obstacles: &Obst
         }
     }
     best.expect("24 directions were tried").2
+}
+
+/// Whether an object is closed on top over its origin (a pot, a box) rather than an open
+/// vessel (a bowl, a mug): some part over the origin reaches above the object's mid-height.
+/// An open vessel is taken by its rim; a closed one has no rim to take.
+pub fn closed_top(parts: &[Obb], origin: &Vec3) -> bool {
+    let points: Vec<Vec3> = parts.iter().flat_map(|b| b.corners().collect::<Vec<_>>()).collect();
+    let (lo, hi) = bounds(&points);
+    let middle = 0.5 * (lo.z + hi.z);
+    parts.iter().any(|b| {
+        let local = b.pose.inverse().transform_point(&Vec3::new(origin.x, origin.y, b.pose.pos.z));
+        let over = (0..3).all(|k| local[k].abs() <= b.half[k]);
+        over && b.corners().any(|p| p.z > middle)
+    })
+}
+
+/// How far below the top of the pinched part the grip site may go.
+const PART_DEPTHS: [f64; 3] = [0.015, 0.025, 0.035];
+
+/// A top-down grasp of one part of an object too wide to straddle whole (a moka pot's handle
+/// or spout): the fingers pinch one collision box across one of its horizontal axes, clear of
+/// every other part of the object and, preferably, of the scene. Among those, the part nearest
+/// the origin (the least torque on the fingers).
+pub fn part_grasp(parts: &[Obb], obstacles: &Obstacles, origin: &Vec3) -> Option<Grasp> {
+    let own = Obstacles { boxes: parts.to_vec() };
+    let lowest = parts.iter().flat_map(|b| b.corners().collect::<Vec<_>>()).map(|p| p.z).fold(f64::INFINITY, f64::min);
+    let mut best: Option<(usize, f64, Grasp)> = None;
+    for part in parts {
+        let corners: Vec<Vec3> = part.corners().collect();
+        let top = corners.iter().map(|p| p.z).fold(f64::NEG_INFINITY, f64::max);
+        for k in 0..3 {
+            let a: Vec3 = part.pose.rot.column(k).into();
+            let flat = Vec3::new(a.x, a.y, 0.0);
+            if flat.norm() < 0.7 {
+                continue;
+            }
+            let axis = flat.normalize();
+            let (mn, mx) = extent(&corners, &axis);
+            let width = mx - mn;
+            if width > MAX_GRASP_WIDTH {
+                continue;
+            }
+            let half_gap = (0.5 * width + APPROACH_CLEARANCE).min(OPEN_HALF_GAP);
+            for depth in PART_DEPTHS {
+                let site = Vec3::new(part.pose.pos.x, part.pose.pos.y, (top - depth).max(lowest + TIP_CLEARANCE));
+                let volumes = gripper_volumes(&site, &axis, half_gap);
+                if own.hits(&volumes, 0.002) > 0 {
+                    continue;
+                }
+                let hits = obstacles.hits(&volumes, 0.003);
+                let off = ((site.x - origin.x).powi(2) + (site.y - origin.y).powi(2)).sqrt();
+                let grasp = Grasp { pos: site, yaw: yaw_of_axis(&axis), width, half_gap };
+                if best.is_none_or(|(h, o, _)| (hits, off) < (h, o - 1e-9)) {
+                    best = Some((hits, off, grasp));
+                }
+            }
+        }
+    }
+    best.map(|(_, _, g)| g)
 }

@@ -2,6 +2,7 @@
 //! action interface a policy uses (it reads the simulator's state, but acts only by actions —
 //! no teleporting, welding or pose editing), so it can stand in for a policy.
 
+mod door;
 mod drawer;
 mod geometry;
 mod knob;
@@ -55,6 +56,7 @@ impl Expert {
         match self.skills.get(self.current) {
             Some(Skill::PickPlace(s)) => s.describe(),
             Some(Skill::Drawer(s)) => s.describe(),
+            Some(Skill::Door(s)) => s.describe(),
             Some(Skill::Knob(s)) => s.describe(),
             Some(Skill::Push(s)) => s.describe(),
             None => "done".to_string(),
@@ -67,6 +69,7 @@ impl Expert {
             let step = match &mut self.skills[self.current] {
                 Skill::PickPlace(s) => s.step(sim),
                 Skill::Drawer(s) => s.step(sim),
+                Skill::Door(s) => s.step(sim),
                 Skill::Knob(s) => s.step(sim),
                 Skill::Push(s) => s.step(sim),
             };

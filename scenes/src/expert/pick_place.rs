@@ -3,6 +3,7 @@
 use vifo_robots::action::Action;
 use vifo_robots::spatial::Vec3;
 
+use super::drawer;
 use super::geometry::{self, Grasp};
 use super::motion::{self, Servo, Waypoint};
 use super::skill::{CLOSE, OPEN, Step, gripper_toward, path_height, surface_height};
@@ -24,8 +25,9 @@ pub enum Placement {
 pub enum Spot {
     /// An object's or fixture's origin.
     Entity(usize),
-    /// A region's (or site's) centre.
-    Region(String),
+    /// A region's (or site's) centre, moved by `offset` (world xy) where several objects
+    /// share the region.
+    Region { name: String, offset: [f64; 2] },
 }
 
 impl Spot {
@@ -33,7 +35,9 @@ impl Spot {
     pub fn xy(&self, sim: &Sim) -> [f64; 2] {
         let p = match self {
             Spot::Entity(i) => sim.entity_pose(*i).pos,
-            Spot::Region(name) => sim.region_box(name).map_or(Vec3::zeros(), |r| r.pose.pos),
+            Spot::Region { name, offset } => {
+                sim.region_box(name).map_or(Vec3::zeros(), |r| r.pose.pos) + Vec3::new(offset[0], offset[1], 0.0)
+            }
         };
         [p.x, p.y]
     }
@@ -111,6 +115,12 @@ impl PickPlace {
             return Grasp { yaw: motion::reachable_yaw(sim, g.yaw), ..g };
         }
         let origin = sim.entity_pose(self.object).pos;
+        let parts = geometry::body_boxes(sim, self.object, 0);
+        if geometry::closed_top(&parts, &origin) {
+            if let Some(g) = geometry::part_grasp(&parts, &obstacles, &origin) {
+                return Grasp { yaw: motion::reachable_yaw(sim, g.yaw), ..g };
+            }
+        }
         let (lo, hi) = geometry::bounds(&points);
         let centre = Vec3::new(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), origin.z);
         // Grip the rim on the side facing the robot's base, where the arm comes from.
@@ -128,8 +138,23 @@ impl PickPlace {
 
     fn target_xy(&self, sim: &Sim) -> [f64; 2] {
         match &self.placement {
+            Placement::Into(Spot::Region { name, .. }) => {
+                drawer::drop_point(sim, name, self.radius(sim)).unwrap_or_else(|| self.placement_spot().xy(sim))
+            }
             Placement::On(spot) | Placement::Into(spot) => spot.xy(sim),
         }
+    }
+
+    fn placement_spot(&self) -> &Spot {
+        match &self.placement {
+            Placement::On(spot) | Placement::Into(spot) => spot,
+        }
+    }
+
+    /// The carried object's horizontal radius (half its larger horizontal extent).
+    fn radius(&self, sim: &Sim) -> f64 {
+        let (lo, hi) = geometry::bounds(&geometry::corners(sim, self.object, 0));
+        0.5 * (hi.x - lo.x).max(hi.y - lo.y)
     }
 
     pub fn step(&mut self, sim: &Sim) -> Step {
@@ -235,8 +260,7 @@ impl PickPlace {
             Stage::Lower => {
                 let offset = self.carry_offset.expect("measured");
                 let xy = self.target;
-                let (lo, hi) = geometry::bounds(&geometry::corners(sim, self.object, 0));
-                let radius = 0.5 * (hi.x - lo.x).max(hi.y - lo.y);
+                let radius = self.radius(sim);
                 let surface = surface_height(sim, xy, radius.max(0.02), Some(self.object));
                 let clearance = match self.placement {
                     Placement::On(_) => 0.012,

@@ -4,12 +4,14 @@ use thiserror::Error;
 
 use vifo_robots::spatial::Vec3;
 
-use super::drawer::{Drawer, DrawerGoal};
+use super::door::Door;
+use super::drawer::{self, Drawer, DrawerGoal, drawer_of};
 use super::geometry;
 use super::knob::Knob;
 use super::pick_place::{PickPlace, Placement, Spot};
 use super::push::{self, Push};
-use crate::sim::{RegionPlace, Sim};
+use crate::catalog::JointKind;
+use crate::sim::Sim;
 use crate::task::{Atom, Predicate};
 
 /// A goal the expert has no skill for.
@@ -25,6 +27,7 @@ pub enum PlanError {
 pub enum Skill {
     PickPlace(PickPlace),
     Drawer(Drawer),
+    Door(Door),
     Knob(Knob),
     Push(Push),
 }
@@ -33,32 +36,34 @@ pub enum Skill {
 const PUSHED: [&str; 1] = ["plate"];
 /// How far a knob is turned past LIBERO's "on" threshold (0.5 rad).
 const KNOB_ON: f64 = 0.8;
-/// Drawers count as open below this joint position (LIBERO).
-const DRAWER_OPEN_BELOW: f64 = -0.14;
+/// A drawer to put something in is pulled out unless already past this joint position (LIBERO
+/// counts it open below -0.14, but the closed drawers' handles above hang over its front, so
+/// an object only fits in with the drawer nearly all the way out).
+const DRAWER_OPEN_BELOW: f64 = -0.15;
 
 fn spot_of(sim: &Sim, atom: &Atom, name: &str) -> Result<Spot, PlanError> {
     if let Some((i, _)) = sim.model().entity(name) {
         return Ok(Spot::Entity(i));
     }
     match sim.region_box(name) {
-        Some(_) => Ok(Spot::Region(name.to_string())),
+        Some(_) => Ok(Spot::Region { name: name.to_string(), offset: [0.0; 2] }),
         None => Err(PlanError::UnknownName { atom: atom.to_string(), name: name.to_string() }),
     }
-}
-
-/// The drawer (entity, body, joint) a region lives on, if it is a drawer's region.
-fn drawer_of(sim: &Sim, region: &str) -> Option<(usize, usize, String)> {
-    let RegionPlace::Site { entity, site } = &sim.model().region(region)?.place else { return None };
-    let model = sim.model().entities[*entity].model;
-    let body = model.sites[*site].body;
-    let joint = model.bodies[body].joint.as_ref()?;
-    Some((*entity, body, joint.name.clone()))
 }
 
 /// The knob (entity, body, joint) of an entity, if it has one.
 fn knob_of(sim: &Sim, name: &str) -> Option<(usize, usize, String)> {
     let (entity, e) = sim.model().entity(name)?;
     let (body, b) = e.model.bodies.iter().enumerate().find(|(_, b)| b.joint.is_some() && b.name == "button")?;
+    Some((entity, body, b.joint.as_ref()?.name.clone()))
+}
+
+/// The door (entity, body, joint) of an entity: a hinged body other than a knob.
+fn door_of(sim: &Sim, name: &str) -> Option<(usize, usize, String)> {
+    let (entity, e) = sim.model().entity(name)?;
+    let (body, b) = e.model.bodies.iter().enumerate().find(|(_, b)| {
+        b.name != "button" && b.joint.as_ref().is_some_and(|j| j.kind == JointKind::Hinge)
+    })?;
     Some((entity, body, b.joint.as_ref()?.name.clone()))
 }
 
@@ -93,6 +98,41 @@ fn open_drawer(sim: &Sim, ordered: &mut Vec<(u8, Skill)>, drawer: Drawer, picked
     ordered.push((0, Skill::Drawer(drawer)));
 }
 
+/// Gap left between objects put on the same region.
+const SHARE_GAP: f64 = 0.012;
+
+/// Where each object put on a region shared with others goes (world xy offsets from the
+/// region's centre, by goal index): side by side along the world axis across which the
+/// objects are narrowest, centred on the region, as far as the region allows.
+fn shared_offsets(sim: &Sim, goals: &[Atom]) -> Vec<[f64; 2]> {
+    let mut offsets = vec![[0.0; 2]; goals.len()];
+    let on_region = |a: &Atom| {
+        let object = sim.model().entity(a.args.first()?)?.0;
+        let region = a.args.get(1)?;
+        (a.predicate == Predicate::On && sim.region_box(region).is_some()).then_some((object, region.clone()))
+    };
+    let placed: Vec<(usize, usize, String)> = goals.iter().enumerate().filter_map(|(g, a)| on_region(a).map(|(o, r)| (g, o, r))).collect();
+    for (_, _, region) in &placed {
+        let sharing: Vec<(usize, usize)> = placed.iter().filter(|(_, _, r)| r == region).map(|(g, o, _)| (*g, *o)).collect();
+        if sharing.len() < 2 {
+            continue;
+        }
+        let widths = |axis: &Vec3| -> Vec<f64> {
+            sharing.iter().map(|(_, o)| { let (lo, hi) = geometry::extent(&geometry::corners(sim, *o, 0), axis); hi - lo }).collect()
+        };
+        let (wx, wy) = (widths(&Vec3::x()), widths(&Vec3::y()));
+        let (axis, w) = if wx.iter().sum::<f64>() <= wy.iter().sum::<f64>() { (0, wx) } else { (1, wy) };
+        let room = sim.region_box(region).map_or(0.0, |r| (r.pose.rot * r.half_size)[axis].abs());
+        let total = w.iter().sum::<f64>() + SHARE_GAP * (w.len() - 1) as f64;
+        let mut at = -0.5 * total;
+        for ((g, _), width) in sharing.iter().zip(&w) {
+            offsets[*g][axis] = (at + 0.5 * width).clamp(-room, room);
+            at += width + SHARE_GAP;
+        }
+    }
+    offsets
+}
+
 /// The skills achieving `goals`, in order: opening drawers first, then switches, then moving
 /// objects, and closing last (so things can be put into a drawer before it is shut).
 pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
@@ -104,7 +144,8 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
         .filter(|(_, e)| e.movable() && !PUSHED.contains(&e.category.as_str()))
         .map(|(i, _)| i)
         .collect();
-    for atom in goals {
+    let offsets = shared_offsets(sim, goals);
+    for (g, atom) in goals.iter().enumerate() {
         let unsupported = || PlanError::Unsupported(atom.to_string());
         let unknown = |name: &str| PlanError::UnknownName { atom: atom.to_string(), name: name.to_string() };
         let arg = |i: usize| atom.args.get(i).map(String::as_str).unwrap_or("");
@@ -114,7 +155,10 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
                 if !e.movable() {
                     return Err(unsupported());
                 }
-                let spot = spot_of(sim, atom, arg(1))?;
+                let spot = match spot_of(sim, atom, arg(1))? {
+                    Spot::Region { name, .. } => Spot::Region { name, offset: offsets[g] },
+                    entity => entity,
+                };
                 if PUSHED.contains(&e.category.as_str()) && atom.predicate == Predicate::On {
                     for push in push::pushes(sim, object, spot.xy(sim), 0.015) {
                         ordered.push((2, Skill::Push(push)));
@@ -123,13 +167,18 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
                 }
                 if atom.predicate == Predicate::In {
                     if let Some((entity, body, joint)) = drawer_of(sim, arg(1)) {
-                        if sim.joint_position(entity, &joint).is_some_and(|q| q > DRAWER_OPEN_BELOW) {
-                            open_drawer(sim, &mut ordered, Drawer::new(entity, body, joint, DrawerGoal::Open), &picked);
+                        if let Some(q) = sim.joint_position(entity, &joint).filter(|&q| q > DRAWER_OPEN_BELOW) {
+                            let goal = if q < drawer::PARTLY_OPEN { DrawerGoal::Widen } else { DrawerGoal::Open };
+                            open_drawer(sim, &mut ordered, Drawer::new(entity, body, joint, goal), &picked);
                         }
                     }
                 }
                 let placement = if atom.predicate == Predicate::In { Placement::Into(spot) } else { Placement::On(spot) };
                 ordered.push((2, Skill::PickPlace(PickPlace::new(object, placement))));
+            }
+            Predicate::Close if door_of(sim, arg(0)).is_some() => {
+                let (entity, body, joint) = door_of(sim, arg(0)).ok_or_else(unsupported)?;
+                ordered.push((3, Skill::Door(Door::new(entity, body, joint))));
             }
             Predicate::Open | Predicate::Close => {
                 let (entity, body, joint) = drawer_of(sim, arg(0)).ok_or_else(unsupported)?;
@@ -139,6 +188,8 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
                     ordered.push((3, Skill::Drawer(Drawer::new(entity, body, joint, DrawerGoal::Close))));
                 }
             }
+            // A knob already on is left alone.
+            Predicate::TurnOn if sim.holds(atom) == Ok(true) => {}
             Predicate::TurnOn => {
                 let (entity, body, joint) = knob_of(sim, arg(0)).ok_or_else(unsupported)?;
                 ordered.push((1, Skill::Knob(Knob::new(entity, body, joint, KNOB_ON))));

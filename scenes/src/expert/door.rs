@@ -2,7 +2,7 @@
 
 use vifo_robots::spatial::{Vec3, axis_angle};
 
-use super::geometry::{self, Obb};
+use super::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, Obb};
 use super::motion::{self, Servo, Waypoint};
 use super::skill::{CLOSE, Step, path_height};
 use crate::sim::Sim;
@@ -35,8 +35,6 @@ pub struct Door {
 const STAGE_LIMIT: usize = 120;
 /// Where along the door (fraction of the hinge-to-free-edge distance) the fingers push.
 const PUSH_AT: f64 = 0.65;
-/// Finger half-width across the finger axis: the fingers' faces this far off the grip site.
-const FINGER_HALF_WIDTH: f64 = 0.011;
 /// Gap between the fingers and the door face while coming down beside it.
 const STANDOFF: f64 = 0.03;
 /// The target leads the door by this angle while pushing (radians).
@@ -44,9 +42,8 @@ const LEAD: f64 = 0.25;
 /// Pushed until this close to the closed end (LIBERO counts the microwave closed within
 /// 0.005 rad).
 const CLOSED_WITHIN: f64 = 0.002;
-/// The hand's underside sits this far above the grip site (see `geometry`), and stays this
-/// much above the door's top edge.
-const HAND_ABOVE_SITE: f64 = 0.031;
+/// The hand's underside ([`HAND_ABOVE_SITE`] over the grip site) stays this much above the
+/// door's top edge; the fingers' faces are [`FINGER_HALF_WIDTH`] off the grip site.
 const HAND_CLEARANCE: f64 = 0.006;
 
 /// The door's shape at the current angle, in the world.

@@ -15,10 +15,10 @@ const APPROACH_CLEARANCE: f64 = 0.011;
 const RIM_HALF_GAP: f64 = 0.013;
 /// Finger size: thickness along the closing axis, half-width across it, length below the hand.
 const FINGER_THICKNESS: f64 = 0.026;
-const FINGER_HALF_WIDTH: f64 = 0.011;
+pub(super) const FINGER_HALF_WIDTH: f64 = 0.011;
 /// The fingertips reach this far below the grip site, the hand starts this far above it.
 const TIP_BELOW_SITE: f64 = 0.009;
-const HAND_ABOVE_SITE: f64 = 0.031;
+pub(super) const HAND_ABOVE_SITE: f64 = 0.031;
 /// The hand's half-extents along the finger axis and across it, and the height of the column
 /// it sweeps coming straight down to the grasp (the hand itself is 9 cm tall; the column also
 /// keeps the wrist clear of overhangs such as an open drawer).

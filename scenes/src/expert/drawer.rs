@@ -241,12 +241,14 @@ impl Drawer {
         let dir = self.open_dir(sim);
         let across = Vec3::new(-dir.y, dir.x, 0.0);
         let boxes: Vec<Vec<Vec3>> = geometry::body_boxes(sim, self.entity, self.body).iter().map(geometry::obb_corners).collect();
-        let width = |c: &Vec<Vec3>| { let (a, b) = geometry::extent(c, &across); b - a };
-        let widest = boxes.iter().map(width).fold(0.0, f64::max);
-        let size = |c: &Vec<Vec3>, axis: &Vec3| { let (a, b) = geometry::extent(c, axis); b - a };
+        let size = |c: &Vec<Vec3>, axis: &Vec3| {
+            let (a, b) = geometry::extent(c, axis);
+            b - a
+        };
+        let widest = boxes.iter().map(|c| size(c, &across)).fold(0.0, f64::max);
         boxes
             .into_iter()
-            .filter(|c| width(c) > 0.6 * widest && size(c, &Vec3::z()) > size(c, &dir))
+            .filter(|c| size(c, &across) > 0.6 * widest && size(c, &Vec3::z()) > size(c, &dir))
             .max_by(|a, b| geometry::extent(a, &dir).1.total_cmp(&geometry::extent(b, &dir).1))
             .expect("drawers have a front wall")
     }

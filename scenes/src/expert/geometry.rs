@@ -101,7 +101,7 @@ pub fn obb_corners(b: &Obb) -> Vec<Vec3> {
 
 /// World-frame corners of every collision shape of one body of an entity.
 pub fn corners(sim: &Sim, entity: usize, body: usize) -> Vec<Vec3> {
-    body_boxes(sim, entity, body).iter().flat_map(|b| b.corners().collect::<Vec<_>>()).collect()
+    body_boxes(sim, entity, body).iter().flat_map(|b| b.corners()).collect()
 }
 
 /// Axis-aligned world bounds of a point set: (min, max).
@@ -250,7 +250,7 @@ pub fn rim_grasp(points: &[Vec3], centre: &Vec3, toward: &Vec3, obstacles: &Obst
 /// vessel (a bowl, a mug): some part over the origin reaches above the object's mid-height.
 /// An open vessel is taken by its rim; a closed one has no rim to take.
 pub fn closed_top(parts: &[Obb], origin: &Vec3) -> bool {
-    let points: Vec<Vec3> = parts.iter().flat_map(|b| b.corners().collect::<Vec<_>>()).collect();
+    let points: Vec<Vec3> = parts.iter().flat_map(|b| b.corners()).collect();
     let (lo, hi) = bounds(&points);
     let middle = 0.5 * (lo.z + hi.z);
     parts.iter().any(|b| {
@@ -269,7 +269,7 @@ const PART_DEPTHS: [f64; 3] = [0.015, 0.025, 0.035];
 /// the origin (the least torque on the fingers).
 pub fn part_grasp(parts: &[Obb], obstacles: &Obstacles, origin: &Vec3) -> Option<Grasp> {
     let own = Obstacles { boxes: parts.to_vec() };
-    let lowest = parts.iter().flat_map(|b| b.corners().collect::<Vec<_>>()).map(|p| p.z).fold(f64::INFINITY, f64::min);
+    let lowest = parts.iter().flat_map(|b| b.corners()).map(|p| p.z).fold(f64::INFINITY, f64::min);
     let mut best: Option<(usize, f64, Grasp)> = None;
     for part in parts {
         let corners: Vec<Vec3> = part.corners().collect();

@@ -138,16 +138,10 @@ impl PickPlace {
 
     fn target_xy(&self, sim: &Sim) -> [f64; 2] {
         match &self.placement {
-            Placement::Into(Spot::Region { name, .. }) => {
-                drawer::drop_point(sim, name, self.radius(sim)).unwrap_or_else(|| self.placement_spot().xy(sim))
+            Placement::Into(spot @ Spot::Region { name, .. }) => {
+                drawer::drop_point(sim, name, self.radius(sim)).unwrap_or_else(|| spot.xy(sim))
             }
             Placement::On(spot) | Placement::Into(spot) => spot.xy(sim),
-        }
-    }
-
-    fn placement_spot(&self) -> &Spot {
-        match &self.placement {
-            Placement::On(spot) | Placement::Into(spot) => spot,
         }
     }
 

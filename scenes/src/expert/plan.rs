@@ -176,11 +176,11 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
                 let placement = if atom.predicate == Predicate::In { Placement::Into(spot) } else { Placement::On(spot) };
                 ordered.push((2, Skill::PickPlace(PickPlace::new(object, placement))));
             }
-            Predicate::Close if door_of(sim, arg(0)).is_some() => {
-                let (entity, body, joint) = door_of(sim, arg(0)).ok_or_else(unsupported)?;
-                ordered.push((3, Skill::Door(Door::new(entity, body, joint))));
-            }
             Predicate::Open | Predicate::Close => {
+                if let (Predicate::Close, Some((entity, body, joint))) = (&atom.predicate, door_of(sim, arg(0))) {
+                    ordered.push((3, Skill::Door(Door::new(entity, body, joint))));
+                    continue;
+                }
                 let (entity, body, joint) = drawer_of(sim, arg(0)).ok_or_else(unsupported)?;
                 if atom.predicate == Predicate::Open {
                     open_drawer(sim, &mut ordered, Drawer::new(entity, body, joint, DrawerGoal::Open), &picked);

@@ -9,11 +9,14 @@ pub struct SimParams {
     pub substeps: u32,
     /// Gravity in world coordinates (z up).
     pub gravity: [f64; 3],
-    /// rapier's TGS-soft substeps per physics step.
+    /// rapier's TGS-soft substeps per physics step. Each one re-solves every contact, so this
+    /// and the next setting set most of the cost of a step: 2 x 2 simulates libero_spatial
+    /// expert episodes 42 % faster than 4 x 4, and the expert succeeds at least as often, the
+    /// arm follows MuJoCo as closely and squeezed light boxes are pressed into the table less.
     pub solver_iterations: usize,
-    /// rapier's position-stabilization iterations per substep. rapier's default of 1 left
-    /// light, low-inertia objects (a 16 g mug) rocking on their little contact patch until they
-    /// tipped over; 4 settles them at rest (and brings settled poses closer to MuJoCo's).
+    /// rapier's position-stabilization iterations per substep. One (rapier's default, with 4
+    /// substeps) left light, low-inertia objects (a 16 g mug) rocking on their little contact
+    /// patch until they tipped over; 2 settles them at rest.
     pub stabilization_iterations: usize,
     /// Natural frequency (Hz) of contacts between two moving bodies. rapier's default of 30 Hz
     /// lets a 20 N finger sink millimetres into light objects; 100 Hz holds grasps (see the
@@ -31,8 +34,8 @@ impl SimParams {
         dt: 0.002,
         substeps: 25,
         gravity: [0.0, 0.0, -9.81],
-        solver_iterations: 4,
-        stabilization_iterations: 4,
+        solver_iterations: 2,
+        stabilization_iterations: 2,
         contact_frequency: 100.0,
         static_contact_frequency: 200.0,
         contact_damping_ratio: 10.0,

@@ -32,11 +32,11 @@ fn specs() -> Vec<EpisodeSpec> {
         .collect()
 }
 
-fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("vifo-episodes-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join("results.jsonl")
+/// A results file in a scratch folder that is removed when the returned guard drops.
+fn temp() -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("results.jsonl");
+    (dir, path)
 }
 
 /// Runs `specs` with a built-in policy, at 64² with both cameras when `render` (as for a
@@ -74,7 +74,7 @@ fn built_in_policies_show_their_metric_patterns() {
     let specs = specs();
     let mut by_policy = std::collections::BTreeMap::new();
     for policy in ["expert-cue", "expert-language", "expert-authorized", "zero"] {
-        let path = temp(policy);
+        let (_path_dir, path) = temp();
         run(policy, &specs, &path, 2, false, policy == "zero");
         let records = records(&path);
         assert_eq!(records.len(), 4, "{policy}");
@@ -143,12 +143,12 @@ fn resume_after_a_stop_and_any_thread_count_give_the_same_records() {
     // expert-authorized: episodes of different lengths and outcomes (original, conflict, and
     // no_language where it holds still).
     let specs: Vec<EpisodeSpec> = specs().into_iter().filter(|s| s.protocol != Protocol::Authorized).collect();
-    let one = temp("one-thread");
+    let (_one_dir, one) = temp();
     run("expert-authorized", &specs, &one, 1, false, true);
 
     // Stopped after the first episode, in the middle of writing the second line; resumed on
     // two threads.
-    let stopped = temp("stopped");
+    let (_stopped_dir, stopped) = temp();
     run("expert-authorized", &specs[..1], &stopped, 1, false, true);
     let uninterrupted = std::fs::read_to_string(&one).unwrap();
     let second = uninterrupted.lines().find(|l| l.contains(r#""protocol":"conflict""#)).unwrap();

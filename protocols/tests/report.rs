@@ -109,8 +109,8 @@ fn rates_follow_the_paper_definitions() {
 #[test]
 fn files_are_written() {
     let report = report::build(&records(), &vqa());
-    let dir = std::env::temp_dir().join(format!("vifo-report-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let scratch = tempfile::tempdir().unwrap();
+    let dir = scratch.path().join("report");
     let markdown = report.write(&dir).unwrap();
     println!("{markdown}");
     // Orig. SR is the only column with two values: best bold, second underlined.
@@ -137,10 +137,9 @@ fn files_are_written() {
         assert_eq!((img.width(), img.height()), (960, 440));
     }
     // Same input, same bytes.
-    let again = std::env::temp_dir().join(format!("vifo-report-again-{}", std::process::id()));
+    let again = scratch.path().join("again");
     report.write(&again).unwrap();
     for name in ["table1.md", "table2.csv", "chart_avf.png"] {
         assert_eq!(std::fs::read(dir.join(name)).unwrap(), std::fs::read(again.join(name)).unwrap(), "{name}");
     }
-    let _ = std::fs::remove_dir_all(&again);
 }

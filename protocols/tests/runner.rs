@@ -44,11 +44,11 @@ fn episode(spec: &EpisodeSpec) -> EpisodeRecord {
     }
 }
 
-fn temp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("vifo-runner-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join("results.jsonl")
+/// A results file in a scratch folder that is removed when the returned guard drops.
+fn temp() -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("results.jsonl");
+    (dir, path)
 }
 
 fn options(path: &Path, threads: usize) -> RunOptions {
@@ -70,8 +70,8 @@ fn sorted(path: &Path) -> Vec<String> {
 #[test]
 fn results_do_not_depend_on_the_thread_count() {
     let all = specs(40);
-    let one = temp("one");
-    let two = temp("two");
+    let (_one_dir, one) = temp();
+    let (_two_dir, two) = temp();
     let s1 = runner::run(&all, episode, &options(&one, 1)).unwrap();
     let s2 = runner::run(&all, episode, &options(&two, 2)).unwrap();
     assert_eq!((s1.ran, s2.ran, s1.errors), (40, 40, 0));
@@ -85,11 +85,11 @@ fn results_do_not_depend_on_the_thread_count() {
 #[test]
 fn a_stopped_run_resumes_to_the_same_result() {
     let all = specs(30);
-    let reference = temp("reference");
+    let (_reference_dir, reference) = temp();
     runner::run(&all, episode, &options(&reference, 2)).unwrap();
 
     // First attempt: stops after 12 episodes, two of them errors, while writing a 13th line.
-    let path = temp("resumed");
+    let (_path_dir, path) = temp();
     let flaky = |spec: &EpisodeSpec| {
         if spec.init == 1 {
             EpisodeRecord { outcome: Outcome::Error { message: "server dropped".into() }, ..episode(spec) }
@@ -131,7 +131,7 @@ fn shards_partition_the_specs() {
     let all = specs(60);
     let mut seen = Vec::new();
     for i in 0..3 {
-        let path = temp(&format!("shard{i}"));
+        let (_path_dir, path) = temp();
         let shard: Shard = format!("{i}/3").parse().unwrap();
         let s = runner::run(&all, episode, &RunOptions { shard: Some(shard), ..options(&path, 2) }).unwrap();
         assert!(s.ran > 5, "shard {i} got only {} of 60", s.ran);
@@ -149,7 +149,7 @@ fn shards_partition_the_specs() {
 #[test]
 fn panics_and_foreign_records_become_errors() {
     let all = specs(8);
-    let path = temp("panics");
+    let (_path_dir, path) = temp();
     let s = runner::run(
         &all,
         |spec: &EpisodeSpec| match spec.init {
@@ -177,7 +177,7 @@ fn panics_and_foreign_records_become_errors() {
 
 #[test]
 fn a_corrupt_middle_line_is_reported_with_its_position() {
-    let path = temp("corrupt");
+    let (_path_dir, path) = temp();
     runner::run(&specs(3), episode, &options(&path, 1)).unwrap();
     let mut text = std::fs::read_to_string(&path).unwrap();
     text.insert_str(text.find('\n').unwrap() + 1, "{\"spec\": 3}\n");

@@ -34,6 +34,8 @@ pub struct Push {
 const STAGE_LIMIT: usize = 120;
 /// Grip-site height above the support while pushing: fingertips about a centimetre up.
 const PUSH_HEIGHT: f64 = 0.02;
+/// How much higher than the object's support the ground behind it may be for a push from there.
+const STEP_UP: f64 = 0.01;
 /// Pushing a bowl from inside: the closed fingers go down this far behind its centre and stay
 /// this much higher, above its floor.
 const HOLLOW_OFFSET: f64 = 0.015;
@@ -90,14 +92,26 @@ pub fn inside_floor(category: &str) -> Option<f64> {
     HOLLOW.iter().find(|(c, _)| *c == category).map(|(_, floor)| *floor)
 }
 
+/// What `object` stands on: the highest point of the scene right under its centre.
+fn support_under(sim: &Sim, object: usize) -> f64 {
+    let c = sim.entity_pose(object).pos;
+    surface_height(sim, [c.x, c.y], 0.02, Some(object))
+}
+
 /// Push targets from behind the object with the hand clear of everything, if there are any.
+/// The hand must be able to come down behind it to the object's own support: something taller
+/// there (a cabinet's corner) would leave the fingers pushing the air above the object.
 fn legs(sim: &Sim, object: usize, target: [f64; 2]) -> Option<Vec<[f64; 2]>> {
     let obstacles = geometry::Obstacles::around(sim, object);
     let c = sim.entity_pose(object).pos;
+    let base = support_under(sim, object);
     let clear = |from: Vec3, to: [f64; 2]| {
         let (c, dir, radius) = aim(sim, object, &from, to);
         let behind = c - dir * (radius + 0.025);
-        let z = surface_height(sim, [behind.x, behind.y], 0.02, Some(object)) + PUSH_HEIGHT;
+        if surface_height(sim, [behind.x, behind.y], 0.02, Some(object)) > base + STEP_UP {
+            return false;
+        }
+        let z = base + PUSH_HEIGHT;
         let travel = Vec3::new(to[0] - c.x, to[1] - c.y, 0.0);
         finger_axis(&obstacles, &dir, &Vec3::new(behind.x, behind.y, z), &travel).1 == 0
     };
@@ -149,7 +163,7 @@ impl Push {
         }
         let ee = sim.model().robot.grip_site_pose(sim.world());
         let (c, dir, radius) = self.geometry(sim);
-        let support = surface_height(sim, [c.x - dir.x * (radius + 0.03), c.y - dir.y * (radius + 0.03)], 0.02, Some(self.object));
+        let support = support_under(sim, self.object);
         let (behind, height) = match self.inside {
             // Closed fingers just behind the centre, low inside the vessel.
             Some(floor) => (c - dir * HOLLOW_OFFSET, support + PUSH_HEIGHT + floor),

@@ -38,7 +38,7 @@ pub struct Obb {
 
 impl Obb {
     /// Separating-axis test: do the two boxes, each grown by `margin`, overlap?
-    fn overlaps(&self, other: &Obb, margin: f64) -> bool {
+    pub fn overlaps(&self, other: &Obb, margin: f64) -> bool {
         let (a, b) = (&self.pose.rot, &other.pose.rot);
         let (ha, hb) = (self.half.add_scalar(margin), other.half.add_scalar(margin));
         let t = other.pose.pos - self.pose.pos;
@@ -133,8 +133,19 @@ impl Obstacles {
         Obstacles { boxes }
     }
 
-    /// How many obstacle boxes the gripper volumes (fingers and hand) would overlap.
-    fn hits(&self, volumes: &[Obb], margin: f64) -> usize {
+    /// Only the boxes reaching within `radius` of `centre`.
+    pub fn near(self, centre: &Vec3, radius: f64) -> Obstacles {
+        let boxes = self.boxes.into_iter().filter(|b| (b.pose.pos - centre).norm() < radius + b.half.norm()).collect();
+        Obstacles { boxes }
+    }
+
+    /// The first obstacle box the given volumes overlap.
+    pub fn first_hit(&self, volumes: &[Obb], margin: f64) -> Option<Obb> {
+        self.boxes.iter().find(|b| volumes.iter().any(|v| v.overlaps(b, margin))).copied()
+    }
+
+    /// How many obstacle boxes the given volumes (the gripper's, a carried object's) would overlap.
+    pub fn hits(&self, volumes: &[Obb], margin: f64) -> usize {
         self.boxes.iter().filter(|b| volumes.iter().any(|v| v.overlaps(b, margin))).count()
     }
 }
@@ -157,23 +168,35 @@ pub fn yaw_of_axis(axis: &Vec3) -> f64 {
 }
 
 /// The volumes of the two open fingers and of the hand for a grasp at `site` with the fingers
-/// closing along `axis`.
+/// closing along `axis`, the hand coming straight down.
 fn gripper_volumes(site: &Vec3, axis: &Vec3, half_gap: f64) -> [Obb; 3] {
-    let across = Vec3::new(-axis.y, axis.x, 0.0);
-    let rot = vifo_robots::spatial::Mat3::from_columns(&[*axis, across, Vec3::z()]);
+    let down = -Vec3::z();
+    let rot = vifo_robots::spatial::Mat3::from_columns(&[*axis, down.cross(axis), down]);
+    gripper_volumes_at(&Pose::new(*site, rot), half_gap)
+}
+
+/// The volumes of the two open fingers and of the hand for the grip site at `grip` (orientation
+/// as a [`super::motion::Waypoint`]'s: first column the finger axis, third the approach).
+fn gripper_volumes_at(grip: &Pose, half_gap: f64) -> [Obb; 3] {
+    let axis: Vec3 = grip.rot.column(0).into();
+    let up: Vec3 = -Vec3::from(grip.rot.column(2));
+    let rot = vifo_robots::spatial::Mat3::from_columns(&[axis, up.cross(&axis), up]);
+    let site = grip.pos;
     let finger_len = TIP_BELOW_SITE + HAND_ABOVE_SITE;
     let finger = |side: f64| Obb {
-        pose: Pose::new(
-            site + axis * (side * (half_gap + 0.5 * FINGER_THICKNESS)) + Vec3::new(0.0, 0.0, 0.5 * finger_len - TIP_BELOW_SITE),
-            rot,
-        ),
+        pose: Pose::new(site + axis * (side * (half_gap + 0.5 * FINGER_THICKNESS)) + up * (0.5 * finger_len - TIP_BELOW_SITE), rot),
         half: Vec3::new(0.5 * FINGER_THICKNESS, FINGER_HALF_WIDTH, 0.5 * finger_len),
     };
     let hand = Obb {
-        pose: Pose::new(site + Vec3::new(0.0, 0.0, HAND_ABOVE_SITE + 0.5 * HAND_HEIGHT), rot),
+        pose: Pose::new(site + up * (HAND_ABOVE_SITE + 0.5 * HAND_HEIGHT), rot),
         half: Vec3::new(HAND_HALF_LENGTH, HAND_HALF_WIDTH, 0.5 * HAND_HEIGHT),
     };
     [finger(-1.0), finger(1.0), hand]
+}
+
+/// How many obstacle boxes the gripper, at any orientation, would overlap.
+pub fn gripper_hits_at(obstacles: &Obstacles, grip: &Pose, half_gap: f64) -> usize {
+    obstacles.hits(&gripper_volumes_at(grip, half_gap), 0.003)
 }
 
 /// How many obstacle boxes the gripper would overlap at `site`, fingers closing along `axis`

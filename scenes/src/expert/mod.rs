@@ -6,6 +6,7 @@ mod door;
 mod drawer;
 mod geometry;
 mod knob;
+mod lean;
 mod motion;
 mod pick_place;
 mod plan;

@@ -5,6 +5,7 @@ use vifo_robots::spatial::Vec3;
 
 use super::drawer;
 use super::geometry::{self, Grasp};
+use super::lean::{self, LeanPlan};
 use super::motion::{self, Servo, Waypoint};
 use super::skill::{CLOSE, OPEN, Step, gripper_toward, path_height, surface_height};
 use crate::sim::Sim;
@@ -62,6 +63,8 @@ pub struct PickPlace {
     target: [f64; 2],
     /// Recent grip-site heights while lowering, to notice a stall.
     lowering: Vec<f64>,
+    /// Where the object lies on a tilted region, planned when the carry starts.
+    lean: Option<LeanPlan>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -72,6 +75,10 @@ enum Stage {
     Close,
     Lift,
     Travel,
+    /// Turn the carried object to lie along a tilted region, coming down over where it is laid.
+    Tilt,
+    /// Bring the turned object over where it is laid, off the surface along its normal.
+    Approach,
     Lower,
     Release,
     Retreat,
@@ -79,6 +86,12 @@ enum Stage {
 
 /// How long any stage may last before the skill gives up on it (control steps).
 const STAGE_LIMIT: usize = 80;
+/// How far below its top an object laid on a tilted region is pinched.
+const LEAN_GRASP_DEPTH: f64 = 0.015;
+/// Height over the approach point to which the carried object comes down as it is turned.
+const TILT_HEIGHT: f64 = 0.10;
+/// Distance from the laid pose, along the surface's normal, from which it is approached.
+const LEAN_APPROACH: f64 = 0.04;
 
 impl PickPlace {
     pub fn new(object: usize, placement: Placement) -> Self {
@@ -95,6 +108,7 @@ impl PickPlace {
             cruise_z: 0.0,
             target: [0.0; 2],
             lowering: Vec::new(),
+            lean: None,
         }
     }
 
@@ -108,9 +122,25 @@ impl PickPlace {
         self.stage_steps = 0;
     }
 
+    /// The tilted region's z axis, when the object is to lie on one.
+    fn tilted_up(&self, sim: &Sim) -> Option<Vec3> {
+        match &self.placement {
+            Placement::On(Spot::Region { name, .. }) => lean::tilted_up(sim, name),
+            _ => None,
+        }
+    }
+
     fn plan_grasp(&self, sim: &Sim) -> Grasp {
         let points = geometry::corners(sim, self.object, 0);
         let obstacles = geometry::Obstacles::around(sim, self.object);
+        if let Some(up) = self.tilted_up(sim) {
+            // Pinched along the axis it will turn about, high up so the hand ends past the
+            // far edge of what it is laid on.
+            if let Some(g) = geometry::solid_grasp(&points, LEAN_GRASP_DEPTH, &obstacles) {
+                let yaw = geometry::yaw_of_axis(&lean::tilt_axis(&up));
+                return Grasp { yaw: motion::reachable_yaw(sim, yaw), ..g };
+            }
+        }
         if let Some(g) = geometry::solid_grasp(&points, 0.025, &obstacles) {
             return Grasp { yaw: motion::reachable_yaw(sim, g.yaw), ..g };
         }
@@ -230,6 +260,14 @@ impl PickPlace {
                 let offset = self.carry_offset.expect("measured");
                 if self.stage_steps == 1 {
                     self.target = self.target_xy(sim);
+                    if let Placement::On(Spot::Region { name, .. }) = &self.placement {
+                        if lean::tilted_up(sim, name).is_some() {
+                            self.lean = lean::plan(sim, self.object, name, &ee);
+                            let Some(plan) = self.lean else { return Step::Failed("no room to lay the object on the tilted region") };
+                            let hand = plan.hand(LEAN_APPROACH, TILT_HEIGHT);
+                            self.target = [hand.pos.x - offset.x, hand.pos.y - offset.y];
+                        }
+                    }
                     self.cruise_z = self.travel_height(sim, self.target).max(ee.pos.z);
                 }
                 if self.lost(sim) {
@@ -247,21 +285,32 @@ impl PickPlace {
                 };
                 let horizontal = ((ee.pos.x - over.x).powi(2) + (ee.pos.y - over.y).powi(2)).sqrt();
                 if horizontal < 0.01 && (ee.pos.z - over.z).abs() < 0.03 {
-                    self.next(Stage::Lower);
+                    self.next(if self.lean.is_some() { Stage::Tilt } else { Stage::Lower });
                 }
                 Step::Act(Servo::TRAVEL.act(sim, &wp, CLOSE))
             }
+            Stage::Tilt => {
+                let plan = self.lean.expect("planned");
+                let wp = plan.hand(LEAN_APPROACH, TILT_HEIGHT);
+                let (d, r) = motion::error(sim, &wp);
+                if d < 0.01 && r < 0.03 {
+                    self.next(Stage::Approach);
+                }
+                Step::Act(Servo::TRAVEL.act(sim, &wp, CLOSE))
+            }
+            Stage::Approach => {
+                let wp = self.lean.expect("planned").hand(LEAN_APPROACH, 0.0);
+                let (d, r) = motion::error(sim, &wp);
+                if d < 0.005 && r < 0.03 {
+                    self.next(Stage::Lower);
+                }
+                Step::Act(Servo::FINE.act(sim, &wp, CLOSE))
+            }
             Stage::Lower => {
-                let offset = self.carry_offset.expect("measured");
-                let xy = self.target;
-                let radius = self.radius(sim);
-                let surface = surface_height(sim, xy, radius.max(0.02), Some(self.object));
-                let clearance = match self.placement {
-                    Placement::On(_) => 0.012,
-                    Placement::Into(_) => 0.02,
+                let wp = match self.lean {
+                    Some(plan) => plan.hand(0.0, 0.0),
+                    None => self.lower_waypoint(sim),
                 };
-                let z = surface + self.carry_depth + clearance;
-                let wp = Waypoint::down(Vec3::new(xy[0] + offset.x, xy[1] + offset.y, z), self.grasp.expect("planned").yaw);
                 let (d, _) = motion::error(sim, &wp);
                 // Let go once there, or once the way down is blocked (the object already rests
                 // on something, or the hand meets a container's rim with the object inside).
@@ -272,24 +321,42 @@ impl PickPlace {
                     self.lowering.clear();
                     self.next(Stage::Release);
                 }
-                Step::Act(Servo::closing_in(d).act(sim, &wp, CLOSE))
+                let servo = if self.lean.is_some() { Servo::FINE } else { Servo::closing_in(d) };
+                Step::Act(servo.act(sim, &wp, CLOSE))
             }
             Stage::Release => {
                 if self.stage_steps >= 10 {
                     self.next(Stage::Retreat);
                 }
-                let wp = Waypoint::down(ee.pos, self.grasp.expect("planned").yaw);
-                Step::Act(Servo::FINE.act(sim, &wp, OPEN))
+                let rot = if self.lean.is_some() { ee.rot } else { motion::orientation(self.grasp.expect("planned").yaw) };
+                Step::Act(Servo::FINE.act(sim, &Waypoint { pos: ee.pos, rot }, OPEN))
             }
             Stage::Retreat => {
                 let yaw = self.grasp.expect("planned").yaw;
-                let up = Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, ee.pos.z.max(object.pos.z + self.carry_depth) + 0.06), yaw);
+                let up = match self.lean {
+                    // Back out along the object first: the fingers slide off its end.
+                    Some(_) => Waypoint { pos: ee.pos - ee.rot.column(2) * 0.06 + Vec3::z() * 0.02, rot: ee.rot },
+                    None => Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, ee.pos.z.max(object.pos.z + self.carry_depth) + 0.06), yaw),
+                };
                 if self.stage_steps >= 6 {
                     return Step::Done;
                 }
                 Step::Act(Servo::TRAVEL.act(sim, &up, OPEN))
             }
         }
+    }
+
+    /// Where the gripper goes down to, releasing the object just above what it is put on.
+    fn lower_waypoint(&self, sim: &Sim) -> Waypoint {
+        let offset = self.carry_offset.expect("measured");
+        let xy = self.target;
+        let surface = surface_height(sim, xy, self.radius(sim).max(0.02), Some(self.object));
+        let clearance = match self.placement {
+            Placement::On(_) => 0.012,
+            Placement::Into(_) => 0.02,
+        };
+        let z = surface + self.carry_depth + clearance;
+        Waypoint::down(Vec3::new(xy[0] + offset.x, xy[1] + offset.y, z), self.grasp.expect("planned").yaw)
     }
 
     /// Whether the carried object no longer moves with the gripper.

@@ -66,3 +66,33 @@ pub fn episode(model: &Arc<SceneModel>, starts: &Starts, init: usize, seed: u64,
     }
     Ok(ExpertEpisode { init, success, steps, failure: expert.failure().map(str::to_string), below_support: below })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::start::InitSource;
+
+    /// The expert lays the wine bottle on the rack's slanted shelf (a tilted region): it
+    /// succeeds within the suite's budget, and the bottle still lies in the region once the
+    /// arm has let go and backed off.
+    #[test]
+    fn lays_the_wine_bottle_on_the_rack() {
+        let suite = vifo_scenes::suites().iter().find(|s| s.name == "libero_goal").expect("libero_goal");
+        let task = &suite.tasks[9];
+        let model = SceneModel::build(task).expect("scene");
+        let starts = Starts::load(task, &model, &InitSource::Shipped).expect("shipped states");
+        let mut sim = starts.begin(&model, 0, 0).expect("state 0");
+        init_states::wait(&mut sim);
+        let mut expert = Expert::new(&sim).expect("plan");
+        let mut solved_at = None;
+        for step in 0..suite.max_steps as usize {
+            if solved_at.is_none() && sim.success().expect("goal") {
+                solved_at = Some(step);
+            }
+            sim.step(&expert.act(&sim));
+        }
+        assert!(solved_at.is_some(), "not solved in {} steps: {:?}", suite.max_steps, expert.failure());
+        assert!(expert.finished() && expert.failure().is_none(), "the expert did not finish: {:?}", expert.failure());
+        assert!(sim.success().expect("goal"), "the bottle left the rack's region after the release");
+    }
+}

@@ -5,6 +5,7 @@
 mod door;
 mod drawer;
 mod geometry;
+mod insert;
 mod knob;
 mod motion;
 mod pick_place;
@@ -59,6 +60,7 @@ impl Expert {
             Some(Skill::Door(s)) => s.describe(),
             Some(Skill::Knob(s)) => s.describe(),
             Some(Skill::Push(s)) => s.describe(),
+            Some(Skill::Insert(s)) => s.describe(),
             None => "done".to_string(),
         }
     }
@@ -72,6 +74,7 @@ impl Expert {
                 Skill::Door(s) => s.step(sim),
                 Skill::Knob(s) => s.step(sim),
                 Skill::Push(s) => s.step(sim),
+                Skill::Insert(s) => s.step(sim),
             };
             match step {
                 Step::Act(a) => return a,

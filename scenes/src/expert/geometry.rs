@@ -134,7 +134,7 @@ impl Obstacles {
     }
 
     /// How many obstacle boxes the gripper volumes (fingers and hand) would overlap.
-    fn hits(&self, volumes: &[Obb], margin: f64) -> usize {
+    pub(super) fn hits(&self, volumes: &[Obb], margin: f64) -> usize {
         self.boxes.iter().filter(|b| volumes.iter().any(|v| v.overlaps(b, margin))).count()
     }
 }

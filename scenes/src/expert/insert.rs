@@ -6,7 +6,7 @@
 //! (a mug's handle when it faces away from the opening), lifts it just over the cavity's floor
 //! and slides it in, so only the fingers and the object pass under the ceiling.
 
-use vifo_robots::spatial::{Mat3, Vec3};
+use vifo_robots::spatial::{Mat3, Pose, Vec3};
 
 use super::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, MAX_GRASP_WIDTH, Obb};
 use super::motion::{self, Servo, Waypoint};
@@ -28,22 +28,27 @@ const PAD_BEHIND_SITE: f64 = 0.02;
 const APPROACH_CLEARANCE: f64 = 0.011;
 /// The hand's half-extent along the fingers' closing axis (the Panda hand's collision box).
 const HAND_HALF_LENGTH: f64 = 0.102;
-/// Half the hand's thickness across the fingers' closing axis.
+/// Half the hand's thickness across the fingers' closing axis, and half its depth along the
+/// approach.
 const HAND_HALF_WIDTH: f64 = 0.0316;
-/// The approach points this far below horizontal (rad): the wrist, behind and below the
-/// hand, then clears what stands behind the grasp.
-const PITCH: f64 = 0.4;
+const HAND_HALF_DEPTH: f64 = 0.046;
+/// How far the approach may point below horizontal (rad), least first: the hand and wrist,
+/// behind and below the grip site, rise with it over what stands behind the grasp, but the
+/// hand's upper front edge comes forward, toward the opening.
+const PITCHES: [f64; 3] = [0.4, 0.6, 0.8];
+/// The wrist behind the hand: length along the approach and half-width around it.
+const WRIST_LENGTH: f64 = 0.1;
+const WRIST_HALF_WIDTH: f64 = 0.045;
 /// Half-height of the band around the grip site the hand occupies across the approach, with
 /// a margin.
 const HAND_BAND: f64 = 0.05;
 /// How far behind its front the hand and wrist sweep obstacles (along the approach).
 const HAND_SWEEP: f64 = 0.15;
 /// Margins: object to the cavity's back and side walls, the hand's front to the opening, the
-/// object's near end inside the opening (room for a closing door), hand to obstacles beside it.
+/// hand to obstacles beside it.
 const BACK_GAP: f64 = 0.01;
 const SIDE_GAP: f64 = 0.006;
 const HAND_GAP: f64 = 0.003;
-const NEAR_GAP: f64 = 0.012;
 const HAND_SIDE_GAP: f64 = 0.008;
 /// The object's bottom over the cavity floor while carried, and when let go.
 const CARRY_CLEARANCE: f64 = 0.012;
@@ -52,6 +57,8 @@ const RELEASE_CLEARANCE: f64 = 0.004;
 /// down onto it: the open fingers pass either side of a handle's loop, and the hand stays no
 /// further back than at the grasp (where other objects may stand).
 const CRUISE_CLEARANCE: f64 = 0.08;
+/// How far the hand's front passes a door's free edge before turning in behind it.
+const PASS: f64 = 0.02;
 /// How far the gripper backs out after letting go.
 const BACK_OUT: f64 = 0.12;
 const STAGE_LIMIT: usize = 100;
@@ -143,8 +150,10 @@ struct Layout {
     rot: Mat3,
     grasp: Vec3,
     half_gap: f64,
-    /// Where the object's origin goes (horizontal), and its bottom below the origin now.
+    /// Where the object's origin goes (horizontal).
     target: [f64; 2],
+    /// The fixture owning the cavity.
+    owner: usize,
 }
 
 /// Where and how to take the object from behind: the grip site at its rear part, if that part
@@ -181,6 +190,36 @@ fn overlap(a: (f64, f64), b: (f64, f64)) -> Option<(f64, f64)> {
     (lo <= hi).then_some((lo, hi))
 }
 
+/// How far the hand's foremost edge (the upper one, the approach pitching down) lies ahead of
+/// the grip site along `inward`.
+fn front_offset(rot: &Mat3, inward: &Vec3) -> f64 {
+    let (approach, up): (Vec3, Vec3) = (rot.column(2).into(), rot.column(1).into());
+    [1.0, -1.0].map(|k| (up * (k * HAND_HALF_WIDTH) - approach * HAND_ABOVE_SITE).dot(inward)).into_iter().fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// The gripper orientation for the grasp: the least pitch (of [`PITCHES`]) whose hand and
+/// wrist stay clear of the other objects, or the one touching fewest; of the two equivalent
+/// closing axes, the one the wrist turns to with the least twist.
+fn turn(sim: &Sim, object: usize, grasp: &Vec3, inward: &Vec3, across: &Vec3) -> Mat3 {
+    let obstacles = geometry::Obstacles::around(sim, object);
+    let candidates = PITCHES.map(|p| {
+        let approach = inward * libm::cos(p) - Vec3::z() * libm::sin(p);
+        let rot_for = |c: Vec3| Mat3::from_columns(&[c, approach.cross(&c), approach]);
+        let rot = [rot_for(*across), rot_for(-across)]
+            .into_iter()
+            .min_by(|a, b| motion::wrist_after(sim, a).abs().total_cmp(&motion::wrist_after(sim, b).abs()))
+            .expect("two candidates");
+        let along = |d: f64| Pose::new(grasp - approach * d, rot);
+        let hand = Obb { pose: along(HAND_ABOVE_SITE + HAND_HALF_DEPTH), half: Vec3::new(HAND_HALF_LENGTH, HAND_HALF_WIDTH, HAND_HALF_DEPTH) };
+        let wrist = Obb {
+            pose: along(HAND_ABOVE_SITE + 2.0 * HAND_HALF_DEPTH + 0.5 * WRIST_LENGTH),
+            half: Vec3::new(WRIST_HALF_WIDTH, WRIST_HALF_WIDTH, 0.5 * WRIST_LENGTH),
+        };
+        (obstacles.hits(&[hand, wrist], 0.005), rot)
+    });
+    candidates.into_iter().min_by_key(|c| c.0).expect("three pitches").1
+}
+
 fn layout(sim: &Sim, object: usize, region: &str) -> Option<Layout> {
     let cavity = cavity(sim, region)?;
     let parts = geometry::body_boxes(sim, object, 0);
@@ -191,21 +230,12 @@ fn layout(sim: &Sim, object: usize, region: &str) -> Option<Layout> {
     }
     let (inward, across) = (cavity.inward, cavity.across);
     let (grasp, width) = rear_grasp(&parts, &inward, &across)?;
-    // The closing axis, of the two equivalent ones, the wrist turns to with the least twist.
-    let approach = inward * libm::cos(PITCH) - Vec3::z() * libm::sin(PITCH);
-    let rot_for = |c: Vec3| Mat3::from_columns(&[c, approach.cross(&c), approach]);
-    let rot = [rot_for(across), rot_for(-across)]
-        .into_iter()
-        .min_by(|a, b| motion::wrist_after(sim, a).abs().total_cmp(&motion::wrist_after(sim, b).abs()))
-        .expect("two candidates");
+    let rot = turn(sim, object, &grasp, &inward, &across);
     // Along the opening: as deep as the back wall allows, the hand staying outside the
-    // opening, but with the object's near end inside it.
-    let (near, far) = geometry::extent(&points, &inward);
-    // The hand's foremost edge (the upper one, the approach pitching down).
-    let hand_front = (grasp - approach * HAND_ABOVE_SITE + rot.column(1).into_owned() * HAND_HALF_WIDTH).dot(&inward).max(
-        (grasp - approach * HAND_ABOVE_SITE - rot.column(1).into_owned() * HAND_HALF_WIDTH).dot(&inward),
-    );
-    let s = (cavity.back - BACK_GAP - far).min(cavity.mouth - HAND_GAP - hand_front).max(cavity.mouth + NEAR_GAP - near);
+    // opening (a closing door pushes in what still sticks out).
+    let (_, far) = geometry::extent(&points, &inward);
+    let hand_front = grasp.dot(&inward) + front_offset(&rot, &inward);
+    let s = (cavity.back - BACK_GAP - far).min(cavity.mouth - HAND_GAP - hand_front);
     // Across it: within the side walls, the hand clear of the fixture's fixed shapes beside its
     // path (a door is left out: the hand only swings it further open), near the middle.
     let (v0, v1) = geometry::extent(&points, &across);
@@ -235,7 +265,39 @@ fn layout(sim: &Sim, object: usize, region: &str) -> Option<Layout> {
         grasp,
         half_gap: 0.5 * width + APPROACH_CLEARANCE,
         target: [origin.x, origin.y],
+        owner,
     })
+}
+
+/// A grip-site waypoint that takes the hand past the free edge of a moving part of the fixture
+/// (an open door) standing in the hand's way in: beside the edge, the hand's front just past
+/// it. Met end-on, a door edge would be pushed shut against the hand; met on its face, it only
+/// swings further open.
+fn around_door(sim: &Sim, l: &Layout, site: &Vec3, target: &Vec3) -> Option<Vec3> {
+    let (inward, across) = (l.cavity.inward, l.cavity.across);
+    let ahead = front_offset(&l.rot, &inward);
+    let (from, to) = (site.dot(&inward) + ahead, target.dot(&inward) + ahead);
+    let reach = HAND_HALF_LENGTH + HAND_SIDE_GAP;
+    let v = target.dot(&across);
+    let bodies = sim.model().entities[l.owner].model.bodies.len();
+    let blockers: Vec<Vec3> = (1..bodies)
+        .flat_map(|b| geometry::body_boxes(sim, l.owner, b))
+        .flat_map(|b| grid(&b).collect::<Vec<_>>())
+        .filter(|p| {
+            let u = p.dot(&inward);
+            u > from && u < to && (p.z - target.z).abs() < HAND_BAND && (p.dot(&across) - v).abs() < reach
+        })
+        .collect();
+    if blockers.is_empty() {
+        return None;
+    }
+    // Pass on the side away from the blockers, beside the one reaching furthest across.
+    let side = if blockers.iter().map(|p| p.dot(&across) - v).sum::<f64>() < 0.0 { 1.0 } else { -1.0 };
+    let edge = blockers.iter().max_by(|a, b| (side * a.dot(&across)).total_cmp(&(side * b.dot(&across))))?;
+    let lateral = edge.dot(&across) + side * reach;
+    let along = edge.dot(&inward) + PASS - ahead;
+    let level = Vec3::new(0.0, 0.0, target.z);
+    Some(inward * along + across * lateral + level)
 }
 
 /// Points on a box's surface and inside it (a 5 × 5 × 5 grid), to find what a sweep passes.
@@ -277,6 +339,8 @@ pub struct Insert {
     carry_height: f64,
     lift_start_z: f64,
     lowering: Vec<f64>,
+    /// A grip-site waypoint on the way in, around the free edge of a door in the way.
+    via: Option<Vec3>,
 }
 
 impl Insert {
@@ -292,6 +356,7 @@ impl Insert {
             carry_height: 0.0,
             lift_start_z: 0.0,
             lowering: Vec::new(),
+            via: None,
         }
     }
 
@@ -377,9 +442,16 @@ impl Insert {
                 if ((ee.pos - object) - self.carry_offset).norm() > 0.03 {
                     return Step::Failed("the object slipped out");
                 }
-                let wp = Waypoint { pos: self.placed(&l, CARRY_CLEARANCE), rot: l.rot };
+                let target = self.placed(&l, CARRY_CLEARANCE);
+                if self.stage_steps == 1 {
+                    self.via = around_door(sim, &l, &ee.pos, &target);
+                }
+                let goal = self.via.unwrap_or(target);
+                let wp = Waypoint { pos: goal, rot: l.rot };
                 let (d, _) = motion::error(sim, &wp);
-                if d < 0.005 {
+                if self.via.is_some() && d < 0.01 {
+                    self.via = None;
+                } else if self.via.is_none() && d < 0.005 {
                     self.next(Stage::Lower);
                 }
                 Step::Act(Servo::closing_in(d).act(sim, &wp, CLOSE))

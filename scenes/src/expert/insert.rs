@@ -10,7 +10,7 @@ use vifo_robots::spatial::{Mat3, Pose, Vec3};
 
 use super::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, MAX_GRASP_WIDTH, Obb};
 use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, OPEN, Step, gripper_toward, path_height};
+use super::skill::{CLOSE, OPEN, Step, gripper_toward, path_height, surface_height};
 use crate::sim::Sim;
 
 /// Room the hand needs over an object put in from above: fingers over the rim and the hand
@@ -61,6 +61,9 @@ const CRUISE_CLEARANCE: f64 = 0.08;
 const PASS: f64 = 0.02;
 /// How far the gripper backs out after letting go.
 const BACK_OUT: f64 = 0.12;
+/// Then up this far over everything within this radius, before turning to point down.
+const CLEAR_HEIGHT: f64 = 0.06;
+const CLEAR_RADIUS: f64 = 0.12;
 const STAGE_LIMIT: usize = 100;
 
 /// The inside of a covered fixture region, seen from its opening.
@@ -324,6 +327,8 @@ enum Stage {
     Lower,
     Release,
     Out,
+    Up,
+    Upright,
 }
 
 /// Slide an object into a covered cavity through its side opening.
@@ -477,6 +482,25 @@ impl Insert {
                 let wp = Waypoint { pos: self.placed(&l, RELEASE_CLEARANCE) - l.cavity.inward * BACK_OUT, rot: l.rot };
                 let (d, _) = motion::error(sim, &wp);
                 if d < 0.02 {
+                    self.cruise_z = surface_height(sim, [ee.pos.x, ee.pos.y], CLEAR_RADIUS, None) + CLEAR_HEIGHT;
+                    self.next(Stage::Up);
+                }
+                Step::Act(Servo::TRAVEL.act(sim, &wp, OPEN))
+            }
+            // Up clear of the fixture before turning back to pointing down: turning in front of
+            // the opening swings the hand into it.
+            Stage::Up => {
+                let wp = Waypoint { pos: Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), rot: l.rot };
+                if ee.pos.z > self.cruise_z - 0.02 {
+                    self.next(Stage::Upright);
+                }
+                Step::Act(Servo::TRAVEL.act(sim, &wp, OPEN))
+            }
+            Stage::Upright => {
+                let finger: Vec3 = l.rot.column(0).into();
+                let wp = Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), geometry::yaw_of_axis(&finger));
+                let (_, r) = motion::error(sim, &wp);
+                if r < 0.1 {
                     return Step::Done;
                 }
                 Step::Act(Servo::TRAVEL.act(sim, &wp, OPEN))

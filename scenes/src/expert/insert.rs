@@ -1,17 +1,19 @@
 //! Putting an object into a covered cavity through its side opening (a mug into a microwave).
 //!
 //! A top-down placement cannot reach such a region: the hand (9 cm tall) stays above the
-//! object, and the cavity's ceiling leaves no room for it. Here the gripper turns to point
-//! horizontally into the opening, takes the object from behind by a part narrow enough to pinch
-//! (a mug's handle when it faces away from the opening), lifts it just over the cavity's floor
-//! and slides it in, so only the fingers and the object pass under the ceiling.
+//! object, and the cavity's ceiling leaves no room for it. Here the gripper turns to point into
+//! the opening (pitched down a little, so the wrist clears what stands behind the object),
+//! takes the object from behind by a part narrow enough to pinch (a mug's handle when it faces
+//! away from the opening), lifts it just over the cavity's floor and slides it in, the hand
+//! staying outside the opening; passing an open door, it goes round the door's free edge. A
+//! closing door pushes in what still sticks out.
 
 use vifo_robots::spatial::{Mat3, Pose, Vec3};
 
 use super::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, MAX_GRASP_WIDTH, Obb};
 use super::motion::{self, Servo, Waypoint};
 use super::skill::{CLOSE, OPEN, Step, gripper_toward, path_height, surface_height};
-use crate::sim::Sim;
+use crate::sim::{RegionPlace, Sim};
 
 /// Room the hand needs over an object put in from above: fingers over the rim and the hand
 /// itself. A cavity with less headroom over the object is entered from the side.
@@ -107,10 +109,15 @@ fn first_hit<'a>(boxes: &'a [Obb], from: &Vec3, dir: &Vec3) -> Option<(f64, &'a 
     boxes.iter().filter_map(|b| ray_hit(b, from, dir).map(|t| (t, b))).min_by(|a, b| a.0.total_cmp(&b.0))
 }
 
-/// The cavity holding region `region` of its fixture, if the region is enclosed by the
-/// fixture's fixed shapes on top, below, at the back and both sides and open on one
+/// The cavity holding region `region` of its fixture, if the region is on the fixture's fixed
+/// body and enclosed by its shapes on top, below, at the back and both sides and open on one
 /// horizontal side (the one facing the robot where several are open).
 fn cavity(sim: &Sim, region: &str) -> Option<Cavity> {
+    // Only a region of the fixed shell: a drawer's region moves with the drawer.
+    let RegionPlace::Site { entity, site } = sim.model().region(region)?.place else { return None };
+    if sim.model().entities[entity].model.sites[site].body != 0 {
+        return None;
+    }
     let r = sim.region_box(region)?;
     let walls = geometry::body_boxes(sim, r.owner?, 0);
     let centre = r.pose.pos;
@@ -506,5 +513,67 @@ impl Insert {
                 Step::Act(Servo::TRAVEL.act(sim, &wp, OPEN))
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::expert::Expert;
+    use crate::init_states;
+    use crate::sim::SceneModel;
+    use crate::task::Predicate;
+
+    /// Shipped initial state `state` of a task, after LIBERO's wait steps.
+    fn start(suite: &str, index: usize, state: usize) -> Sim {
+        let task = crate::task(suite, index).expect("built-in task");
+        let mut sim = Sim::new(SceneModel::build(task).expect("scene builds"));
+        init_states::apply(&mut sim, &init_states::fixed(task).expect("shipped states")[state]).expect("state applies");
+        init_states::wait(&mut sim);
+        sim
+    }
+
+    #[test]
+    fn the_microwave_cavity_opens_toward_the_robot_under_its_ceiling() {
+        let sim = start("libero_10", 9, 0);
+        let (m, _) = sim.model().entity("microwave_1").expect("microwave");
+        let at = sim.entity_pose(m).pos;
+        let c = cavity(&sim, "microwave_1_heating_region").expect("a covered cavity");
+        // The microwave is not turned: its opening faces -y, its shell boxes bound the inside.
+        assert!((c.inward - Vec3::y()).norm() < 1e-9, "inward {:?}", c.inward);
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-6;
+        assert!(close(c.mouth, at.y - 0.088), "mouth {}", c.mouth);
+        assert!(close(c.back, at.y + 0.0805), "back {}", c.back);
+        assert!(close(c.floor, at.z + 0.024) && close(c.ceiling, at.z + 0.168), "floor {} ceiling {}", c.floor, c.ceiling);
+        // `across` is -x here: the side walls' inner faces at x = -0.1435 and 0.0635.
+        assert!(close(c.sides.0, -(at.x + 0.0635)) && close(c.sides.1, -(at.x - 0.1435)), "sides {:?}", c.sides);
+    }
+
+    #[test]
+    fn only_the_microwave_goal_is_slid_in_from_the_side() {
+        for suite in crate::suites() {
+            for (index, task) in suite.tasks.iter().enumerate() {
+                let sim = start(&suite.name, index, 0);
+                for atom in task.goal.iter().filter(|a| a.predicate == Predicate::In) {
+                    let Some((object, _)) = sim.model().entity(&atom.args[0]) else { continue };
+                    let expected = suite.name == "libero_10" && index == 9;
+                    assert_eq!(needed(&sim, object, &atom.args[1]), expected, "{} {index}: {atom}", suite.name);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_expert_puts_the_mug_in_the_microwave_and_closes_it() {
+        let mut sim = start("libero_10", 9, 0);
+        let mut expert = Expert::new(&sim).expect("a plan");
+        for _ in 0..520 {
+            if sim.success().expect("goal atoms resolve") {
+                return;
+            }
+            let action = expert.act(&sim);
+            sim.step(&action);
+        }
+        panic!("not done in 520 steps: {}", expert.failure().unwrap_or("budget"));
     }
 }

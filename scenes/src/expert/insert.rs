@@ -10,7 +10,7 @@
 
 use vifo_robots::spatial::{Mat3, Pose, Vec3};
 
-use super::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, MAX_GRASP_WIDTH, Obb};
+use super::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, HAND_HALF_LENGTH, HAND_HALF_WIDTH, MAX_GRASP_WIDTH, Obb};
 use super::motion::{self, Servo, Waypoint};
 use super::skill::{CLOSE, OPEN, Step, gripper_toward, path_height, surface_height};
 use crate::sim::{RegionPlace, Sim};
@@ -28,11 +28,8 @@ const REAR_FACE: f64 = 0.01;
 const PAD_BEHIND_SITE: f64 = 0.02;
 /// Clearance between each finger and the pinched part while approaching.
 const APPROACH_CLEARANCE: f64 = 0.011;
-/// The hand's half-extent along the fingers' closing axis (the Panda hand's collision box).
-const HAND_HALF_LENGTH: f64 = 0.102;
-/// Half the hand's thickness across the fingers' closing axis, and half its depth along the
-/// approach.
-const HAND_HALF_WIDTH: f64 = 0.0316;
+/// Half the hand's depth along the approach (the Panda hand's collision box; its other
+/// half-extents are [`HAND_HALF_LENGTH`] along the closing axis and [`HAND_HALF_WIDTH`]).
 const HAND_HALF_DEPTH: f64 = 0.046;
 /// How far the approach may point below horizontal (rad), least first: the hand and wrist,
 /// behind and below the grip site, rise with it over what stands behind the grasp, but the

@@ -22,8 +22,8 @@ pub(super) const HAND_ABOVE_SITE: f64 = 0.031;
 /// The hand's half-extents along the finger axis and across it, and the height of the column
 /// it sweeps coming straight down to the grasp (the hand itself is 9 cm tall; the column also
 /// keeps the wrist clear of overhangs such as an open drawer).
-const HAND_HALF_LENGTH: f64 = 0.102;
-const HAND_HALF_WIDTH: f64 = 0.032;
+pub(super) const HAND_HALF_LENGTH: f64 = 0.102;
+pub(super) const HAND_HALF_WIDTH: f64 = 0.032;
 const HAND_HEIGHT: f64 = 0.25;
 /// The grip site stays at least this far above the surface an object rests on, so the
 /// fingertips do not dig into it.

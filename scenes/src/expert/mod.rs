@@ -5,6 +5,7 @@
 mod door;
 mod drawer;
 mod geometry;
+mod insert;
 mod knob;
 mod lean;
 mod motion;
@@ -60,6 +61,7 @@ impl Expert {
             Some(Skill::Door(s)) => s.describe(),
             Some(Skill::Knob(s)) => s.describe(),
             Some(Skill::Push(s)) => s.describe(),
+            Some(Skill::Insert(s)) => s.describe(),
             None => "done".to_string(),
         }
     }
@@ -73,6 +75,7 @@ impl Expert {
                 Skill::Door(s) => s.step(sim),
                 Skill::Knob(s) => s.step(sim),
                 Skill::Push(s) => s.step(sim),
+                Skill::Insert(s) => s.step(sim),
             };
             match step {
                 Step::Act(a) => return a,

@@ -7,6 +7,7 @@ use vifo_robots::spatial::Vec3;
 use super::door::Door;
 use super::drawer::{self, Drawer, DrawerGoal, drawer_of};
 use super::geometry;
+use super::insert::{self, Insert};
 use super::knob::Knob;
 use super::pick_place::{PickPlace, Placement, Spot};
 use super::push::{self, Push};
@@ -30,6 +31,7 @@ pub enum Skill {
     Door(Door),
     Knob(Knob),
     Push(Push),
+    Insert(Insert),
 }
 
 /// Categories too flat to grasp: LIBERO's tasks push them.
@@ -171,6 +173,12 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
                             let goal = if q < drawer::PARTLY_OPEN { DrawerGoal::Widen } else { DrawerGoal::Open };
                             open_drawer(sim, &mut ordered, Drawer::new(entity, body, joint, goal), &picked);
                         }
+                    }
+                }
+                if let Spot::Region { name, .. } = &spot {
+                    if atom.predicate == Predicate::In && insert::needed(sim, object, name) {
+                        ordered.push((2, Skill::Insert(Insert::new(object, name.clone()))));
+                        continue;
                     }
                 }
                 let placement = if atom.predicate == Predicate::In { Placement::Into(spot) } else { Placement::On(spot) };

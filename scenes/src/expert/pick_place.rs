@@ -77,6 +77,9 @@ enum Stage {
     Retreat,
 }
 
+/// The object comes up this far at the fine servo's speed before the lift speeds up.
+const GENTLE_LIFT: f64 = 0.02;
+
 /// How long any stage may last before the skill gives up on it (control steps).
 const STAGE_LIMIT: usize = 80;
 
@@ -224,7 +227,9 @@ impl PickPlace {
                     self.carry_depth = ee.pos.z - lo.z;
                     self.next(Stage::Travel);
                 }
-                Step::Act(Servo::TRAVEL.act(sim, &up, CLOSE))
+                // Lift off gently: a rim pinched at full speed swings the vessel out of the fingers.
+                let servo = if object.pos.z - self.lift_start_z < GENTLE_LIFT { Servo::FINE } else { Servo::TRAVEL };
+                Step::Act(servo.act(sim, &up, CLOSE))
             }
             Stage::Travel => {
                 let offset = self.carry_offset.expect("measured");

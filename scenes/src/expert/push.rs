@@ -30,9 +30,6 @@ pub struct Push {
     /// The finger yaw and how far ahead of the usual point the fingers come down (see
     /// [`Push::entry`]), fixed at the start.
     entry: Option<(f64, f64)>,
-    /// The object's least distance to the target while pushing, and the push step it came
-    /// closest at (to notice a push that stalls).
-    closest: (f64, usize),
 }
 
 const STAGE_LIMIT: usize = 120;
@@ -47,11 +44,6 @@ const HOLLOW_OFFSET: f64 = 0.015;
 /// this to its outer edge, where the hand would meet something behind the vessel.
 const HOLLOW_AHEAD: f64 = 0.035;
 const HOLLOW_EDGE: f64 = 0.04;
-/// A push that stops making progress (the object rides onto something, or the fingers rest
-/// short of a vessel's wall) leads this much further every [`STALL_STEPS`], up to [`MAX_EXTRA_LEAD`].
-const STALL_LEAD: f64 = 0.01;
-const STALL_STEPS: usize = 5;
-const MAX_EXTRA_LEAD: f64 = 0.05;
 
 /// Push direction from an object centred at `centre` (its current shape moved there) toward
 /// `target`, and the object's radius against that direction.
@@ -140,7 +132,7 @@ fn legs(sim: &Sim, object: usize, target: [f64; 2]) -> Option<Vec<[f64; 2]>> {
 
 impl Push {
     pub fn new(object: usize, target: [f64; 2], tolerance: f64, inside: Option<f64>) -> Self {
-        Push { object, inside, target, tolerance, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0, entry: None, closest: (f64::INFINITY, 0) }
+        Push { object, inside, target, tolerance, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0, entry: None }
     }
 
     pub fn describe(&self) -> String {
@@ -230,11 +222,7 @@ impl Push {
                 }
                 // Keep the fingers at the object's back edge and lead it toward the target.
                 // (From inside a bowl the fingers first cross to its far wall.)
-                if remaining < self.closest.0 - 0.002 {
-                    self.closest = (remaining, self.stage_steps);
-                }
-                let stalled = (self.stage_steps - self.closest.1) / STALL_STEPS;
-                let lead = remaining.min(0.03) + (STALL_LEAD * stalled as f64).min(MAX_EXTRA_LEAD);
+                let lead = remaining.min(0.03);
                 let reach = if self.inside.is_some() { 0.035 } else { 0.02 };
                 let wp = Waypoint::down(behind + dir * (reach + lead), yaw);
                 Step::Act(Servo::FINE.act(sim, &wp, CLOSE))

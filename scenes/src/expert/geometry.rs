@@ -191,8 +191,9 @@ pub fn extent(points: &[Vec3], axis: &Vec3) -> (f64, f64) {
 }
 
 /// A top-down grasp of the object's upper part across a direction narrow enough for the
-/// fingers, chosen so that the open fingers stay clear of the rest of the scene. `depth` is how
-/// far below the object's top the fingers close.
+/// fingers, chosen so that the open fingers stay clear of the rest of the scene (off the
+/// object's middle only where no centred grasp is clear). `depth` is how far below the
+/// object's top the fingers close.
 pub fn solid_grasp(points: &[Vec3], depth: f64, obstacles: &Obstacles) -> Option<Grasp> {
     let (lo, hi) = bounds(points);
     let z = (hi.z - depth.min((hi.z - lo.z) * 0.5)).max(lo.z + TIP_CLEARANCE);

@@ -217,7 +217,8 @@ impl PickPlace {
                     return self.retry("the fingers closed on nothing");
                 }
                 let up = Waypoint::down(Vec3::new(g.pos.x, g.pos.y, g.pos.z + 0.12), g.yaw);
-                if self.stage_steps >= 8 && object.pos.z - self.lift_start_z < 0.01 {
+                // (The gentle start takes a few more steps to bring it up a centimetre.)
+                if self.stage_steps >= 12 && object.pos.z - self.lift_start_z < 0.01 {
                     return self.retry("the object did not come up");
                 }
                 let (d, _) = motion::error(sim, &up);

@@ -27,9 +27,8 @@ pub struct Push {
     stage: Stage,
     stage_steps: usize,
     cruise_z: f64,
-    /// The finger yaw and how far ahead of the usual point the fingers come down (see
-    /// [`Push::entry`]), fixed at the start.
-    entry: Option<(f64, f64)>,
+    /// The finger yaw, fixed at the start.
+    yaw: Option<f64>,
 }
 
 const STAGE_LIMIT: usize = 120;
@@ -40,10 +39,6 @@ const STEP_UP: f64 = 0.01;
 /// Pushing a bowl from inside: the closed fingers go down this far behind its centre and stay
 /// this much higher, above its floor.
 const HOLLOW_OFFSET: f64 = 0.015;
-/// Inside a vessel the fingers may come down up to this much further ahead, and no closer than
-/// this to its outer edge, where the hand would meet something behind the vessel.
-const HOLLOW_AHEAD: f64 = 0.035;
-const HOLLOW_EDGE: f64 = 0.04;
 
 /// Push direction from an object centred at `centre` (its current shape moved there) toward
 /// `target`, and the object's radius against that direction.
@@ -57,12 +52,11 @@ fn aim(sim: &Sim, object: usize, centre: &Vec3, target: [f64; 2]) -> (Vec3, Vec3
 
 /// Fingers side by side across the push (the widest front) unless the hand would then meet
 /// something on its way from `from` over `travel`; otherwise the clearest of a few turns away
-/// from that, through fingers along the push (the narrowest hand) and on round. Also returns how many
+/// from that, up to fingers along the push (the narrowest hand). Also returns how many
 /// obstacle meetings that hand still has along the way.
 fn finger_axis(obstacles: &geometry::Obstacles, dir: &Vec3, from: &Vec3, travel: &Vec3) -> (Vec3, usize) {
     const SAMPLES: usize = 6;
-    // The turns past the push direction come last: the other half of the hand's positions.
-    (0..12)
+    (0..=6)
         .map(|k| {
             let a = std::f64::consts::PI * k as f64 / 12.0;
             let (s, c) = (libm::sin(a), libm::cos(a));
@@ -73,7 +67,7 @@ fn finger_axis(obstacles: &geometry::Obstacles, dir: &Vec3, from: &Vec3, travel:
             (axis, hits)
         })
         .min_by_key(|(_, hits)| *hits)
-        .expect("twelve candidates")
+        .expect("seven candidates")
 }
 
 /// The pushes that bring `object` to `target`: straight there when the hand fits behind it,
@@ -132,7 +126,7 @@ fn legs(sim: &Sim, object: usize, target: [f64; 2]) -> Option<Vec<[f64; 2]>> {
 
 impl Push {
     pub fn new(object: usize, target: [f64; 2], tolerance: f64, inside: Option<f64>) -> Self {
-        Push { object, inside, target, tolerance, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0, entry: None }
+        Push { object, inside, target, tolerance, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0, yaw: None }
     }
 
     pub fn describe(&self) -> String {
@@ -150,26 +144,16 @@ impl Push {
     }
 
     /// The finger axis with the fewest obstacles around the hand on its way from `at` (see
-    /// [`finger_axis`]), as a yaw near the current one, and how far ahead of `at` along the push
-    /// the fingers come down: from inside a vessel, the first centimetre step (up to
-    /// [`HOLLOW_AHEAD`]) that takes the hand clear of what stands behind it, such as a
-    /// cabinet's handles. Chosen once per push.
-    fn entry(&mut self, sim: &Sim, dir: &Vec3, at: &Vec3, c: &Vec3, radius: f64) -> (f64, f64) {
-        if let Some(entry) = self.entry {
-            return entry;
+    /// [`finger_axis`]), as a yaw near the current one; chosen once per push.
+    fn yaw(&mut self, sim: &Sim, dir: &Vec3, at: &Vec3, c: &Vec3) -> f64 {
+        if let Some(yaw) = self.yaw {
+            return yaw;
         }
-        let obstacles = geometry::Obstacles::around(sim, self.object);
         let travel = Vec3::new(self.target[0] - c.x, self.target[1] - c.y, 0.0);
-        let most = if self.inside.is_some() { (radius - HOLLOW_EDGE).clamp(0.0, HOLLOW_AHEAD) } else { 0.0 };
-        let (ahead, (axis, _)) = (0..)
-            .map(|k| 0.01 * k as f64)
-            .take_while(|ahead| *ahead <= most + 1e-9)
-            .map(|ahead| (ahead, finger_axis(&obstacles, dir, &(at + dir * ahead), &travel)))
-            .min_by_key(|(_, (_, hits))| *hits)
-            .expect("no step ahead is always a candidate");
-        let entry = (motion::reachable_yaw(sim, geometry::yaw_of_axis(&axis)), ahead);
-        self.entry = Some(entry);
-        entry
+        let (axis, _) = finger_axis(&geometry::Obstacles::around(sim, self.object), dir, at, &travel);
+        let yaw = motion::reachable_yaw(sim, geometry::yaw_of_axis(&axis));
+        self.yaw = Some(yaw);
+        yaw
     }
 
     pub fn step(&mut self, sim: &Sim) -> Step {
@@ -186,13 +170,12 @@ impl Push {
             None => (c - dir * (radius + 0.025), support + PUSH_HEIGHT),
         };
         let behind = Vec3::new(behind.x, behind.y, height);
-        let (yaw, ahead) = self.entry(sim, &dir, &behind, &c, radius);
-        let entry = behind + dir * ahead;
+        let yaw = self.yaw(sim, &dir, &behind, &c);
         let remaining = ((self.target[0] - c.x).powi(2) + (self.target[1] - c.y).powi(2)).sqrt();
         match self.stage {
             Stage::Rise => {
-                let path_top = path_height(sim, [ee.pos.x, ee.pos.y], [entry.x, entry.y], 0.1, None);
-                self.cruise_z = (path_top + 0.06).max(entry.z + 0.08);
+                let path_top = path_height(sim, [ee.pos.x, ee.pos.y], [behind.x, behind.y], 0.1, None);
+                self.cruise_z = (path_top + 0.06).max(behind.z + 0.08);
                 if ee.pos.z >= self.cruise_z - 0.02 {
                     self.next(Stage::Behind);
                     return self.step(sim);
@@ -200,7 +183,7 @@ impl Push {
                 Step::Act(Servo::TRAVEL.act(sim, &Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), yaw), CLOSE))
             }
             Stage::Behind => {
-                let wp = Waypoint::down(Vec3::new(entry.x, entry.y, self.cruise_z), yaw);
+                let wp = Waypoint::down(Vec3::new(behind.x, behind.y, self.cruise_z), yaw);
                 let (d, r) = motion::error(sim, &wp);
                 if d < 0.01 && r < 0.05 {
                     self.next(Stage::Lower);
@@ -208,7 +191,7 @@ impl Push {
                 Step::Act(Servo::TRAVEL.act(sim, &wp, CLOSE))
             }
             Stage::Lower => {
-                let wp = Waypoint::down(entry, yaw);
+                let wp = Waypoint::down(behind, yaw);
                 let (d, _) = motion::error(sim, &wp);
                 if d < 0.006 {
                     self.next(Stage::Push);
@@ -222,7 +205,7 @@ impl Push {
                 }
                 // Keep the fingers at the object's back edge and lead it toward the target.
                 // (From inside a bowl the fingers first cross to its far wall.)
-                let lead = remaining.min(0.03);
+                let lead = (remaining).min(0.03);
                 let reach = if self.inside.is_some() { 0.035 } else { 0.02 };
                 let wp = Waypoint::down(behind + dir * (reach + lead), yaw);
                 Step::Act(Servo::FINE.act(sim, &wp, CLOSE))

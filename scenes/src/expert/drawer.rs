@@ -344,7 +344,9 @@ impl Drawer {
                     }
                     return Step::Failed("the drawer stopped moving");
                 }
-                Step::Act(Servo::FINE.act(sim, &self.waypoint(sim, work + lead), CLOSE))
+                // A pulled handle follows the hand at full speed; a push keeps to the fine servo.
+                let servo = if self.goal == DrawerGoal::Open { Servo::TRAVEL } else { Servo::FINE };
+                Step::Act(servo.act(sim, &self.waypoint(sim, work + lead), CLOSE))
             }
             Stage::Release => {
                 if self.stage_steps >= 8 || matches!(self.goal, DrawerGoal::Widen | DrawerGoal::Close) {

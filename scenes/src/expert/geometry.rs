@@ -214,33 +214,55 @@ pub fn extent(points: &[Vec3], axis: &Vec3) -> (f64, f64) {
 }
 
 /// A top-down grasp of the object's upper part across a direction narrow enough for the
-/// fingers, chosen so that the open fingers stay clear of the rest of the scene. `depth` is how
-/// far below the object's top the fingers close.
+/// fingers, chosen so that the open fingers stay clear of the rest of the scene (off the
+/// object's middle only where no centred grasp is clear). `depth` is how far below the
+/// object's top the fingers close.
 pub fn solid_grasp(points: &[Vec3], depth: f64, obstacles: &Obstacles) -> Option<Grasp> {
     let (lo, hi) = bounds(points);
     let z = (hi.z - depth.min((hi.z - lo.z) * 0.5)).max(lo.z + TIP_CLEARANCE);
     let band: Vec<Vec3> = points.iter().copied().filter(|p| p.z >= z - 0.02).collect();
+    let centred = best_solid_grasp(&band, z, obstacles, false);
+    if centred.is_some_and(|(hits, _)| hits == 0) {
+        return centred.map(|(_, g)| g);
+    }
+    best_solid_grasp(&band, z, obstacles, true).map(|(_, g)| g)
+}
+
+/// Steps (m) by which a solid grasp may slide off the object's middle along the fingers' width.
+const OFF_CENTRE_STEP: f64 = 0.005;
+
+/// The narrowest top-down grasp of `band` at height `z` with the fewest obstacle hits, and those
+/// hits. With `off_centre`, the grasp may also slide along the object's length, fingers still
+/// wholly on it: the hand (20 cm along the finger axis) then clears a neighbour standing
+/// beside the object's middle, such as a carton next to a cream cheese box.
+fn best_solid_grasp(band: &[Vec3], z: f64, obstacles: &Obstacles, off_centre: bool) -> Option<(usize, Grasp)> {
     let mut best: Option<(usize, f64, Grasp)> = None;
     for i in 0..36 {
         let a = std::f64::consts::PI * i as f64 / 36.0;
         let axis = Vec3::new(libm::cos(a), libm::sin(a), 0.0);
-        let (mn, mx) = extent(&band, &axis);
+        let (mn, mx) = extent(band, &axis);
         let width = mx - mn;
         if width > MAX_GRASP_WIDTH {
             continue;
         }
         let across = Vec3::new(-axis.y, axis.x, 0.0);
-        let (amn, amx) = extent(&band, &across);
+        let (amn, amx) = extent(band, &across);
         let centre = axis * (0.5 * (mn + mx)) + across * (0.5 * (amn + amx));
-        let site = Vec3::new(centre.x, centre.y, z);
         let half_gap = (0.5 * width + APPROACH_CLEARANCE).min(OPEN_HALF_GAP);
-        let hits = obstacles.hits(&gripper_volumes(&site, &axis, half_gap), 0.003);
-        let grasp = Grasp { pos: site, yaw: yaw_of_axis(&axis), width, half_gap };
-        if best.is_none_or(|(h, w, _)| (hits, width) < (h, w - 1e-9)) {
-            best = Some((hits, width, grasp));
+        let room = if off_centre { (0.5 * (amx - amn) - FINGER_HALF_WIDTH - 0.003).max(0.0) } else { 0.0 };
+        // Middle first, then alternately either way, so ties keep the smallest slide.
+        let slides = (0..).map(|k: i32| OFF_CENTRE_STEP * f64::from((k + 1) / 2) * if k % 2 == 0 { 1.0 } else { -1.0 });
+        for slide in slides.take_while(|d| d.abs() <= room + 1e-9) {
+            let at = centre + across * slide;
+            let site = Vec3::new(at.x, at.y, z);
+            let hits = obstacles.hits(&gripper_volumes(&site, &axis, half_gap), 0.003);
+            let grasp = Grasp { pos: site, yaw: yaw_of_axis(&axis), width, half_gap };
+            if best.is_none_or(|(h, w, _)| (hits, width) < (h, w - 1e-9)) {
+                best = Some((hits, width, grasp));
+            }
         }
     }
-    best.map(|(_, _, g)| g)
+    best.map(|(h, _, g)| (h, g))
 }
 
 /// A grasp on the rim of a hollow object (bowl, mug): the fingers straddle the wall and close

@@ -84,6 +84,9 @@ enum Stage {
     Retreat,
 }
 
+/// The object comes up this far at the fine servo's speed before the lift speeds up.
+const GENTLE_LIFT: f64 = 0.02;
+
 /// How long any stage may last before the skill gives up on it (control steps).
 const STAGE_LIMIT: usize = 80;
 /// How far below its top an object laid on a tilted region is pinched.
@@ -244,7 +247,8 @@ impl PickPlace {
                     return self.retry("the fingers closed on nothing");
                 }
                 let up = Waypoint::down(Vec3::new(g.pos.x, g.pos.y, g.pos.z + 0.12), g.yaw);
-                if self.stage_steps >= 8 && object.pos.z - self.lift_start_z < 0.01 {
+                // (The gentle start takes a few more steps to bring it up a centimetre.)
+                if self.stage_steps >= 12 && object.pos.z - self.lift_start_z < 0.01 {
                     return self.retry("the object did not come up");
                 }
                 let (d, _) = motion::error(sim, &up);
@@ -254,7 +258,9 @@ impl PickPlace {
                     self.carry_depth = ee.pos.z - lo.z;
                     self.next(Stage::Travel);
                 }
-                Step::Act(Servo::TRAVEL.act(sim, &up, CLOSE))
+                // Lift off gently: a rim pinched at full speed swings the vessel out of the fingers.
+                let servo = if object.pos.z - self.lift_start_z < GENTLE_LIFT { Servo::FINE } else { Servo::TRAVEL };
+                Step::Act(servo.act(sim, &up, CLOSE))
             }
             Stage::Travel => {
                 let offset = self.carry_offset.expect("measured");

@@ -116,6 +116,7 @@ pub fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
 }
 
 /// Everything the fingers must not run into: every other entity's shapes.
+#[derive(Clone)]
 pub struct Obstacles {
     boxes: Vec<Obb>,
 }
@@ -137,6 +138,12 @@ impl Obstacles {
     pub fn near(self, centre: &Vec3, radius: f64) -> Obstacles {
         let boxes = self.boxes.into_iter().filter(|b| (b.pose.pos - centre).norm() < radius + b.half.norm()).collect();
         Obstacles { boxes }
+    }
+
+    /// Only the boxes whose centres lie further than `radius` from `centre` (horizontally).
+    pub fn beyond(self, centre: &Vec3, radius: f64) -> Obstacles {
+        let far = |b: &Obb| ((b.pose.pos.x - centre.x).powi(2) + (b.pose.pos.y - centre.y).powi(2)).sqrt() > radius;
+        Obstacles { boxes: self.boxes.into_iter().filter(far).collect() }
     }
 
     /// The first obstacle box the given volumes overlap.

@@ -89,6 +89,8 @@ const GENTLE_LIFT: f64 = 0.02;
 
 /// How long any stage may last before the skill gives up on it (control steps).
 const STAGE_LIMIT: usize = 80;
+/// Turn still left (rad) above which the hand keeps over what it sweeps.
+const TURNING: f64 = 0.1;
 /// How far below its top an object laid on a tilted region is pinched.
 const LEAN_GRASP_DEPTH: f64 = 0.015;
 /// Height over the approach point to which the carried object comes down as it is turned.
@@ -210,7 +212,10 @@ impl PickPlace {
             Stage::Above => {
                 let g = self.grasp.expect("planned");
                 let horizontal = ((ee.pos.x - g.pos.x).powi(2) + (ee.pos.y - g.pos.y).powi(2)).sqrt();
-                let z = if horizontal > 0.03 { self.cruise_z } else { g.pos.z + 0.08 };
+                // While the hand still turns, it stays over everything its length sweeps.
+                let (_, turn) = motion::error(sim, &Waypoint::down(ee.pos, g.yaw));
+                let low = if turn > TURNING { self.sweep_floor(sim, &g).max(g.pos.z + 0.08) } else { g.pos.z + 0.08 };
+                let z = if horizontal > 0.03 { self.cruise_z } else { low };
                 let wp = Waypoint::down(Vec3::new(g.pos.x, g.pos.y, z), g.yaw);
                 let (d, r) = motion::error(sim, &wp);
                 let servo = if d < 0.03 { Servo::FINE } else { Servo::TRAVEL };
@@ -350,6 +355,13 @@ impl PickPlace {
                 Step::Act(Servo::TRAVEL.act(sim, &up, OPEN))
             }
         }
+    }
+
+    /// The lowest grip-site height at which the hand, turning over the grasp, clears
+    /// everything within its half length of it (a bottle beside a bowl).
+    fn sweep_floor(&self, sim: &Sim, g: &Grasp) -> f64 {
+        let top = surface_height(sim, [g.pos.x, g.pos.y], geometry::HAND_HALF_LENGTH + 0.01, Some(self.object));
+        top - geometry::HAND_ABOVE_SITE + 0.01
     }
 
     /// Where the gripper goes down to, releasing the object just above what it is put on.

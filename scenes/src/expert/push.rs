@@ -1,6 +1,6 @@
 //! Pushing a flat object (a plate) across the table to a target.
 
-use vifo_robots::spatial::Vec3;
+use vifo_robots::spatial::{Pose, Vec3};
 
 use super::geometry;
 use super::motion::{self, Servo, Waypoint};
@@ -39,6 +39,9 @@ const STEP_UP: f64 = 0.01;
 /// Pushing a bowl from inside: the closed fingers go down this far behind its centre and stay
 /// this much higher, above its floor.
 const HOLLOW_OFFSET: f64 = 0.015;
+/// What stands this close to where the object ends up (beyond its own radius) is nudged
+/// along, not in the way.
+const AT_TARGET: f64 = 0.03;
 
 /// Push direction from an object centred at `centre` (its current shape moved there) toward
 /// `target`, and the object's radius against that direction.
@@ -72,15 +75,28 @@ fn finger_axis(obstacles: &geometry::Obstacles, dir: &Vec3, from: &Vec3, travel:
 
 /// The pushes that bring `object` to `target`: straight there when the hand fits behind it,
 /// else two legs along the world axes (the first order whose two hand positions are clear),
-/// else, for an open vessel, one push from inside it, so the hand never has to come down
-/// between the object and a fixture.
+/// else, for an open vessel, pushes from inside it (straight, or in two legs where only they
+/// let it slide clear of other objects), so the hand never has to come down between the
+/// object and a fixture.
 pub fn pushes(sim: &Sim, object: usize, target: [f64; 2], tolerance: f64) -> Vec<Push> {
-    let solid = |to: [f64; 2]| Push::new(object, to, tolerance, None);
-    let category = sim.model().entities[object].category.as_str();
-    match legs(sim, object, target) {
-        Some(legs) => legs.into_iter().map(solid).collect(),
-        None => vec![Push::new(object, target, tolerance, inside_floor(category))],
+    if let Some(legs) = legs(sim, object, target, Pusher::Behind) {
+        return legs.into_iter().map(|to| Push::new(object, to, tolerance, None)).collect();
     }
+    let inside = inside_floor(&sim.model().entities[object].category);
+    let legs = match inside {
+        Some(_) => legs(sim, object, target, Pusher::Inside).unwrap_or_else(|| vec![target]),
+        None => vec![target],
+    };
+    legs.into_iter().map(|to| Push::new(object, to, tolerance, inside)).collect()
+}
+
+/// Where the hand pushes from.
+#[derive(Clone, Copy, PartialEq)]
+enum Pusher {
+    /// Behind the object: the hand must be clear there and on the way.
+    Behind,
+    /// Inside an open vessel, against its far wall.
+    Inside,
 }
 
 /// Open vessels pushed from inside by their far wall, with how much higher than a solid push
@@ -98,14 +114,32 @@ fn support_under(sim: &Sim, object: usize) -> f64 {
     surface_height(sim, [c.x, c.y], 0.02, Some(object))
 }
 
-/// Push targets from behind the object with the hand clear of everything, if there are any.
-/// The hand must be able to come down behind it to the object's own support: something taller
-/// there (a cabinet's corner) would leave the fingers pushing the air above the object.
-fn legs(sim: &Sim, object: usize, target: [f64; 2]) -> Option<Vec<[f64; 2]>> {
+/// Push targets, straight or in two legs along the world axes, if any are fit: pushed from
+/// behind, the hand must be clear of everything, and a way along which the object itself
+/// slides without running into anything (a bowl beside the way stops a plate) is preferred;
+/// pushed from inside, the object must slide clear. The hand must be able to come down behind
+/// the object to its own support: something taller there (a cabinet's corner) would leave the
+/// fingers pushing the air above the object.
+fn legs(sim: &Sim, object: usize, target: [f64; 2], pusher: Pusher) -> Option<Vec<[f64; 2]>> {
     let obstacles = geometry::Obstacles::around(sim, object);
     let c = sim.entity_pose(object).pos;
     let base = support_under(sim, object);
-    let clear = |from: Vec3, to: [f64; 2]| {
+    let parts = geometry::body_boxes(sim, object, 0);
+    let reach = geometry::bounds(&geometry::corners(sim, object, 0));
+    let radius = 0.5 * (reach.1.x - reach.0.x).max(reach.1.y - reach.0.y);
+    let goal = Vec3::new(target[0], target[1], c.z);
+    let in_way = obstacles.clone().beyond(&goal, radius + AT_TARGET);
+    // The object slid in a straight line from `from` to `to`.
+    let slides = |from: Vec3, to: [f64; 2]| {
+        let travel = Vec3::new(to[0] - from.x, to[1] - from.y, 0.0);
+        let steps = libm::ceil(travel.norm() / 0.01) as usize;
+        (0..=steps).all(|i| {
+            let at = from - c + travel * (i as f64 / steps.max(1) as f64);
+            let moved: Vec<geometry::Obb> = parts.iter().map(|b| geometry::Obb { pose: Pose::new(b.pose.pos + at, b.pose.rot), half: b.half }).collect();
+            in_way.hits(&moved, 0.001) == 0
+        })
+    };
+    let hand_clear = |from: Vec3, to: [f64; 2]| {
         let (c, dir, radius) = aim(sim, object, &from, to);
         let behind = c - dir * (radius + 0.025);
         if surface_height(sim, [behind.x, behind.y], 0.02, Some(object)) > base + STEP_UP {
@@ -115,13 +149,20 @@ fn legs(sim: &Sim, object: usize, target: [f64; 2]) -> Option<Vec<[f64; 2]>> {
         let travel = Vec3::new(to[0] - c.x, to[1] - c.y, 0.0);
         finger_axis(&obstacles, &dir, &Vec3::new(behind.x, behind.y, z), &travel).1 == 0
     };
-    if clear(c, target) {
-        return Some(vec![target]);
+    let options = [vec![target], vec![[target[0], c.y], target], vec![[c.x, target[1]], target]];
+    let feasible = |legs: &Vec<[f64; 2]>, hand: bool, slide: bool| {
+        let mut from = c;
+        legs.iter().all(|to| {
+            let ok = (!hand || hand_clear(from, *to)) && (!slide || slides(from, *to));
+            from = Vec3::new(to[0], to[1], c.z);
+            ok
+        })
+    };
+    let find = |hand: bool, slide: bool| options.iter().find(|legs| feasible(legs, hand, slide)).cloned();
+    match pusher {
+        Pusher::Behind => find(true, true).or_else(|| find(true, false)),
+        Pusher::Inside => find(false, true),
     }
-    [[target[0], c.y], [c.x, target[1]]]
-        .into_iter()
-        .find(|corner| clear(c, *corner) && clear(Vec3::new(corner[0], corner[1], c.z), target))
-        .map(|corner| vec![corner, target])
 }
 
 impl Push {

@@ -69,6 +69,11 @@ impl Obb {
         true
     }
 
+    /// The box carried along by a rigid motion (a moved object's part).
+    pub fn moved(&self, by: &Pose) -> Obb {
+        Obb { pose: by.mul(&self.pose), half: self.half }
+    }
+
     fn corners(&self) -> impl Iterator<Item = Vec3> + '_ {
         (0..8).map(move |k| {
             let s = |bit: usize, h: f64| if k & bit == 0 { -h } else { h };

@@ -115,7 +115,7 @@ impl Fitting<'_> {
     /// The object's collision boxes moved to `pose`.
     fn placed(&self, pose: &Pose) -> Vec<Obb> {
         let moved = pose.mul(&self.now.inverse());
-        self.parts.iter().map(|b| Obb { pose: moved.mul(&b.pose), half: b.half }).collect()
+        self.parts.iter().map(|b| b.moved(&moved)).collect()
     }
 
     /// The first pose (searching along the region's x, then its z, then its y, each from the

@@ -271,13 +271,11 @@ impl PickPlace {
                 let offset = self.carry_offset.expect("measured");
                 if self.stage_steps == 1 {
                     self.target = self.target_xy(sim);
-                    if let Placement::On(Spot::Region { name, .. }) = &self.placement {
-                        if lean::tilted_up(sim, name).is_some() {
-                            self.lean = lean::plan(sim, self.object, name, &ee);
-                            let Some(plan) = self.lean else { return Step::Failed("no room to lay the object on the tilted region") };
-                            let hand = plan.hand(LEAN_APPROACH, TILT_HEIGHT);
-                            self.target = [hand.pos.x - offset.x, hand.pos.y - offset.y];
-                        }
+                    if let (Some(_), Placement::On(Spot::Region { name, .. })) = (self.tilted_up(sim), &self.placement) {
+                        self.lean = lean::plan(sim, self.object, name, &ee);
+                        let Some(plan) = self.lean else { return Step::Failed("no room to lay the object on the tilted region") };
+                        let hand = plan.hand(LEAN_APPROACH, TILT_HEIGHT);
+                        self.target = [hand.pos.x - offset.x, hand.pos.y - offset.y];
                     }
                     self.cruise_z = self.travel_height(sim, self.target).max(ee.pos.z);
                 }

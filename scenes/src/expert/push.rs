@@ -1,6 +1,6 @@
 //! Pushing a flat object (a plate) across the table to a target.
 
-use vifo_robots::spatial::{Pose, Vec3};
+use vifo_robots::spatial::{Mat3, Pose, Vec3};
 
 use super::geometry;
 use super::motion::{self, Servo, Waypoint};
@@ -135,7 +135,8 @@ fn legs(sim: &Sim, object: usize, target: [f64; 2], pusher: Pusher) -> Option<Ve
         let steps = libm::ceil(travel.norm() / 0.01) as usize;
         (0..=steps).all(|i| {
             let at = from - c + travel * (i as f64 / steps.max(1) as f64);
-            let moved: Vec<geometry::Obb> = parts.iter().map(|b| geometry::Obb { pose: Pose::new(b.pose.pos + at, b.pose.rot), half: b.half }).collect();
+            let by = Pose::new(at, Mat3::identity());
+            let moved: Vec<geometry::Obb> = parts.iter().map(|b| b.moved(&by)).collect();
             in_way.hits(&moved, 0.001) == 0
         })
     };

@@ -226,28 +226,56 @@ pub fn extent(points: &[Vec3], axis: &Vec3) -> (f64, f64) {
 }
 
 /// A top-down grasp of the object's upper part across a direction narrow enough for the
-/// fingers, chosen so that the open fingers stay clear of the rest of the scene (off the
-/// object's middle only where no centred grasp is clear). `depth` is how far below the
-/// object's top the fingers close.
+/// fingers, chosen so that the open fingers stay clear of the rest of the scene. Off the
+/// object's middle only where no centred grasp is clear: first slid along the object's
+/// length, then, where the hand still meets a neighbour, also shifted along the finger axis
+/// (the far finger then pushes the object a few millimetres as it closes, faces square,
+/// rather than closing turned on its corners, which can tip a flat bar). `depth` is how far
+/// below the object's top the fingers close.
 pub fn solid_grasp(points: &[Vec3], depth: f64, obstacles: &Obstacles) -> Option<Grasp> {
     let (lo, hi) = bounds(points);
     let z = (hi.z - depth.min((hi.z - lo.z) * 0.5)).max(lo.z + TIP_CLEARANCE);
     let band: Vec<Vec3> = points.iter().copied().filter(|p| p.z >= z - 0.02).collect();
-    let centred = best_solid_grasp(&band, z, obstacles, false);
-    if centred.is_some_and(|(hits, _)| hits == 0) {
-        return centred.map(|(_, g)| g);
+    let mut best: Option<(usize, Grasp)> = None;
+    for offsets in [Offsets::Centred, Offsets::Slid, Offsets::SlidAndShifted] {
+        let found = best_solid_grasp(&band, z, obstacles, offsets);
+        if found.is_some_and(|(hits, _)| best.is_none_or(|(h, _)| hits < h)) {
+            best = found;
+        }
+        if best.is_some_and(|(hits, _)| hits == 0) {
+            break;
+        }
     }
-    best_solid_grasp(&band, z, obstacles, true).map(|(_, g)| g)
+    best.map(|(_, g)| g)
 }
 
 /// Steps (m) by which a solid grasp may slide off the object's middle along the fingers' width.
 const OFF_CENTRE_STEP: f64 = 0.005;
+/// Steps (m) by which a solid grasp may shift along the finger axis, and the clearance the
+/// near finger keeps from the object while coming down.
+const SHIFT_STEP: f64 = 0.0035;
+const SHIFT_CLEARANCE: f64 = 0.004;
+
+/// How far a solid grasp may move off the object's middle.
+#[derive(Clone, Copy, PartialEq)]
+enum Offsets {
+    Centred,
+    /// Along the object's length (across the finger axis), fingers still wholly on it.
+    Slid,
+    /// Also along the finger axis, by up to the fingers' approach clearance.
+    SlidAndShifted,
+}
+
+/// Offsets 0, +step, -step, +2 step, ... up to `limit`: ties keep the smallest offset.
+fn offsets_within(step: f64, limit: f64) -> impl Iterator<Item = f64> {
+    (0..).map(move |k: i32| step * f64::from((k + 1) / 2) * if k % 2 == 0 { 1.0 } else { -1.0 }).take_while(move |d| d.abs() <= limit + 1e-9)
+}
 
 /// The narrowest top-down grasp of `band` at height `z` with the fewest obstacle hits, and those
-/// hits. With `off_centre`, the grasp may also slide along the object's length, fingers still
-/// wholly on it: the hand (20 cm along the finger axis) then clears a neighbour standing
-/// beside the object's middle, such as a carton next to a cream cheese box.
-fn best_solid_grasp(band: &[Vec3], z: f64, obstacles: &Obstacles, off_centre: bool) -> Option<(usize, Grasp)> {
+/// hits, moved off the middle as `offsets` allows: the hand (20 cm along the finger axis) then
+/// clears a neighbour standing beside the object's middle, such as a carton next to a cream
+/// cheese box.
+fn best_solid_grasp(band: &[Vec3], z: f64, obstacles: &Obstacles, offsets: Offsets) -> Option<(usize, Grasp)> {
     let mut best: Option<(usize, f64, Grasp)> = None;
     for i in 0..36 {
         let a = std::f64::consts::PI * i as f64 / 36.0;
@@ -261,16 +289,17 @@ fn best_solid_grasp(band: &[Vec3], z: f64, obstacles: &Obstacles, off_centre: bo
         let (amn, amx) = extent(band, &across);
         let centre = axis * (0.5 * (mn + mx)) + across * (0.5 * (amn + amx));
         let half_gap = (0.5 * width + APPROACH_CLEARANCE).min(OPEN_HALF_GAP);
-        let room = if off_centre { (0.5 * (amx - amn) - FINGER_HALF_WIDTH - 0.003).max(0.0) } else { 0.0 };
-        // Middle first, then alternately either way, so ties keep the smallest slide.
-        let slides = (0..).map(|k: i32| OFF_CENTRE_STEP * f64::from((k + 1) / 2) * if k % 2 == 0 { 1.0 } else { -1.0 });
-        for slide in slides.take_while(|d| d.abs() <= room + 1e-9) {
-            let at = centre + across * slide;
-            let site = Vec3::new(at.x, at.y, z);
-            let hits = obstacles.hits(&gripper_volumes(&site, &axis, half_gap), 0.003);
-            let grasp = Grasp { pos: site, yaw: yaw_of_axis(&axis), width, half_gap };
-            if best.is_none_or(|(h, w, _)| (hits, width) < (h, w - 1e-9)) {
-                best = Some((hits, width, grasp));
+        let room = if offsets == Offsets::Centred { 0.0 } else { (0.5 * (amx - amn) - FINGER_HALF_WIDTH - 0.003).max(0.0) };
+        let reach = if offsets == Offsets::SlidAndShifted { (half_gap - 0.5 * width - SHIFT_CLEARANCE).max(0.0) } else { 0.0 };
+        for shift in offsets_within(SHIFT_STEP, reach) {
+            for slide in offsets_within(OFF_CENTRE_STEP, room) {
+                let at = centre + across * slide + axis * shift;
+                let site = Vec3::new(at.x, at.y, z);
+                let hits = obstacles.hits(&gripper_volumes(&site, &axis, half_gap), 0.003);
+                let grasp = Grasp { pos: site, yaw: yaw_of_axis(&axis), width, half_gap };
+                if best.is_none_or(|(h, w, _)| (hits, width) < (h, w - 1e-9)) {
+                    best = Some((hits, width, grasp));
+                }
             }
         }
     }
@@ -360,4 +389,42 @@ pub fn part_grasp(parts: &[Obb], obstacles: &Obstacles, origin: &Vec3) -> Option
         }
     }
     best.map(|(_, _, g)| g)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use vifo_robots::spatial::Mat3;
+
+    fn upright(pos: Vec3, half: Vec3) -> Obb {
+        Obb { pose: Pose::new(pos, Mat3::identity()), half }
+    }
+
+    /// A flat bar (7.6 x 4 x 2 cm, long along x) on a table at z = 0, and its corners.
+    fn bar() -> Vec<Vec3> {
+        upright(Vec3::new(0.0, 0.0, 0.01), Vec3::new(0.038, 0.02, 0.01)).corners().collect()
+    }
+
+    #[test]
+    fn a_clear_bar_is_taken_square_across_its_middle() {
+        let g = solid_grasp(&bar(), 0.025, &Obstacles { boxes: Vec::new() }).expect("the bar fits the fingers");
+        assert!(g.pos.x.abs() < 1e-9 && g.pos.y.abs() < 1e-9, "grasp at {:?}", g.pos);
+        assert!((g.width - 0.04).abs() < 1e-9, "width {}", g.width);
+    }
+
+    /// A carton stands where the 20 cm hand would end, beside the bar's middle, and too wide
+    /// for a slide along the bar to clear it: the grasp shifts along the finger axis, away from
+    /// the carton, and stays square to the bar's faces (a turned grasp closes on the corners).
+    #[test]
+    fn a_neighbour_at_the_hands_end_shifts_the_grasp_along_the_fingers() {
+        let carton = upright(Vec3::new(0.0, -0.1285, 0.055), Vec3::new(0.02625, 0.02625, 0.055));
+        let obstacles = Obstacles { boxes: vec![carton] };
+        let centred = Vec3::new(0.0, 0.0, 0.01);
+        assert!(gripper_hits(&obstacles, &centred, &Vec3::y(), 0.031) > 0, "the centred grasp must meet the carton");
+        let g = solid_grasp(&bar(), 0.025, &obstacles).expect("the bar fits the fingers");
+        let axis = Vec3::new(-libm::sin(g.yaw), libm::cos(g.yaw), 0.0);
+        assert!(axis.x.abs() < 1e-9, "fingers close along {axis:?}, not square to the bar");
+        assert!(g.pos.y > 0.0 && g.pos.y <= g.half_gap - 0.02 - SHIFT_CLEARANCE + 1e-9, "grasp at {:?}", g.pos);
+        assert_eq!(gripper_hits(&obstacles, &g.pos, &axis, g.half_gap), 0);
+    }
 }

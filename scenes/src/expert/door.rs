@@ -4,7 +4,7 @@ use vifo_robots::spatial::{Vec3, axis_angle};
 
 use super::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, Obb};
 use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, Step, path_height};
+use super::skill::{CLOSE, Step, climb, cruise_height};
 use crate::sim::Sim;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -140,13 +140,12 @@ impl Door {
         let yaw = motion::reachable_yaw(sim, yaw);
         match self.stage {
             Stage::Rise => {
-                let path_top = path_height(sim, [ee.pos.x, ee.pos.y], [start.x, start.y], 0.1, None);
-                self.cruise_z = (path_top + 0.08).max(start.z + 0.08);
-                if ee.pos.z >= self.cruise_z - 0.02 {
+                self.cruise_z = cruise_height(sim, &start, 0.08, start.z + 0.08, None);
+                let Some(up) = climb(&ee.pos, self.cruise_z) else {
                     self.next(Stage::Over);
                     return self.step(sim);
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), yaw), CLOSE))
+                };
+                Step::Act(Servo::TRAVEL.act(sim, &Waypoint::down(up, yaw), CLOSE))
             }
             Stage::Over => {
                 let wp = Waypoint::down(Vec3::new(start.x, start.y, self.cruise_z), yaw);

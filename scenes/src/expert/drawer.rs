@@ -4,7 +4,7 @@ use vifo_robots::spatial::{Mat3, Vec3, rotation_vector};
 
 use super::geometry::{self, Obb};
 use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, OPEN, Step, gripper_toward, path_height};
+use super::skill::{CLOSE, OPEN, Step, climb, cruise_height, gripper_toward};
 use crate::sim::{RegionPlace, Sim};
 
 /// What to do with the drawer.
@@ -285,13 +285,12 @@ impl Drawer {
         };
         match self.stage {
             Stage::Rise => {
-                let path_top = path_height(sim, [ee.pos.x, ee.pos.y], [standoff.x, standoff.y], 0.1, None);
-                self.cruise_z = (path_top + 0.08).max(work.z + 0.10);
-                if ee.pos.z >= self.cruise_z - 0.02 {
+                self.cruise_z = cruise_height(sim, &standoff, 0.08, work.z + 0.10, None);
+                let Some(up) = climb(&ee.pos, self.cruise_z) else {
                     self.next(Stage::Over);
                     return self.step(sim);
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &self.waypoint(sim, Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z)), grip))
+                };
+                Step::Act(Servo::TRAVEL.act(sim, &self.waypoint(sim, up), grip))
             }
             Stage::Over => {
                 let wp = self.waypoint(sim, Vec3::new(standoff.x, standoff.y, self.cruise_z));

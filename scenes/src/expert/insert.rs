@@ -12,7 +12,7 @@ use vifo_robots::spatial::{Mat3, Pose, Vec3};
 
 use super::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, HAND_HALF_LENGTH, HAND_HALF_WIDTH, MAX_GRASP_WIDTH, Obb};
 use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, OPEN, Step, gripper_toward, path_height, surface_height};
+use super::skill::{CLOSE, OPEN, Step, cruise_height, gripper_toward, surface_height};
 use crate::sim::{RegionPlace, Sim};
 
 /// Room the hand needs over an object put in from above: fingers over the rim and the hand
@@ -399,8 +399,7 @@ impl Insert {
         match self.stage {
             Stage::Turn => {
                 if self.stage_steps == 1 {
-                    let top = path_height(sim, [ee.pos.x, ee.pos.y], [l.grasp.x, l.grasp.y], 0.1, None);
-                    self.cruise_z = (top + CRUISE_CLEARANCE).max(l.grasp.z + CRUISE_CLEARANCE).max(ee.pos.z);
+                    self.cruise_z = cruise_height(sim, &l.grasp, CRUISE_CLEARANCE, (l.grasp.z + CRUISE_CLEARANCE).max(ee.pos.z), None);
                 }
                 let horizontal = ((ee.pos.x - l.grasp.x).powi(2) + (ee.pos.y - l.grasp.y).powi(2)).sqrt();
                 let wp = Waypoint { pos: Vec3::new(l.grasp.x, l.grasp.y, self.cruise_z), rot: l.rot };

@@ -4,7 +4,7 @@ use vifo_robots::spatial::{Vec3, axis_angle};
 
 use super::geometry::{self, Grasp, Obstacles};
 use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, OPEN, Step, gripper_toward, path_height};
+use super::skill::{CLOSE, OPEN, Step, climb, cruise_height, gripper_toward};
 use crate::sim::Sim;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -90,13 +90,12 @@ impl Knob {
         let grip = gripper_toward(sim, g.half_gap);
         match self.stage {
             Stage::Rise => {
-                let path_top = path_height(sim, [ee.pos.x, ee.pos.y], [g.pos.x, g.pos.y], 0.1, None);
-                self.cruise_z = (path_top + 0.06).max(g.pos.z + 0.08);
-                if ee.pos.z >= self.cruise_z - 0.02 {
+                self.cruise_z = cruise_height(sim, &g.pos, 0.06, g.pos.z + 0.08, None);
+                let Some(up) = climb(&ee.pos, self.cruise_z) else {
                     self.next(Stage::Above);
                     return self.step(sim);
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), g.yaw), grip))
+                };
+                Step::Act(Servo::TRAVEL.act(sim, &Waypoint::down(up, g.yaw), grip))
             }
             Stage::Above => {
                 let horizontal = ((ee.pos.x - g.pos.x).powi(2) + (ee.pos.y - g.pos.y).powi(2)).sqrt();

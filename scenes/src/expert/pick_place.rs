@@ -7,7 +7,7 @@ use super::drawer;
 use super::geometry::{self, Grasp};
 use super::lean::{self, LeanPlan};
 use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, OPEN, Step, gripper_toward, path_height, surface_height};
+use super::skill::{CLOSE, OPEN, Step, climb, cruise_height, gripper_toward, path_height, surface_height};
 use crate::sim::Sim;
 
 /// Where a picked object must go.
@@ -200,14 +200,12 @@ impl PickPlace {
                 }
                 let g = self.grasp.expect("planned");
                 // Fly over everything between here and the grasp, fingertips clear.
-                let path_top = path_height(sim, [ee.pos.x, ee.pos.y], [g.pos.x, g.pos.y], 0.1, Some(self.object));
-                self.cruise_z = (path_top + 0.06).max(g.pos.z + 0.08);
-                if ee.pos.z >= self.cruise_z - 0.02 {
+                self.cruise_z = cruise_height(sim, &g.pos, 0.06, g.pos.z + 0.08, Some(self.object));
+                let Some(up) = climb(&ee.pos, self.cruise_z) else {
                     self.next(Stage::Above);
                     return self.step(sim);
-                }
-                let wp = Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), g.yaw);
-                Step::Act(Servo::TRAVEL.act(sim, &wp, gripper_toward(sim, g.half_gap)))
+                };
+                Step::Act(Servo::TRAVEL.act(sim, &Waypoint::down(up, g.yaw), gripper_toward(sim, g.half_gap)))
             }
             Stage::Above => {
                 let g = self.grasp.expect("planned");

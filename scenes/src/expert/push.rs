@@ -4,7 +4,7 @@ use vifo_robots::spatial::{Mat3, Pose, Vec3};
 
 use super::geometry;
 use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, Step, path_height, surface_height};
+use super::skill::{CLOSE, Step, climb, cruise_height, surface_height};
 use crate::sim::Sim;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -216,13 +216,12 @@ impl Push {
         let remaining = ((self.target[0] - c.x).powi(2) + (self.target[1] - c.y).powi(2)).sqrt();
         match self.stage {
             Stage::Rise => {
-                let path_top = path_height(sim, [ee.pos.x, ee.pos.y], [behind.x, behind.y], 0.1, None);
-                self.cruise_z = (path_top + 0.06).max(behind.z + 0.08);
-                if ee.pos.z >= self.cruise_z - 0.02 {
+                self.cruise_z = cruise_height(sim, &behind, 0.06, behind.z + 0.08, None);
+                let Some(up) = climb(&ee.pos, self.cruise_z) else {
                     self.next(Stage::Behind);
                     return self.step(sim);
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), yaw), CLOSE))
+                };
+                Step::Act(Servo::TRAVEL.act(sim, &Waypoint::down(up, yaw), CLOSE))
             }
             Stage::Behind => {
                 let wp = Waypoint::down(Vec3::new(behind.x, behind.y, self.cruise_z), yaw);

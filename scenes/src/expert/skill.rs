@@ -1,6 +1,7 @@
 //! What every skill shares: the step protocol, gripper commands and scene-height queries.
 
 use vifo_robots::action::Action;
+use vifo_robots::spatial::Vec3;
 
 use super::geometry;
 use crate::sim::Sim;
@@ -49,6 +50,20 @@ pub fn surface_height(sim: &Sim, centre: [f64; 2], radius: f64, exclude: Option<
         }
     }
     z
+}
+
+/// Height at which the hand crosses from where it is to `to`: `clearance` over everything
+/// within the hand's half length of the straight way there (but `exclude`), and no lower than
+/// `floor`.
+pub fn cruise_height(sim: &Sim, to: &Vec3, clearance: f64, floor: f64, exclude: Option<usize>) -> f64 {
+    let ee = sim.model().robot.grip_site_pose(sim.world()).pos;
+    (path_height(sim, [ee.x, ee.y], [to.x, to.y], 0.1, exclude) + clearance).max(floor)
+}
+
+/// The first leg of a crossing: straight up from `ee` to `cruise_z`; `None` once within 2 cm
+/// of it (the crossing itself may start there).
+pub fn climb(ee: &Vec3, cruise_z: f64) -> Option<Vec3> {
+    (ee.z < cruise_z - 0.02).then(|| Vec3::new(ee.x, ee.y, cruise_z))
 }
 
 /// Highest point of the scene along a straight horizontal path (within `radius` of it).

@@ -285,7 +285,9 @@ impl Drawer {
         };
         match self.stage {
             Stage::Rise => {
-                self.cruise_z = cruise_height(sim, &standoff, 0.08, work.z + 0.10, None);
+                // Cross at the stand-off's own height (already back from the handle) unless
+                // something on the way stands taller.
+                self.cruise_z = cruise_height(sim, &standoff, 0.08, standoff.z, None);
                 let Some(up) = climb(&ee.pos, self.cruise_z) else {
                     self.next(Stage::Over);
                     return self.step(sim);

@@ -95,4 +95,18 @@ mod tests {
         assert!(expert.finished() && expert.failure().is_none(), "the expert did not finish: {:?}", expert.failure());
         assert!(sim.success().expect("goal"), "the bottle left the rack's region after the release");
     }
+
+    /// The plate in libero_goal state 18 lies by the cabinet: pushed from inside, the 20 cm
+    /// hand coming down at the push's start would land on the cabinet, so the closed fingers
+    /// come down further along the push, and the expert succeeds.
+    #[test]
+    fn pushes_the_plate_from_inside_beside_the_cabinet() {
+        let suite = vifo_scenes::suites().iter().find(|s| s.name == "libero_goal").expect("libero_goal");
+        let task = &suite.tasks[5];
+        let model = SceneModel::build(task).expect("scene");
+        let starts = Starts::load(task, &model, &InitSource::Shipped).expect("shipped states");
+        let run = episode(&model, &starts, 18, 18, suite.max_steps as usize, false).expect("episode");
+        assert!(run.success, "not solved in {} steps: {:?}", suite.max_steps, run.failure);
+        assert_eq!(run.below_support, None);
+    }
 }

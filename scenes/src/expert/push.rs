@@ -29,6 +29,8 @@ pub struct Push {
     cruise_z: f64,
     /// The finger yaw, fixed at the start.
     yaw: Option<f64>,
+    /// How far ahead of the push's start the closed fingers come down, fixed at the start.
+    ahead: Option<f64>,
 }
 
 const STAGE_LIMIT: usize = 120;
@@ -42,6 +44,10 @@ const HOLLOW_OFFSET: f64 = 0.015;
 /// What stands this close to where the object ends up (beyond its own radius) is nudged
 /// along, not in the way.
 const AT_TARGET: f64 = 0.03;
+/// Inside a vessel, the closed fingers may come down up to this much further along the push
+/// than its start (short of where the push leads them anyway), where the hand clears a fixture
+/// beside the vessel there.
+const INSIDE_AHEAD: [f64; 4] = [0.0, 0.01, 0.02, 0.03];
 
 /// Push direction from an object centred at `centre` (its current shape moved there) toward
 /// `target`, and the object's radius against that direction.
@@ -168,7 +174,7 @@ fn legs(sim: &Sim, object: usize, target: [f64; 2], pusher: Pusher) -> Option<Ve
 
 impl Push {
     pub fn new(object: usize, target: [f64; 2], tolerance: f64, inside: Option<f64>) -> Self {
-        Push { object, inside, target, tolerance, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0, yaw: None }
+        Push { object, inside, target, tolerance, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0, yaw: None, ahead: None }
     }
 
     pub fn describe(&self) -> String {
@@ -198,6 +204,24 @@ impl Push {
         yaw
     }
 
+    /// How far along the push `dir` from `behind` the fingers come down: inside a vessel, the
+    /// first of [`INSIDE_AHEAD`] where the hand at `yaw` meets nothing (none: at `behind`).
+    fn ahead(&mut self, sim: &Sim, dir: &Vec3, behind: &Vec3, yaw: f64) -> f64 {
+        if let Some(ahead) = self.ahead {
+            return ahead;
+        }
+        let ahead = match self.inside {
+            None => 0.0,
+            Some(_) => {
+                let obstacles = geometry::Obstacles::around(sim, self.object);
+                let axis = Vec3::new(-libm::sin(yaw), libm::cos(yaw), 0.0);
+                INSIDE_AHEAD.into_iter().find(|a| geometry::gripper_hits(&obstacles, &(behind + dir * *a), &axis, 0.0) == 0).unwrap_or(0.0)
+            }
+        };
+        self.ahead = Some(ahead);
+        ahead
+    }
+
     pub fn step(&mut self, sim: &Sim) -> Step {
         self.stage_steps += 1;
         if self.stage_steps > STAGE_LIMIT {
@@ -213,10 +237,11 @@ impl Push {
         };
         let behind = Vec3::new(behind.x, behind.y, height);
         let yaw = self.yaw(sim, &dir, &behind, &c);
+        let down = behind + dir * self.ahead(sim, &dir, &behind, yaw);
         let remaining = ((self.target[0] - c.x).powi(2) + (self.target[1] - c.y).powi(2)).sqrt();
         match self.stage {
             Stage::Rise => {
-                self.cruise_z = cruise_height(sim, &behind, 0.06, behind.z + 0.08, None);
+                self.cruise_z = cruise_height(sim, &down, 0.06, down.z + 0.08, None);
                 let Some(up) = climb(&ee.pos, self.cruise_z) else {
                     self.next(Stage::Behind);
                     return self.step(sim);
@@ -224,7 +249,7 @@ impl Push {
                 Step::Act(Servo::TRAVEL.act(sim, &Waypoint::down(up, yaw), CLOSE))
             }
             Stage::Behind => {
-                let wp = Waypoint::down(Vec3::new(behind.x, behind.y, self.cruise_z), yaw);
+                let wp = Waypoint::down(Vec3::new(down.x, down.y, self.cruise_z), yaw);
                 let (d, r) = motion::error(sim, &wp);
                 if d < 0.01 && r < 0.05 {
                     self.next(Stage::Lower);
@@ -232,7 +257,7 @@ impl Push {
                 Step::Act(Servo::TRAVEL.act(sim, &wp, CLOSE))
             }
             Stage::Lower => {
-                let wp = Waypoint::down(behind, yaw);
+                let wp = Waypoint::down(down, yaw);
                 let (d, _) = motion::error(sim, &wp);
                 if d < 0.006 {
                     self.next(Stage::Push);

@@ -72,26 +72,32 @@ mod tests {
     use super::*;
     use crate::start::InitSource;
 
+    /// libero_goal's task `index` (and its step budget), its scene and its shipped states.
+    fn goal_task(index: usize) -> (usize, Arc<SceneModel>, Starts) {
+        let suite = vifo_scenes::suites().iter().find(|s| s.name == "libero_goal").expect("libero_goal");
+        let task = &suite.tasks[index];
+        let model = SceneModel::build(task).expect("scene");
+        let starts = Starts::load(task, &model, &InitSource::Shipped).expect("shipped states");
+        (suite.max_steps as usize, model, starts)
+    }
+
     /// The expert lays the wine bottle on the rack's slanted shelf (a tilted region): it
     /// succeeds within the suite's budget, and the bottle still lies in the region once the
     /// arm has let go and backed off.
     #[test]
     fn lays_the_wine_bottle_on_the_rack() {
-        let suite = vifo_scenes::suites().iter().find(|s| s.name == "libero_goal").expect("libero_goal");
-        let task = &suite.tasks[9];
-        let model = SceneModel::build(task).expect("scene");
-        let starts = Starts::load(task, &model, &InitSource::Shipped).expect("shipped states");
+        let (budget, model, starts) = goal_task(9);
         let mut sim = starts.begin(&model, 0, 0).expect("state 0");
         init_states::wait(&mut sim);
         let mut expert = Expert::new(&sim).expect("plan");
         let mut solved_at = None;
-        for step in 0..suite.max_steps as usize {
+        for step in 0..budget {
             if solved_at.is_none() && sim.success().expect("goal") {
                 solved_at = Some(step);
             }
             sim.step(&expert.act(&sim));
         }
-        assert!(solved_at.is_some(), "not solved in {} steps: {:?}", suite.max_steps, expert.failure());
+        assert!(solved_at.is_some(), "not solved in {budget} steps: {:?}", expert.failure());
         assert!(expert.finished() && expert.failure().is_none(), "the expert did not finish: {:?}", expert.failure());
         assert!(sim.success().expect("goal"), "the bottle left the rack's region after the release");
     }
@@ -101,12 +107,9 @@ mod tests {
     /// come down further along the push, and the expert succeeds.
     #[test]
     fn pushes_the_plate_from_inside_beside_the_cabinet() {
-        let suite = vifo_scenes::suites().iter().find(|s| s.name == "libero_goal").expect("libero_goal");
-        let task = &suite.tasks[5];
-        let model = SceneModel::build(task).expect("scene");
-        let starts = Starts::load(task, &model, &InitSource::Shipped).expect("shipped states");
-        let run = episode(&model, &starts, 18, 18, suite.max_steps as usize, false).expect("episode");
-        assert!(run.success, "not solved in {} steps: {:?}", suite.max_steps, run.failure);
+        let (budget, model, starts) = goal_task(5);
+        let run = episode(&model, &starts, 18, 18, budget, false).expect("episode");
+        assert!(run.success, "not solved in {budget} steps: {:?}", run.failure);
         assert_eq!(run.below_support, None);
     }
 }

@@ -27,10 +27,9 @@ pub struct Push {
     stage: Stage,
     stage_steps: usize,
     cruise_z: f64,
-    /// The finger yaw, fixed at the start.
-    yaw: Option<f64>,
-    /// How far ahead of the push's start the closed fingers come down, fixed at the start.
-    ahead: Option<f64>,
+    /// The finger yaw, and how far along the push the closed fingers come down: fixed at the
+    /// start (see [`Push::start`]).
+    start: Option<(f64, f64)>,
 }
 
 const STAGE_LIMIT: usize = 120;
@@ -174,7 +173,7 @@ fn legs(sim: &Sim, object: usize, target: [f64; 2], pusher: Pusher) -> Option<Ve
 
 impl Push {
     pub fn new(object: usize, target: [f64; 2], tolerance: f64, inside: Option<f64>) -> Self {
-        Push { object, inside, target, tolerance, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0, yaw: None, ahead: None }
+        Push { object, inside, target, tolerance, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0, start: None }
     }
 
     pub fn describe(&self) -> String {
@@ -191,35 +190,26 @@ impl Push {
         aim(sim, self.object, &sim.entity_pose(self.object).pos, self.target)
     }
 
-    /// The finger axis with the fewest obstacles around the hand on its way from `at` (see
-    /// [`finger_axis`]), as a yaw near the current one; chosen once per push.
-    fn yaw(&mut self, sim: &Sim, dir: &Vec3, at: &Vec3, c: &Vec3) -> f64 {
-        if let Some(yaw) = self.yaw {
-            return yaw;
+    /// The finger yaw and how far along the push `dir` from `behind` the closed fingers come
+    /// down, chosen once per push. The yaw: the finger axis with the fewest obstacles around the
+    /// hand on its way (see [`finger_axis`]), near the current one. The way ahead: inside a
+    /// vessel, the first of [`INSIDE_AHEAD`] where the hand meets nothing (none: at `behind`).
+    fn start(&mut self, sim: &Sim, dir: &Vec3, behind: &Vec3, c: &Vec3) -> (f64, f64) {
+        if let Some(start) = self.start {
+            return start;
         }
+        let obstacles = geometry::Obstacles::around(sim, self.object);
         let travel = Vec3::new(self.target[0] - c.x, self.target[1] - c.y, 0.0);
-        let (axis, _) = finger_axis(&geometry::Obstacles::around(sim, self.object), dir, at, &travel);
+        let (axis, _) = finger_axis(&obstacles, dir, behind, &travel);
         let yaw = motion::reachable_yaw(sim, geometry::yaw_of_axis(&axis));
-        self.yaw = Some(yaw);
-        yaw
-    }
-
-    /// How far along the push `dir` from `behind` the fingers come down: inside a vessel, the
-    /// first of [`INSIDE_AHEAD`] where the hand at `yaw` meets nothing (none: at `behind`).
-    fn ahead(&mut self, sim: &Sim, dir: &Vec3, behind: &Vec3, yaw: f64) -> f64 {
-        if let Some(ahead) = self.ahead {
-            return ahead;
-        }
+        let rot = motion::orientation(yaw);
+        let clear = |a: &f64| geometry::gripper_hits_at(&obstacles, &Pose::new(behind + dir * *a, rot), 0.0) == 0;
         let ahead = match self.inside {
             None => 0.0,
-            Some(_) => {
-                let obstacles = geometry::Obstacles::around(sim, self.object);
-                let axis = Vec3::new(-libm::sin(yaw), libm::cos(yaw), 0.0);
-                INSIDE_AHEAD.into_iter().find(|a| geometry::gripper_hits(&obstacles, &(behind + dir * *a), &axis, 0.0) == 0).unwrap_or(0.0)
-            }
+            Some(_) => INSIDE_AHEAD.into_iter().find(clear).unwrap_or(0.0),
         };
-        self.ahead = Some(ahead);
-        ahead
+        self.start = Some((yaw, ahead));
+        (yaw, ahead)
     }
 
     pub fn step(&mut self, sim: &Sim) -> Step {
@@ -236,8 +226,8 @@ impl Push {
             None => (c - dir * (radius + 0.025), support + PUSH_HEIGHT),
         };
         let behind = Vec3::new(behind.x, behind.y, height);
-        let yaw = self.yaw(sim, &dir, &behind, &c);
-        let down = behind + dir * self.ahead(sim, &dir, &behind, yaw);
+        let (yaw, ahead) = self.start(sim, &dir, &behind, &c);
+        let down = behind + dir * ahead;
         let remaining = ((self.target[0] - c.x).powi(2) + (self.target[1] - c.y).powi(2)).sqrt();
         match self.stage {
             Stage::Rise => {

@@ -121,9 +121,17 @@ pub enum Outcome {
     Error { message: String },
 }
 
+/// The version of the benchmark's results: records of another version were made by other
+/// tasks, physics or scoring and must not be mixed with these (a resumed run refuses them).
+/// Files written before records carried it read as version 0.
+pub const RESULTS_VERSION: u32 = 1;
+
 /// One line of a results file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct EpisodeRecord {
+    /// [`RESULTS_VERSION`] of the run that wrote it.
+    #[serde(default)]
+    pub version: u32,
     pub spec: EpisodeSpec,
     /// Policy name or server address.
     pub policy: String,

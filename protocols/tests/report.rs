@@ -4,12 +4,13 @@ use std::collections::BTreeMap;
 
 use vifo_cues::Family;
 use vifo_protocols::report::{self, Metric, family_of};
-use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
+use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, RESULTS_VERSION, TaskRef};
 use vifo_protocols::vqa::{Accuracy, Stage, VqaScores};
 
 fn record(policy: &str, protocol: Protocol, family: &str, n: usize, outcome: Outcome) -> EpisodeRecord {
     let task = TaskRef { suite: "libero_goal".into(), index: 1 };
     EpisodeRecord {
+        version: RESULTS_VERSION,
         spec: EpisodeSpec {
             task: task.clone(),
             protocol,

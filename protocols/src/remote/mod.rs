@@ -143,11 +143,13 @@ impl RemotePolicy {
             other => other,
         };
         self.idle = false;
-        if result.is_err() {
+        // A server that sent something unreadable may be in any state: start afresh.
+        let reply = result.and_then(|bytes| parse_reply(&bytes));
+        if reply.is_err() {
             self.conn = None;
         }
         self.requests += 1;
-        parse_reply(&result?)
+        reply
     }
 
     fn reconnect(&mut self) -> Result<(), PolicyError> {
@@ -258,8 +260,17 @@ fn open(uri: &Uri, config: &RemoteConfig) -> Result<(WebSocket<TcpStream>, Value
         tungstenite::HandshakeError::Interrupted(_) => PolicyError::Timeout(timeout.as_secs_f64()),
     })?;
     let bytes = read_binary(&mut ws, deadline, timeout, "waiting for the server's metadata")?;
-    let metadata = rmpv::decode::read_value(&mut &bytes[..])
+    let mut rest = &bytes[..];
+    let metadata = rmpv::decode::read_value(&mut rest)
         .map_err(|e| PolicyError::Malformed(format!("server metadata is not msgpack: {e}")))?;
+    // openpi sends one dict; anything else is not an openpi server's handshake.
+    if !rest.is_empty() || !matches!(metadata, Value::Map(_)) {
+        return Err(PolicyError::Malformed(format!(
+            "server metadata is {} with {} bytes after it, expected one msgpack map",
+            ndarray::kind(&metadata),
+            rest.len()
+        )));
+    }
     Ok((ws, metadata))
 }
 

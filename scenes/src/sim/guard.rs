@@ -6,9 +6,11 @@
 //! Episodes check [`Sim::blow_up`] after every control step and end as errors, never as
 //! successes or failures.
 //!
-//! The limits sit far above what the scripted expert's whole pass produces (`vifo expert`
-//! prints the maxima over its episodes next to these limits), yet far below a divergence,
-//! which reaches hundreds of m/s within a few steps.
+//! The limits sit far above what the scripted expert produces (`vifo expert` prints the maxima
+//! over its episodes next to these limits; `vifo expert --episodes 4`, 160 episodes over the 40
+//! tasks, all solved: body speed 1.65 m/s, angular speed 22.4 rad/s, penetration 9.0 mm,
+//! distance from the origin 1.78 m), each limit 10 to 30 times higher, yet far below a
+//! divergence, which reaches hundreds of m/s within a few steps.
 
 use super::Sim;
 

@@ -2,7 +2,7 @@
 
 use std::collections::BTreeMap;
 
-use vifo_cues::Family;
+use vifo_cues::{Family, SetName};
 use vifo_protocols::report::{self, Metric, family_of};
 use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
 use vifo_protocols::vqa::{Accuracy, Stage, VqaScores};
@@ -24,6 +24,7 @@ fn record(policy: &str, protocol: Protocol, family: &str, n: usize, outcome: Out
         policy: policy.into(),
         outcome,
         wall_ms: 1.0,
+        set: SetName::Paper,
     }
 }
 

@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use vifo_cues::SetName;
 use vifo_protocols::runner::{self, RunError, RunOptions, Shard, final_records, read_records, seed_for};
 use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
 
@@ -41,6 +42,7 @@ fn episode(spec: &EpisodeSpec) -> EpisodeRecord {
             steps,
         },
         wall_ms: 0.0,
+        set: SetName::Paper,
     }
 }
 

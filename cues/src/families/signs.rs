@@ -12,6 +12,12 @@ use crate::signage::{Category, SignSpec, compose_pixmap};
 
 const POST: Rgba = [60, 60, 66, 255];
 
+/// Things a hazard sign warns about: hot appliances and breakable glass of LIBERO's scenes.
+pub const HAZARDS: &[&str] = &["stove", "microwave", "moka pot", "moka pots", "wine bottle"];
+
+/// Carriers an object is handed over in, for a person to take away.
+pub const CARRIERS: &[&str] = &["basket", "caddy", "tray"];
+
 /// Draws the sign of `category` for the spec's step at the chosen anchor.
 fn sign_at(ctx: &mut Ctx<'_>, category: Category, which: Which) -> Result<(), CueError> {
     let s = ctx.scale();
@@ -54,4 +60,27 @@ pub fn zone_target(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
 
 pub fn permission_source(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     sign_at(ctx, Category::Permission, Which::Source)
+}
+
+pub fn prohibition_source(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    sign_at(ctx, Category::Prohibition, Which::Source)
+}
+
+/// At the target when the target is the hazard ("put the moka pot on the stove"), else at the
+/// source.
+pub fn hazard(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    let at_target = ctx.spec.target.as_deref().is_some_and(|t| crate::variants::names_any(t, HAZARDS));
+    sign_at(ctx, Category::Hazard, if at_target { Which::Target } else { Which::Source })
+}
+
+pub fn handover_target(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    sign_at(ctx, Category::HumanRobot, Which::Target)
+}
+
+pub fn maintenance_source(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    sign_at(ctx, Category::Maintenance, Which::Source)
+}
+
+pub fn system_state(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    sign_at(ctx, Category::SystemState, Which::Source)
 }

@@ -13,6 +13,7 @@ use vifo_protocols::vqa::files::{append_predictions, read_predictions, read_ques
 use vifo_protocols::benchmark;
 use vifo_protocols::env::{Env, EnvConfig};
 use vifo_protocols::vqa::{self, Prediction, score};
+use vifo_cues::SetName;
 use vifo_protocols::Protocol;
 use vifo_scenes::view::CameraName;
 
@@ -33,6 +34,9 @@ enum Command {
         /// Image side in pixels.
         #[arg(long, default_value_t = 256)]
         size: u32,
+        /// Instance set: paper (1,347 instances, 5,388 questions) or full.
+        #[arg(long, default_value = "paper", value_parser = super::run::parse_set)]
+        set: SetName,
     },
     /// Ask an OpenAI-compatible server (vLLM, SGLang) every question; resumable.
     Answer {
@@ -92,7 +96,7 @@ enum Command {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     match args.command {
-        Command::Export { out, size } => export(&out, size),
+        Command::Export { out, size, set } => export(&out, size, set),
         Command::Answer { dir, endpoint, model, api_key, concurrency, retries, timeout, max_tokens, out, quiet } => {
             anyhow::ensure!(timeout.is_finite() && timeout > 0.0, "--timeout must be a positive number of seconds");
             let questions = read_questions(&dir)?;
@@ -169,10 +173,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
 }
 
-/// Questions for every instance, each instance's image from its scene after the settle steps.
-fn export(out: &Path, size: u32) -> anyhow::Result<()> {
+/// Questions for every instance of a set, each instance's image from its scene after the
+/// settle steps. The set's name goes to `set.txt` beside the questions.
+fn export(out: &Path, size: u32, set: SetName) -> anyhow::Result<()> {
     anyhow::ensure!((16..=4096).contains(&size), "--size must be between 16 and 4096 pixels");
-    let instances: Vec<vifo_cues::CueSpec> = benchmark::instances::all().to_vec();
+    let instances: Vec<vifo_cues::CueSpec> = benchmark::instances::all(set).to_vec();
     let questions = vqa::generate(&instances, &benchmark::instances::vqa_scenes())?;
     let mut env = Env::new(EnvConfig { size, cameras: vec![CameraName::AgentView], ..EnvConfig::default() });
     let mut done = 0;
@@ -186,7 +191,8 @@ fn export(out: &Path, size: u32) -> anyhow::Result<()> {
         let spec = benchmark::specs::spec(&task, Protocol::Authorized, Some(id), 0, 0).map_err(|e| e.to_string())?;
         Ok(env.reset(&spec).map_err(|e| e.to_string())?.agentview.clone())
     })?;
-    println!("{} questions, {written} images -> {}", questions.len(), out.display());
+    write(&out.join("set.txt"), &format!("{set}\n"))?;
+    println!("{} questions ({set} set), {written} images -> {}", questions.len(), out.display());
     Ok(())
 }
 

@@ -27,9 +27,9 @@ pub enum Needs {
     ShortText(usize),
     /// A step with one of these relations (prohibition, maintenance and system-state signs).
     Relation(&'static [Relation]),
-    /// A step whose source or target (only the target when `target_only`) names one of these
-    /// things, as a whole word (hazard and hand-over signs).
-    Names { words: &'static [&'static str], target_only: bool },
+    /// A step whose target (the source when it has none) names one of these things, as a
+    /// whole word (hazard and hand-over signs, drawn at that thing).
+    Names(&'static [&'static str]),
 }
 
 impl Needs {
@@ -41,17 +41,14 @@ impl Needs {
             Needs::Target => step.target.is_some(),
             Needs::MovingSource => step.relation.moves_source(),
             Needs::Relation(rs) => rs.contains(&step.relation),
-            Needs::Names { words, target_only } => {
-                let target = step.target.as_deref().is_some_and(|t| names_any(t, words));
-                target || (!target_only && names_any(&step.source, words))
-            }
+            Needs::Names(words) => names_any(step.target.as_deref().unwrap_or(&step.source), words),
         }
     }
 }
 
 /// Whether `phrase` contains one of `words` as whole words ("front of the stove" names the
 /// stove; "stovetop" does not).
-pub fn names_any(phrase: &str, words: &[&str]) -> bool {
+fn names_any(phrase: &str, words: &[&str]) -> bool {
     let padded = format!(" {} ", phrase.to_lowercase());
     words.iter().any(|w| padded.contains(&format!(" {w} ")))
 }
@@ -134,8 +131,8 @@ use Needs::{MovingSource, Nothing, ShortText, Target};
 const STATE_CHANGES: Needs = Needs::Relation(&[Relation::Open, Relation::Close, Relation::TurnOn, Relation::TurnOff]);
 const OPENINGS: Needs = Needs::Relation(&[Relation::Open, Relation::Close]);
 const SWITCHES: Needs = Needs::Relation(&[Relation::TurnOn, Relation::TurnOff]);
-const HAZARDS: Needs = Needs::Names { words: signs::HAZARDS, target_only: false };
-const HAND_OVER: Needs = Needs::Names { words: signs::CARRIERS, target_only: true };
+const HAZARDS: Needs = Needs::Names(signs::HAZARDS);
+const HAND_OVER: Needs = Needs::Names(signs::CARRIERS);
 
 /// Every variant, grouped by family.
 #[rustfmt::skip]
@@ -168,7 +165,7 @@ pub const VARIANTS: &[Variant] = &[
     v!("sign_zone_target", F6, Target, Sign(Category::TargetZone), Target, signs::zone_target, "purple target-zone sign on a post at the target"),
     v!("sign_permission_source", F6, Nothing, Sign(Category::Permission), Source, signs::permission_source, "green permission sign with an authorised check at the source"),
     v!("sign_prohibition_source", F6, STATE_CHANGES, Sign(Category::Prohibition), Source, signs::prohibition_source, "red prohibition sign at the fixture forbidding the opposite action (do not close what is to be opened)"),
-    v!("sign_hazard", F6, HAZARDS, Sign(Category::Hazard), Target, signs::hazard, "yellow hazard triangle at the hot or fragile thing the step handles (stove, microwave, moka pot, wine bottle)"),
+    v!("sign_hazard", F6, HAZARDS, Sign(Category::Hazard), Target, signs::hazard, "yellow hazard triangle at the hot appliance the step puts something on or in, or operates (stove, microwave)"),
     v!("sign_handover_target", F6, HAND_OVER, Sign(Category::HumanRobot), Target, signs::handover_target, "orange human-robot sign with a hand-over pictogram at the carrier the object goes into (basket, caddy, tray)"),
     v!("sign_maintenance_source", F6, OPENINGS, Sign(Category::Maintenance), Source, signs::maintenance_source, "teal service sign at the drawer or door the step opens or closes"),
     v!("sign_system_state", F6, SWITCHES, Sign(Category::SystemState), Source, signs::system_state, "navy system-state panel at the appliance with a power badge showing the state to reach"),

@@ -12,8 +12,8 @@ use crate::signage::{Category, SignSpec, compose_pixmap};
 
 const POST: Rgba = [60, 60, 66, 255];
 
-/// Things a hazard sign warns about: hot appliances and breakable glass of LIBERO's scenes.
-pub const HAZARDS: &[&str] = &["stove", "microwave", "moka pot", "moka pots", "wine bottle"];
+/// Things a hazard sign warns about: the hot appliances of LIBERO's scenes.
+pub const HAZARDS: &[&str] = &["stove", "microwave"];
 
 /// Carriers an object is handed over in, for a person to take away.
 pub const CARRIERS: &[&str] = &["basket", "caddy", "tray"];
@@ -66,15 +66,14 @@ pub fn prohibition_source(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     sign_at(ctx, Category::Prohibition, Which::Source)
 }
 
-/// At the target when the target is the hazard ("put the moka pot on the stove"), else at the
-/// source.
+/// At the appliance: the target ("put the moka pot on the stove"), or the source of a step
+/// without one ("turn on the stove").
 pub fn hazard(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
-    let at_target = ctx.spec.target.as_deref().is_some_and(|t| crate::variants::names_any(t, HAZARDS));
-    sign_at(ctx, Category::Hazard, if at_target { Which::Target } else { Which::Source })
+    sign_at(ctx, Category::Hazard, if ctx.spec.target.is_some() { Which::Target } else { Which::Source })
 }
 
 pub fn handover_target(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
-    sign_at(ctx, Category::HumanRobot, Which::Target)
+    sign_at(ctx, Category::HumanRobot, if ctx.spec.target.is_some() { Which::Target } else { Which::Source })
 }
 
 pub fn maintenance_source(ctx: &mut Ctx<'_>) -> Result<(), CueError> {

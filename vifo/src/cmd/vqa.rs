@@ -85,9 +85,14 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
-    /// Text-only baselines (no image): letter prior, longest/shortest option, word overlap.
+    /// Text-only baselines (no image): letter prior, longest/shortest option, word overlap
+    /// (how much of the answer leaks through the text; the gate is <= 35 % per stage).
     Blind {
-        dir: PathBuf,
+        /// Export folder; without it, the questions of `--set` are generated here (the
+        /// baselines need no images).
+        dir: Option<PathBuf>,
+        #[arg(long, default_value = "paper", value_parser = super::run::parse_set)]
+        set: SetName,
         /// Also write each strategy's predictions into this folder.
         #[arg(long)]
         out: Option<PathBuf>,
@@ -156,8 +161,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             println!("{} answers -> {}", questions.len(), out.display());
             Ok(())
         }
-        Command::Blind { dir, out } => {
-            let questions = read_questions(&dir)?;
+        Command::Blind { dir, set, out } => {
+            let questions = match dir {
+                Some(dir) => read_questions(&dir)?,
+                None => {
+                    let qs = vqa::generate(benchmark::instances::all(set), &benchmark::instances::vqa_scenes())?;
+                    println!("{} questions of the {set} set", qs.len());
+                    qs
+                }
+            };
             print!("{}", answerers::blind(&questions).markdown());
             if let Some(out) = out {
                 std::fs::create_dir_all(&out).with_context(|| out.display().to_string())?;

@@ -187,3 +187,18 @@ fn a_corrupt_middle_line_is_reported_with_its_position() {
     let err = read_records(&path).unwrap_err().to_string();
     assert!(err.contains("results.jsonl:2:") && err.contains("episode record"), "{err}");
 }
+
+#[test]
+fn records_carry_the_set_and_a_file_of_another_set_is_not_resumed() {
+    let all = specs(8);
+    let (_dir, path) = temp();
+    runner::run(&all[..4], episode, &RunOptions { set: SetName::Full, ..options(&path, 1) }).unwrap();
+    assert!(read_records(&path).unwrap().records.iter().all(|r| r.set == SetName::Full));
+    let other = runner::run(&all, episode, &RunOptions { resume: true, ..options(&path, 1) });
+    assert!(matches!(other, Err(RunError::OtherSet { found: SetName::Full, wanted: SetName::Paper, .. })));
+    // A line written before sets existed reads as the full set.
+    let mut line = serde_json::to_value(episode(&all[0])).unwrap();
+    line.as_object_mut().unwrap().remove("set");
+    let old: EpisodeRecord = serde_json::from_value(line).unwrap();
+    assert_eq!(old.set, SetName::Full);
+}

@@ -114,3 +114,37 @@ pub fn coverage(instances: &[CueSpec]) -> BTreeMap<Component, Coverage> {
         .map(|(c, n)| (c, Coverage { instances: n, percent: 100.0 * n as f64 / total, paper_percent: c.paper_percent() }))
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::parse::parse;
+    use Component::*;
+
+    fn of(variant: &str, instruction: &str) -> Vec<Component> {
+        let task = parse(instruction).unwrap();
+        let v = variants::find(variant).unwrap();
+        let step = crate::instances::step_for(&task, v.needs).unwrap();
+        components(&CueSpec::new("t/0", &task, step, v).unwrap())
+    }
+
+    #[test]
+    fn components_follow_what_the_variant_draws_and_the_steps() {
+        let one = "put the bowl on the plate";
+        let two = "turn on the stove and put the moka pot on it";
+        assert_eq!(of("goal_inset", one), [FinalStates]);
+        assert_eq!(of("keyframe_storyboard", one), [Actions, FinalStates, Procedures]);
+        assert_eq!(of("step_cards", one), [Actions]);
+        assert_eq!(of("step_cards", two), [Actions, Procedures]);
+        assert_eq!(of("caption_bar", two), [Objects, Actions, Procedures]);
+        assert_eq!(of("fiducial_tag", two), [Objects]);
+        assert_eq!(of("glow_halo", one), [Objects]);
+        assert_eq!(of("straight_arrow_red", one), [Objects, Actions]);
+        assert_eq!(of("ghost_fade", one), [Objects, Actions, FinalStates]);
+        assert_eq!(of("sign_prohibition_source", two), [Objects, Actions, Rules]);
+        assert_eq!(of("sign_system_state", two), [Objects, Actions, FinalStates]);
+        assert_eq!(of("sign_zone_target", one), [Objects, Actions]);
+        let unknown = CueSpec { variant: "nope".into(), ..CueSpec::new("t/0", &parse(one).unwrap(), 0, variants::find("glow_halo").unwrap()).unwrap() };
+        assert!(components(&unknown).is_empty());
+    }
+}

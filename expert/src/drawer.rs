@@ -2,10 +2,10 @@
 
 use vifo_robots::spatial::{Mat3, Vec3, rotation_vector};
 
-use super::geometry::{self, Obb};
-use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, OPEN, Step, climb, cruise_height, gripper_toward};
-use crate::sim::{RegionPlace, Sim};
+use crate::geometry::{self, Obb};
+use crate::motion::{self, Servo, Waypoint};
+use crate::skill::{CLOSE, OPEN, Step, climb, cruise_height, gripper_toward};
+use vifo_scenes::sim::{RegionPlace, Sim};
 
 /// What to do with the drawer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

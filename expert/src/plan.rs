@@ -4,16 +4,16 @@ use thiserror::Error;
 
 use vifo_robots::spatial::Vec3;
 
-use super::door::Door;
-use super::drawer::{self, Drawer, DrawerGoal, drawer_of};
-use super::geometry;
-use super::insert::{self, Insert};
-use super::knob::Knob;
-use super::pick_place::{PickPlace, Placement, Spot};
-use super::push::{self, Push};
-use crate::catalog::JointKind;
-use crate::sim::Sim;
-use crate::task::{Atom, Predicate};
+use crate::door::Door;
+use crate::drawer::{self, Drawer, DrawerGoal, drawer_of};
+use crate::geometry;
+use crate::insert::{self, Insert};
+use crate::knob::Knob;
+use crate::pick_place::{PickPlace, Placement, Spot};
+use crate::push::{self, Push};
+use vifo_scenes::catalog::JointKind;
+use vifo_scenes::sim::Sim;
+use vifo_scenes::task::{Atom, Predicate};
 
 /// A goal the expert has no skill for.
 #[derive(Debug, Error, PartialEq)]

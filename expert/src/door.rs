@@ -2,10 +2,10 @@
 
 use vifo_robots::spatial::{Vec3, axis_angle};
 
-use super::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, Obb};
-use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, Step, climb, cruise_height};
-use crate::sim::Sim;
+use crate::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, Obb};
+use crate::motion::{self, Servo, Waypoint};
+use crate::skill::{CLOSE, Step, climb, cruise_height};
+use vifo_scenes::sim::Sim;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Stage {

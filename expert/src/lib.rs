@@ -18,8 +18,8 @@ pub use plan::PlanError;
 
 use vifo_robots::action::Action;
 
-use crate::sim::Sim;
-use crate::task::Atom;
+use vifo_scenes::sim::Sim;
+use vifo_scenes::task::Atom;
 use plan::Skill;
 use skill::{OPEN, Step};
 

@@ -3,7 +3,7 @@
 use vifo_robots::action::Action;
 use vifo_robots::spatial::{Mat3, Pose, Vec3, axis_angle, rotation_vector};
 
-use crate::sim::Sim;
+use vifo_scenes::sim::Sim;
 
 /// A gripper pose the expert wants: grip-site position and orientation.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -3,12 +3,12 @@
 use vifo_robots::action::Action;
 use vifo_robots::spatial::Vec3;
 
-use super::drawer;
-use super::geometry::{self, Grasp};
-use super::lean::{self, LeanPlan};
-use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, OPEN, Step, climb, cruise_height, gripper_toward, path_height, surface_height};
-use crate::sim::Sim;
+use crate::drawer;
+use crate::geometry::{self, Grasp};
+use crate::lean::{self, LeanPlan};
+use crate::motion::{self, Servo, Waypoint};
+use crate::skill::{CLOSE, OPEN, Step, climb, cruise_height, gripper_toward, path_height, surface_height};
+use vifo_scenes::sim::Sim;
 
 /// Where a picked object must go.
 #[derive(Clone, Debug, PartialEq)]

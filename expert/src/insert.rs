@@ -10,10 +10,10 @@
 
 use vifo_robots::spatial::{Mat3, Pose, Vec3};
 
-use super::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, HAND_HALF_LENGTH, HAND_HALF_WIDTH, MAX_GRASP_WIDTH, Obb};
-use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, OPEN, Step, cruise_height, gripper_toward, surface_height};
-use crate::sim::{RegionPlace, Sim};
+use crate::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, HAND_HALF_LENGTH, HAND_HALF_WIDTH, MAX_GRASP_WIDTH, Obb};
+use crate::motion::{self, Servo, Waypoint};
+use crate::skill::{CLOSE, OPEN, Step, cruise_height, gripper_toward, surface_height};
+use vifo_scenes::sim::{RegionPlace, Sim};
 
 /// Room the hand needs over an object put in from above: fingers over the rim and the hand
 /// itself. A cavity with less headroom over the object is entered from the side.
@@ -515,14 +515,14 @@ impl Insert {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::expert::Expert;
-    use crate::init_states;
-    use crate::sim::SceneModel;
-    use crate::task::Predicate;
+    use crate::Expert;
+    use vifo_scenes::init_states;
+    use vifo_scenes::sim::SceneModel;
+    use vifo_scenes::task::Predicate;
 
     /// Shipped initial state `state` of a task, after LIBERO's wait steps.
     fn start(suite: &str, index: usize, state: usize) -> Sim {
-        let task = crate::task(suite, index).expect("built-in task");
+        let task = vifo_scenes::task(suite, index).expect("built-in task");
         let mut sim = Sim::new(SceneModel::build(task).expect("scene builds"));
         init_states::apply(&mut sim, &init_states::fixed(task).expect("shipped states")[state]).expect("state applies");
         init_states::wait(&mut sim);
@@ -547,7 +547,7 @@ mod tests {
 
     #[test]
     fn only_the_microwave_goal_is_slid_in_from_the_side() {
-        for suite in crate::suites() {
+        for suite in vifo_scenes::suites() {
             for (index, task) in suite.tasks.iter().enumerate() {
                 let sim = start(&suite.name, index, 0);
                 for atom in task.goal.iter().filter(|a| a.predicate == Predicate::In) {

@@ -3,8 +3,8 @@
 use vifo_robots::action::Action;
 use vifo_robots::spatial::Vec3;
 
-use super::geometry;
-use crate::sim::Sim;
+use crate::geometry;
+use vifo_scenes::sim::Sim;
 
 /// Gripper commands.
 pub const OPEN: f64 = -1.0;

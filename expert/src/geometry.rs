@@ -2,8 +2,8 @@
 
 use vifo_robots::spatial::{Pose, Vec3};
 
-use crate::catalog::ColliderShape;
-use crate::sim::Sim;
+use vifo_scenes::catalog::ColliderShape;
+use vifo_scenes::sim::Sim;
 
 /// Widest object the Panda's fingers can straddle (open gap 0.079 m) with some margin.
 pub const MAX_GRASP_WIDTH: f64 = 0.068;
@@ -15,15 +15,15 @@ const APPROACH_CLEARANCE: f64 = 0.011;
 const RIM_HALF_GAP: f64 = 0.013;
 /// Finger size: thickness along the closing axis, half-width across it, length below the hand.
 const FINGER_THICKNESS: f64 = 0.026;
-pub(super) const FINGER_HALF_WIDTH: f64 = 0.011;
+pub(crate) const FINGER_HALF_WIDTH: f64 = 0.011;
 /// The fingertips reach this far below the grip site, the hand starts this far above it.
 const TIP_BELOW_SITE: f64 = 0.009;
-pub(super) const HAND_ABOVE_SITE: f64 = 0.031;
+pub(crate) const HAND_ABOVE_SITE: f64 = 0.031;
 /// The hand's half-extents along the finger axis and across it, and the height of the column
 /// it sweeps coming straight down to the grasp (the hand itself is 9 cm tall; the column also
 /// keeps the wrist clear of overhangs such as an open drawer).
-pub(super) const HAND_HALF_LENGTH: f64 = 0.102;
-pub(super) const HAND_HALF_WIDTH: f64 = 0.032;
+pub(crate) const HAND_HALF_LENGTH: f64 = 0.102;
+pub(crate) const HAND_HALF_WIDTH: f64 = 0.032;
 const HAND_HEIGHT: f64 = 0.25;
 /// The grip site stays at least this far above the surface an object rests on, so the
 /// fingertips do not dig into it.
@@ -167,7 +167,7 @@ impl Obstacles {
 pub struct Grasp {
     /// Grip-site position at the grasp.
     pub pos: Vec3,
-    /// Yaw of the finger axis (see [`super::motion::Waypoint`]).
+    /// Yaw of the finger axis (see [`crate::motion::Waypoint`]).
     pub yaw: f64,
     /// Object width between the fingers.
     pub width: f64,
@@ -188,7 +188,7 @@ fn gripper_volumes(site: &Vec3, axis: &Vec3, half_gap: f64) -> [Obb; 3] {
 }
 
 /// The volumes of the two open fingers and of the hand for the grip site at `grip` (orientation
-/// as a [`super::motion::Waypoint`]'s: first column the finger axis, third the approach).
+/// as a [`crate::motion::Waypoint`]'s: first column the finger axis, third the approach).
 fn gripper_volumes_at(grip: &Pose, half_gap: f64) -> [Obb; 3] {
     let axis: Vec3 = grip.rot.column(0).into();
     let up: Vec3 = -Vec3::from(grip.rot.column(2));

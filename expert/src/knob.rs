@@ -2,10 +2,10 @@
 
 use vifo_robots::spatial::{Vec3, axis_angle};
 
-use super::geometry::{self, Grasp, Obstacles};
-use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, OPEN, Step, climb, cruise_height, gripper_toward};
-use crate::sim::Sim;
+use crate::geometry::{self, Grasp, Obstacles};
+use crate::motion::{self, Servo, Waypoint};
+use crate::skill::{CLOSE, OPEN, Step, climb, cruise_height, gripper_toward};
+use vifo_scenes::sim::Sim;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Stage {

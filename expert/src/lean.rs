@@ -4,9 +4,9 @@
 
 use vifo_robots::spatial::{Mat3, Pose, Vec3, axis_angle};
 
-use super::geometry::{self, Obb, Obstacles};
-use super::motion::Waypoint;
-use crate::sim::{RegionBox, Sim};
+use crate::geometry::{self, Obb, Obstacles};
+use crate::motion::Waypoint;
+use vifo_scenes::sim::{RegionBox, Sim};
 
 /// Regions whose z axis leans further than this from the vertical are leaned on, not stood on.
 const TILTED: f64 = 0.35;

@@ -2,10 +2,10 @@
 
 use vifo_robots::spatial::{Mat3, Pose, Vec3};
 
-use super::geometry;
-use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, Step, climb, cruise_height, surface_height};
-use crate::sim::Sim;
+use crate::geometry;
+use crate::motion::{self, Servo, Waypoint};
+use crate::skill::{CLOSE, Step, climb, cruise_height, surface_height};
+use vifo_scenes::sim::Sim;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Stage {

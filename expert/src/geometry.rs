@@ -1,9 +1,12 @@
-//! Grasp geometry from the (privileged) collision shapes of the scene.
+//! What the expert knows of the scene's shapes, from its (privileged) collision boxes: the
+//! hand's own dimensions, obstacle sets, grasp choice (solid, rim and part grasps) and the
+//! heights the hand must pass over.
 
 use vifo_robots::spatial::{Pose, Vec3};
-
 use vifo_scenes::catalog::ColliderShape;
 use vifo_scenes::sim::Sim;
+
+use crate::arm::{self, Arm};
 
 /// Widest object the Panda's fingers can straddle (open gap 0.079 m) with some margin.
 pub const MAX_GRASP_WIDTH: f64 = 0.068;
@@ -389,6 +392,55 @@ pub fn part_grasp(parts: &[Obb], obstacles: &Obstacles, origin: &Vec3) -> Option
         }
     }
     best.map(|(_, _, g)| g)
+}
+
+/// Horizontal distance from `a` to `b`.
+pub fn horizontal(a: &Vec3, b: &Vec3) -> f64 {
+    ((a.x - b.x).powi(2) + (a.y - b.y).powi(2)).sqrt()
+}
+
+/// Highest point of the scene (objects, fixtures, arena) over a horizontal disc, excluding one
+/// entity (the one being carried): what the hand or a carried object must pass over.
+pub fn surface_height(sim: &Sim, centre: [f64; 2], radius: f64, exclude: Option<usize>) -> f64 {
+    let mut z = sim.model().class.support_z();
+    for (i, e) in sim.model().entities.iter().enumerate() {
+        if Some(i) == exclude {
+            continue;
+        }
+        for b in 0..e.model.bodies.len() {
+            for p in corners(sim, i, b) {
+                let d = ((p.x - centre[0]).powi(2) + (p.y - centre[1]).powi(2)).sqrt();
+                if d < radius {
+                    z = z.max(p.z);
+                }
+            }
+        }
+    }
+    z
+}
+
+/// Highest point of the scene along a straight horizontal path (within `radius` of it).
+pub fn path_height(sim: &Sim, from: [f64; 2], to: [f64; 2], radius: f64, exclude: Option<usize>) -> f64 {
+    (0..=10)
+        .map(|k| {
+            let t = k as f64 / 10.0;
+            surface_height(sim, [from[0] + t * (to[0] - from[0]), from[1] + t * (to[1] - from[1])], radius, exclude)
+        })
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// Height at which the hand crosses from where it is to `to`: `clearance` over everything
+/// within the hand's half length of the straight way there (but `exclude`), and no lower than
+/// `floor`.
+pub fn cruise_height(sim: &Sim, to: &Vec3, clearance: f64, floor: f64, exclude: Option<usize>) -> f64 {
+    let ee = arm::of(sim).grip_site().pos;
+    (path_height(sim, [ee.x, ee.y], [to.x, to.y], 0.1, exclude) + clearance).max(floor)
+}
+
+/// What `object` stands on: the highest point of the scene right under its centre.
+pub fn support_under(sim: &Sim, object: usize) -> f64 {
+    let c = sim.entity_pose(object).pos;
+    surface_height(sim, [c.x, c.y], 0.02, Some(object))
 }
 
 #[cfg(test)]

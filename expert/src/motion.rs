@@ -1,9 +1,11 @@
-//! Turning a desired gripper pose into the 7-D delta action a policy would send.
+//! Gripper poses (where the grip site goes and how the gripper is turned) and the servo gains
+//! that move it there.
 
 use vifo_robots::action::Action;
 use vifo_robots::spatial::{Mat3, Pose, Vec3, axis_angle, rotation_vector};
-
 use vifo_scenes::sim::Sim;
+
+use crate::arm::{self, Arm};
 
 /// A gripper pose the expert wants: grip-site position and orientation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,30 +51,15 @@ pub fn nearest_yaw(yaw: f64, near: f64) -> f64 {
     y
 }
 
-/// Panda joint 7's limit (±2.8973 rad) less a margin for the servo's overshoot.
-const WRIST_LIMIT: f64 = 2.75;
-
-/// Joint 7 once the gripper has turned from where it is to `rot`: the turn about the approach
-/// axis is joint 7's own.
-pub fn wrist_after(sim: &Sim, rot: &Mat3) -> f64 {
-    let ee = sim.model().robot.grip_site_pose(sim.world());
-    let q7 = sim.model().robot.joints(sim.world()).q[6];
-    q7 + rotation_vector(&(rot * ee.rot.transpose())).dot(&(ee.rot * Vec3::z()))
-}
-
-/// Whether the wrist can turn to `rot` without running into its limit.
-pub fn wrist_reaches(sim: &Sim, rot: &Mat3) -> bool {
-    wrist_after(sim, rot).abs() < WRIST_LIMIT
-}
-
 /// The yaw equivalent to `yaw` (a half turn apart, the gripper being symmetric) that the wrist
 /// reaches, nearest the current one first.
 pub fn reachable_yaw(sim: &Sim, yaw: f64) -> f64 {
-    let now = current_yaw(&sim.model().robot.grip_site_pose(sim.world()));
+    let arm = arm::of(sim);
+    let now = current_yaw(&arm.grip_site());
     let near = nearest_yaw(yaw, now);
     let pi = std::f64::consts::PI;
     let far = if near > now { near - pi } else { near + pi };
-    [near, far].into_iter().find(|y| wrist_reaches(sim, &orientation(*y))).unwrap_or(near)
+    [near, far].into_iter().find(|y| arm.wrist_reaches(&orientation(*y))).unwrap_or(near)
 }
 
 /// Gains of the pose servo.
@@ -99,20 +86,13 @@ impl Servo {
 
     /// The action moving the gripper toward `target` with the gripper command `grip`.
     pub fn act(&self, sim: &Sim, target: &Waypoint, grip: f64) -> Action {
-        let ee = sim.model().robot.grip_site_pose(sim.world());
-        let dp = (target.pos - ee.pos) * self.pos_gain;
-        let err = rotation_vector(&(target.rot * ee.rot.transpose())) * self.rot_gain;
-        // Each axis is limited on its own, as LIBERO clips actions: a diagonal move runs up to
-        // √2 faster than a straight one, bending the path toward the diagonal early on.
-        let t = |v: f64| v.clamp(-self.max_speed, self.max_speed);
-        let r = |v: f64| v.clamp(-1.0, 1.0);
-        Action([t(dp.x), t(dp.y), t(dp.z), r(err.x), r(err.y), r(err.z), grip])
+        arm::of(sim).command(target, self, grip)
     }
 }
 
 /// Position error (m) and orientation error (rad) between the gripper and a waypoint.
 pub fn error(sim: &Sim, target: &Waypoint) -> (f64, f64) {
-    let ee = sim.model().robot.grip_site_pose(sim.world());
+    let ee = arm::of(sim).grip_site();
     let rot = rotation_vector(&(target.rot * ee.rot.transpose())).norm();
     ((target.pos - ee.pos).norm(), rot)
 }

@@ -58,7 +58,7 @@ fn names_any(phrase: &str, words: &[&str]) -> bool {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Form {
-    /// The instruction as text, or as a code whose payload holds its words (QR, barcode).
+    /// The whole instruction as text, or as a QR code whose payload holds its words or steps.
     Words,
     /// A readable code of the shown step's relation and objects (`ON:BOWL>PLATE`).
     StepCode,

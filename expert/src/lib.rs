@@ -2,15 +2,16 @@
 //! action interface a policy uses (it reads the simulator's state, but acts only by actions —
 //! no teleporting, welding or pose editing), so it can stand in for a policy.
 //!
-//! - [`plan`](crate::plan): from a task's goal atoms to an ordered list of skills.
+//! - `plan`: from a task's goal atoms to an ordered list of skills.
 //! - `skills`: one recipe per skill (pick-place, push, drawer, door, knob, insert), each a
 //!   short list of stages.
 //! - `stages`: the motion vocabulary the recipes are written in (approach at cruise height,
 //!   descend, grasp, lift, carry, set down, release, retreat, follow a hinge or a slide).
-//! - `arm`: the arm-agnostic interface the stages drive (a grip-site pose target and a gripper
-//!   command); the Panda implements it.
-//! - `motion`: gripper orientations and the servo's gains; `geometry`: the scene's shapes as
-//!   the expert sees them (obstacles, grasp choice, heights to pass over).
+//! - `arm`: the arm-agnostic interface the stages drive (a grip-site pose target with the
+//!   servo's gains, and a gripper command); the Panda implements it.
+//! - `motion`: finger yaws the wrist reaches, and how far the gripper is from a pose target;
+//!   `geometry`: the scene's shapes as the expert sees them (obstacles, grasp choice, heights
+//!   to pass over).
 
 mod arm;
 mod geometry;

@@ -270,7 +270,7 @@ impl Report {
         std::fs::write(dir.join("table1.json"), json(&self.table1)?)?;
         std::fs::write(dir.join("table2.md"), &t2)?;
         std::fs::write(dir.join("table2.csv"), tables::table2_csv(self))?;
-        let table2 = serde_json::json!({"rows": self.table2, "counts": self.family_counts});
+        let table2 = serde_json::json!({"sets": self.sets, "rows": self.table2, "counts": self.family_counts});
         std::fs::write(dir.join("table2.json"), json(&table2)?)?;
         for metric in Metric::ALL {
             let png = chart::family_chart(self, metric).map_err(std::io::Error::other)?;

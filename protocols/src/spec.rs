@@ -1,6 +1,7 @@
 //! Episode specifications and results.
 
 use serde::{Deserialize, Serialize};
+use vifo_cues::SetName;
 
 /// The four evaluation protocols of the paper plus the cue-free baseline.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -138,4 +139,12 @@ pub struct EpisodeRecord {
     pub outcome: Outcome,
     /// Wall-clock milliseconds (informational; never part of comparisons).
     pub wall_ms: f64,
+    /// The instance set the episode was run for (the runner writes its `RunOptions::set`).
+    /// Results files written before sets existed hold `full` episodes.
+    #[serde(default = "full_set")]
+    pub set: SetName,
+}
+
+fn full_set() -> SetName {
+    SetName::Full
 }

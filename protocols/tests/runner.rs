@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use vifo_cues::SetName;
 use vifo_protocols::runner::{self, RunError, RunOptions, Shard, final_records, read_records, seed_for};
 use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, RESULTS_VERSION, TaskRef};
 
@@ -42,6 +43,7 @@ fn episode(spec: &EpisodeSpec) -> EpisodeRecord {
             steps,
         },
         wall_ms: 0.0,
+        set: SetName::Paper,
     }
 }
 
@@ -248,4 +250,19 @@ fn a_full_disk_stops_the_writer_without_a_partial_line() {
     assert!(first.contains("/dev/full") && first.to_lowercase().contains("no space"), "{first}");
     let second = writer.write(&record).unwrap_err().to_string();
     assert!(second.contains("an earlier write failed"), "{second}");
+}
+
+#[test]
+fn records_carry_the_set_and_a_file_of_another_set_is_not_resumed() {
+    let all = specs(8);
+    let (_dir, path) = temp();
+    runner::run(&all[..4], episode, &RunOptions { set: SetName::Full, ..options(&path, 1) }).unwrap();
+    assert!(read_records(&path).unwrap().records.iter().all(|r| r.set == SetName::Full));
+    let other = runner::run(&all, episode, &RunOptions { resume: true, ..options(&path, 1) });
+    assert!(matches!(other, Err(RunError::OtherSet { found: SetName::Full, wanted: SetName::Paper, .. })));
+    // A line written before sets existed reads as the full set.
+    let mut line = serde_json::to_value(episode(&all[0])).unwrap();
+    line.as_object_mut().unwrap().remove("set");
+    let old: EpisodeRecord = serde_json::from_value(line).unwrap();
+    assert_eq!(old.set, SetName::Full);
 }

@@ -4,7 +4,7 @@ use std::sync::Arc;
 
 use anyhow::Result;
 use serde::Serialize;
-use vifo_scenes::expert::Expert;
+use vifo_expert::Expert;
 use vifo_scenes::init_states;
 use vifo_scenes::sim::{Extremes, SceneModel};
 

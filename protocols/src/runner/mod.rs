@@ -20,6 +20,8 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use thiserror::Error;
 
+use vifo_cues::SetName;
+
 use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome, RESULTS_VERSION};
 
 pub use results::{Loaded, ResultsWriter, RunLock, final_records, parse_records, read_records};
@@ -43,6 +45,8 @@ pub enum RunError {
     OtherVersion { path: PathBuf, found: u32, expected: u32 },
     #[error("thread pool: {0}")]
     Pool(String),
+    #[error("{path} holds episodes of the {found} instance set, this run is of the {wanted} set; resume it with that set or choose another file")]
+    OtherSet { path: PathBuf, found: SetName, wanted: SetName },
 }
 
 impl RunError {
@@ -100,6 +104,8 @@ pub struct RunOptions {
     pub quiet: bool,
     /// Policy name written into records the runner makes itself (a panicking episode).
     pub policy: String,
+    /// The instance set written into every record; resuming a file of another set is an error.
+    pub set: SetName,
 }
 
 impl RunOptions {
@@ -111,6 +117,7 @@ impl RunOptions {
             shard: None,
             quiet: false,
             policy: String::new(),
+            set: SetName::Paper,
         }
     }
 }
@@ -162,6 +169,9 @@ where
         });
     }
     summary.truncated_tail = loaded.truncated_tail;
+    if let Some(other) = loaded.records.iter().find(|r| r.set != options.set) {
+        return Err(RunError::OtherSet { path: options.output.clone(), found: other.set, wanted: options.set });
+    }
     let done: BTreeSet<String> =
         loaded.records.iter().filter(|r| results::is_completed(r)).map(|r| r.spec.key()).collect();
     let todo: Vec<&EpisodeSpec> = in_shard.into_iter().filter(|s| !done.contains(&s.key())).collect();
@@ -180,7 +190,7 @@ where
             if lock(&failure).is_some() {
                 return;
             }
-            let record = run_one(spec, &episode, &options.policy);
+            let record = EpisodeRecord { set: options.set, ..run_one(spec, &episode, &options.policy) };
             if !results::is_completed(&record) {
                 let n = errors.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
                 progress.set_message(format!("errors: {n}"));
@@ -214,6 +224,7 @@ where
         policy: policy.to_string(),
         outcome: Outcome::Error { message },
         wall_ms,
+        set: SetName::Full,
     };
     match result {
         Ok(record) if record.spec.key() == spec.key() => EpisodeRecord { wall_ms, ..record },

@@ -46,6 +46,9 @@ struct TaskResult {
     episodes: usize,
     success_rate: f64,
     mean_steps: f64,
+    /// Each episode's control steps, in initial-state order (what a change meant to keep the
+    /// expert's behaviour is checked against).
+    steps: Vec<usize>,
     budget: u32,
     /// `init:why` of every failed episode.
     failures: Vec<String>,
@@ -113,6 +116,7 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
                 episodes: results.len(),
                 success_rate: ok as f64 / results.len().max(1) as f64,
                 mean_steps: results.iter().map(|r| r.steps as f64).sum::<f64>() / results.len().max(1) as f64,
+                steps: results.iter().map(|r| r.steps).collect(),
                 budget: suite.max_steps,
                 failures: results.iter().filter(|r| !r.success).map(|r| format!("{}:{}", r.init, r.failure.as_deref().unwrap_or("budget"))).collect(),
                 below_support: results.iter().filter_map(|r| Some(format!("{}: {}", r.init, r.below_support.as_ref()?))).collect(),

@@ -11,7 +11,6 @@ use vifo_tests::fault_trials::{Counts, run_faults};
 #[test]
 fn every_fault_is_an_error_naming_it_and_the_run_recovers() {
     let dir = tempfile::tempdir().unwrap();
-    let dir = tempfile::tempdir().unwrap();
     let c = run_faults(&Fault::ALL, 1, dir.path()).unwrap();
     let n = Fault::ALL.len();
     let expected = Counts { episodes: n + 1, fired: n, errors_named: n, ..Counts::default() };

@@ -515,6 +515,7 @@ fn results_seeds() -> Vec<Vec<u8>> {
     let specs = vifo_protocols::benchmark::specs::specs(&vifo_protocols::benchmark::specs::Selection::quick()).expect("quick selection");
     let record = |i: usize, spec: &vifo_protocols::EpisodeSpec| EpisodeRecord {
         version: RESULTS_VERSION,
+        set: vifo_cues::SetName::Full,
         spec: spec.clone(),
         policy: "zero".into(),
         outcome: if i % 5 == 4 {

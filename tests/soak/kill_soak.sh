@@ -26,9 +26,10 @@ RANDOM=$SEED
 start=$(date +%s%N)
 "$VIFO" run "${SELECTION[@]}" --out "$OUT/reference" > /dev/null
 took_ms=$((($(date +%s%N) - start) / 1000000))
-# Kill at a uniform moment in [0.3 s, max]: about twice the run time spread over the kills.
-max_ms=$((2 * took_ms / KILLS)); ((max_ms < 600)) && max_ms=600
-echo "uninterrupted run: $((took_ms / 1000)) s; kills at 0.3 s to $((max_ms / 1000)) s after each start"
+# Kill at a uniform moment in [0.3 s, max], max = the run time spread over the kills, so the
+# killed runs together get through about half of the selection.
+max_ms=$((took_ms / KILLS)); ((max_ms < 600)) && max_ms=600
+echo "uninterrupted run: $((took_ms / 1000)) s; kills at 0.3 s to $(printf '%d.%03d' $((max_ms / 1000)) $((max_ms % 1000))) s after each start"
 
 kills=0 torn_seen=0 torn_made=0 runs=0
 soak="$OUT/soak/$RESULTS"
@@ -61,6 +62,8 @@ PY
     break
   fi
 done
+# Episodes the killed runs finished (each line is one; a cut line is not counted).
+before=$(tr -cd '\n' < "$soak" | wc -c)
 # The last resume runs to the end.
 "$VIFO" run "${SELECTION[@]}" --resume --out "$OUT/soak" > /dev/null
 
@@ -88,6 +91,6 @@ read -r episodes missing duplicated differing < "$OUT/compare.txt"
 tables=identical
 diff -r "$OUT/reference/report" "$OUT/soak/report" > /dev/null || tables=DIFFERENT
 
-echo "kill soak: $runs runs, $kills SIGKILLs, torn last lines: $torn_seen met after a kill + $torn_made cut by hand"
+echo "kill soak: $runs runs, $kills SIGKILLs, torn last lines: $torn_seen met after a kill + $torn_made cut by hand; $before records written by the killed runs"
 echo "episodes: $episodes; missing $missing, duplicated $duplicated, differing $differing; report tables $tables ($OUT)"
 (( kills >= KILLS && missing == 0 && duplicated == 0 && differing == 0 )) && [[ $tables == identical ]]

@@ -84,9 +84,10 @@ impl Fault {
 }
 
 /// How long a stalled reply waits: past the client timeout the tests use ([`CLIENT_TIMEOUT`]).
-const STALL: Duration = Duration::from_millis(1500);
-/// The request timeout a client of this server should use.
-pub const CLIENT_TIMEOUT: Duration = Duration::from_millis(400);
+const STALL: Duration = Duration::from_millis(2500);
+/// The request timeout a client of this server should use (long enough that a loaded machine
+/// does not time out a healthy reply).
+pub const CLIENT_TIMEOUT: Duration = Duration::from_millis(1000);
 /// No wait of a connection thread is longer than this.
 const IO_LIMIT: Duration = Duration::from_secs(10);
 

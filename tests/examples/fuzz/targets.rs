@@ -42,8 +42,9 @@ pub struct Target {
     pub generate: fn(&mut dyn Rng) -> Vec<u8>,
     /// Tokens of the format, inserted by the mutator.
     pub dictionary: &'static [&'static [u8]],
-    /// Feeds one input to the code under test; any result is fine, a panic or a hang is not.
-    pub run: fn(&[u8]),
+    /// Feeds one input to the code under test and says whether it was accepted as valid; any
+    /// result is fine, a panic or a hang is not.
+    pub run: fn(&[u8]) -> bool,
 }
 
 pub const TARGETS: &[Target] = &[
@@ -189,8 +190,8 @@ fn bddl_generate(rng: &mut dyn Rng) -> Vec<u8> {
     out.into_bytes()
 }
 
-fn bddl_run(bytes: &[u8]) {
-    let _ = vifo_scenes::bddl::parse(&text(bytes), Path::new("fuzz_case.bddl"));
+fn bddl_run(bytes: &[u8]) -> bool {
+    vifo_scenes::bddl::parse(&text(bytes), Path::new("fuzz_case.bddl")).is_ok()
 }
 
 // ---------------------------------------------------------------- init-state pickles
@@ -220,16 +221,20 @@ fn pickle_seeds() -> Vec<Vec<u8>> {
     seeds
 }
 
-/// The data of the first entry of a zip archive, when stored uncompressed with its sizes in
-/// the local header (as `torch.save` writes `data.pkl`).
+/// The data of the first entry of a zip archive when it is stored uncompressed (as
+/// `torch.save` writes `data.pkl`; its size is in the central directory, since torch streams
+/// the entry with a data descriptor).
 fn stored_entry(zip: &[u8]) -> Option<&[u8]> {
     let u16_at = |i: usize| Some(u16::from_le_bytes(zip.get(i..i + 2)?.try_into().ok()?) as usize);
     let u32_at = |i: usize| Some(u32::from_le_bytes(zip.get(i..i + 4)?.try_into().ok()?) as usize);
-    if !zip.starts_with(b"PK\x03\x04") || u16_at(8)? != 0 {
+    let end = zip.windows(4).rposition(|w| w == b"PK\x05\x06")?;
+    let central = u32_at(end + 16)?;
+    if zip.get(central..central + 4)? != b"PK\x01\x02" || u16_at(central + 10)? != 0 {
         return None;
     }
-    let start = 30 + u16_at(26)? + u16_at(28)?;
-    zip.get(start..start + u32_at(18)?)
+    let (size, local) = (u32_at(central + 20)?, u32_at(central + 42)?);
+    let start = local + 30 + u16_at(local + 26)? + u16_at(local + 28)?;
+    zip.get(start..start + size)
 }
 
 fn pickle_generate(rng: &mut dyn Rng) -> Vec<u8> {
@@ -260,7 +265,8 @@ fn stored_zip(name: &str, data: &[u8]) -> Vec<u8> {
         z.extend_from_slice(&n.to_le_bytes());
         z.extend_from_slice(&0u16.to_le_bytes());
         if central {
-            z.extend_from_slice(&[0; 12]);
+            // Comment length, disk, internal and external attributes, then the local header's offset.
+            z.extend_from_slice(&[0; 10]);
             z.extend_from_slice(&0u32.to_le_bytes());
         }
         z.extend_from_slice(name.as_bytes());
@@ -288,10 +294,10 @@ fn crc32(data: &[u8]) -> u32 {
     !crc
 }
 
-fn pickle_run(bytes: &[u8]) {
-    let Some((&mode, rest)) = bytes.split_first() else { return };
+fn pickle_run(bytes: &[u8]) -> bool {
+    let Some((&mode, rest)) = bytes.split_first() else { return false };
     let file = if mode % 2 == 1 { stored_zip("archive/data.pkl", rest) } else { rest.to_vec() };
-    let _ = vifo_scenes::init_file::read(&file, "fuzz_case.pruned_init");
+    vifo_scenes::init_file::read(&file, "fuzz_case.pruned_init").is_ok()
 }
 
 // ---------------------------------------------------------------- JSON inputs
@@ -353,8 +359,8 @@ fn init_json_generate(rng: &mut dyn Rng) -> Vec<u8> {
     v.to_string().into_bytes()
 }
 
-fn init_json_run(bytes: &[u8]) {
-    let _ = vifo_scenes::init_states::parse(&text(bytes), "fuzz_case.json");
+fn init_json_run(bytes: &[u8]) -> bool {
+    vifo_scenes::init_states::parse(&text(bytes), "fuzz_case.json").is_ok()
 }
 
 const TASK_KEYS: &[&str] = &[
@@ -377,12 +383,11 @@ fn task_json_generate(rng: &mut dyn Rng) -> Vec<u8> {
 
 /// The three task forms read from JSON: `vifo cues instances` task lists (built into an
 /// instance set), tasks and suites.
-fn task_json_run(bytes: &[u8]) {
-    if let Ok(tasks) = serde_json::from_slice::<Vec<TaskDescription>>(bytes) {
-        let _ = InstanceSet::build(&tasks);
-    }
-    let _ = serde_json::from_slice::<Task>(bytes);
-    let _ = serde_json::from_slice::<vifo_scenes::Suite>(bytes);
+fn task_json_run(bytes: &[u8]) -> bool {
+    let list = serde_json::from_slice::<Vec<TaskDescription>>(bytes).is_ok_and(|tasks| InstanceSet::build(&tasks).is_ok());
+    let task = serde_json::from_slice::<Task>(bytes).is_ok();
+    let suite = serde_json::from_slice::<vifo_scenes::Suite>(bytes).is_ok();
+    list || task || suite
 }
 
 const CUE_KEYS: &[&str] = &[
@@ -402,13 +407,13 @@ fn instances_generate(rng: &mut dyn Rng) -> Vec<u8> {
     json!({"instances": [json_value(rng, 5, CUE_KEYS), json_value(rng, 5, CUE_KEYS)]}).to_string().into_bytes()
 }
 
-fn instances_run(bytes: &[u8]) {
-    if let Ok(set) = serde_json::from_slice::<InstanceSet>(bytes) {
-        for spec in &set.instances {
-            let _ = spec.id();
-        }
-        let _ = set.composition();
+fn instances_run(bytes: &[u8]) -> bool {
+    let Ok(set) = serde_json::from_slice::<InstanceSet>(bytes) else { return false };
+    for spec in &set.instances {
+        let _ = spec.id();
     }
+    let _ = set.composition();
+    true
 }
 
 // ---------------------------------------------------------------- cue instruction text
@@ -434,8 +439,8 @@ fn text_generate(rng: &mut dyn Rng) -> Vec<u8> {
     out
 }
 
-fn text_run(bytes: &[u8]) {
-    let _ = vifo_cues::parse(&text(bytes));
+fn text_run(bytes: &[u8]) -> bool {
+    vifo_cues::parse(&text(bytes)).is_ok()
 }
 
 // ---------------------------------------------------------------- msgpack / openpi replies
@@ -494,9 +499,9 @@ fn msgpack_generate(rng: &mut dyn Rng) -> Vec<u8> {
 }
 
 /// A reply as the openpi client reads it, and the same bytes as a metadata message.
-fn msgpack_run(bytes: &[u8]) {
-    let _ = parse_reply(bytes);
+fn msgpack_run(bytes: &[u8]) -> bool {
     let _ = rmpv::decode::read_value(&mut &bytes[..]);
+    parse_reply(bytes).is_ok()
 }
 
 // ---------------------------------------------------------------- results files
@@ -510,6 +515,7 @@ fn results_seeds() -> Vec<Vec<u8>> {
     let specs = vifo_protocols::benchmark::specs::specs(&vifo_protocols::benchmark::specs::Selection::quick()).expect("quick selection");
     let record = |i: usize, spec: &vifo_protocols::EpisodeSpec| EpisodeRecord {
         version: RESULTS_VERSION,
+        set: vifo_cues::SetName::Full,
         spec: spec.clone(),
         policy: "zero".into(),
         outcome: if i % 5 == 4 {
@@ -533,10 +539,10 @@ fn results_generate(rng: &mut dyn Rng) -> Vec<u8> {
     out
 }
 
-fn results_run(bytes: &[u8]) {
-    if let Ok(loaded) = parse_records(bytes, Path::new("fuzz_case.jsonl")) {
-        let _ = final_records(loaded.records);
-    }
+fn results_run(bytes: &[u8]) -> bool {
+    let Ok(loaded) = parse_records(bytes, Path::new("fuzz_case.jsonl")) else { return false };
+    let _ = final_records(loaded.records);
+    true
 }
 
 // ---------------------------------------------------------------- VQA replies
@@ -572,11 +578,11 @@ const OPTIONS: [&str; 4] = ["the red bowl", "the plate", "A", "put the bowl on t
 
 /// The body as the client reads it, then the answer as the scorer extracts it (and the body
 /// itself as a raw answer, since the extractor sees whatever the model wrote).
-fn vqa_run(bytes: &[u8]) {
+fn vqa_run(bytes: &[u8]) -> bool {
     let options: Vec<String> = OPTIONS.iter().map(|s| s.to_string()).collect();
     let body = text(bytes);
-    if let Ok(answer) = chat_answer(&body) {
-        let _ = extract(&answer, &options);
-    }
     let _ = extract(&body, &options);
+    let Ok(answer) = chat_answer(&body) else { return false };
+    let _ = extract(&answer, &options);
+    true
 }

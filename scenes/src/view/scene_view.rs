@@ -1,7 +1,9 @@
 //! [`SceneView`]: a task's render scene, built once per [`SceneModel`] and posed per frame.
 
-use vifo_render::glam::{Mat3, Vec3};
-use vifo_render::{Frame, Instance, Material, RenderError, Renderer, Scene, Transform};
+use vifo_render::glam::{Mat3, Vec2, Vec3};
+use std::sync::Arc;
+
+use vifo_render::{Frame, Instance, Material, Mesh, RenderError, Renderer, Scene, Texture, Transform};
 use vifo_render::{Background, Camera, Headlight, Light};
 use vifo_robots::model::Shape;
 use vifo_robots::spatial::Pose;
@@ -11,6 +13,7 @@ use super::cameras::ImageOrder;
 use super::material::textured;
 use super::meshes::MeshCache;
 use crate::catalog::{Recipe, SiteShape};
+use crate::look::Look;
 use crate::scene_class::SceneClass;
 use crate::sim::{SceneModel, Sim};
 use crate::task::{Atom, Predicate};
@@ -81,6 +84,12 @@ fn robot_material(rgba: [f32; 4]) -> Material {
     Material { rgba, specular: 0.5, shininess: 0.3, ..Material::default() }
 }
 
+/// LIBERO's `floorplane` material with its texture: specular and shininess 0, `texrepeat` 3 with
+/// `texuniform`, which MuJoCo draws as 9 repeats across the 6 m floor (the render crate's README).
+fn floor_material(texture: Arc<Texture>) -> Material {
+    Material { specular: 0.0, shininess: 0.0, texture: Some(texture), uv_scale: Vec2::splat(9.0), ..Material::default() }
+}
+
 fn recipe_of(shape: &Shape) -> Recipe {
     match *shape {
         Shape::Box { half } => Recipe::Box { half },
@@ -121,6 +130,10 @@ impl Builder {
 
     fn push(&mut self, recipe: &Recipe, material: Material, segment: u32, anchor: Anchor) {
         let mesh = self.meshes.get(recipe);
+        self.push_mesh(mesh, material, segment, anchor);
+    }
+
+    fn push_mesh(&mut self, mesh: Arc<Mesh>, material: Material, segment: u32, anchor: Anchor) {
         self.instances.push(Instance { mesh, material, transform: Transform::IDENTITY, segment });
         self.anchors.push(anchor);
     }
@@ -131,15 +144,30 @@ impl SceneView {
     /// body shapes, the arena, the scene class's lights and MuJoCo's headlight. Transforms are
     /// placeholders until [`SceneView::update`].
     pub fn new(model: &SceneModel) -> SceneView {
+        SceneView::with_look(model, None)
+    }
+
+    /// Like [`SceneView::new`], drawing each object and fixture whose category `look` has from
+    /// LIBERO's meshes and materials (the others keep the built-in look).
+    pub fn with_look(model: &SceneModel, look: Option<&Look>) -> SceneView {
         let mut b = Builder { meshes: MeshCache::default(), instances: Vec::new(), anchors: Vec::new(), legend: Vec::new() };
         let mut indicators = Vec::new();
         for (entity, e) in model.entities.iter().enumerate() {
             let kind = if e.movable() { SegmentKind::Object } else { SegmentKind::Fixture };
             let segment = b.segment(e.name.clone(), kind);
-            for part in &e.model.visuals {
-                let local = Pose::from_wxyz(part.pos, part.quat_wxyz);
-                let anchor = Anchor::Entity { entity, body: part.body, local, scale: part.scale };
-                b.push(&part.recipe, object_material(part.rgba), segment, anchor);
+            if let Some(parts) = look.and_then(|l| l.parts(&e.model.category)) {
+                for part in parts {
+                    // Fact bodies are catalog bodies (tested); a part on an unknown body is skipped.
+                    let Some(body) = e.model.bodies.iter().position(|b| b.name == part.body) else { continue };
+                    let anchor = Anchor::Entity { entity, body, local: Pose::from_wxyz(part.pos, part.quat_wxyz), scale: part.scale };
+                    b.push_mesh(part.mesh.clone(), part.material.clone(), segment, anchor);
+                }
+            } else {
+                for part in &e.model.visuals {
+                    let local = Pose::from_wxyz(part.pos, part.quat_wxyz);
+                    let anchor = Anchor::Entity { entity, body: part.body, local, scale: part.scale };
+                    b.push(&part.recipe, object_material(part.rgba), segment, anchor);
+                }
             }
             // Sites LIBERO draws only in a state: the stove's burner glows red while it is on.
             for site in e.model.sites.iter().filter(|s| s.name == "burner" && s.rgba[3] > 0.0) {
@@ -155,10 +183,18 @@ impl SceneView {
             }
         }
         for (body, spec) in model.robot.arm().model().bodies.iter().enumerate() {
-            if spec.visuals.is_empty() {
+            let parts = look.and_then(|l| l.robot_parts(spec.name));
+            if spec.visuals.is_empty() && parts.is_none() {
                 continue;
             }
             let segment = b.segment(format!("robot0_{}", spec.name), SegmentKind::RobotLink);
+            if let Some(parts) = parts {
+                for part in parts {
+                    let anchor = Anchor::Robot { body, local: Pose::from_wxyz(part.pos, part.quat_wxyz), scale: part.scale };
+                    b.push_mesh(part.mesh.clone(), part.material.clone(), segment, anchor);
+                }
+                continue;
+            }
             for v in &spec.visuals {
                 b.push(&recipe_of(&v.shape), robot_material(v.rgba), segment, Anchor::Robot { body, local: v.local, scale: [1.0; 3] });
             }
@@ -179,7 +215,11 @@ impl SceneView {
                     id
                 }
             };
-            b.instances.push(Instance { mesh: part.mesh, material: part.material, transform: part.transform, segment });
+            let material = match look.and_then(|l| l.floor_texture(class.floor.texture)) {
+                Some(texture) if part.piece == ArenaPiece::Floor => floor_material(texture.clone()),
+                _ => part.material,
+            };
+            b.instances.push(Instance { mesh: part.mesh, material, transform: part.transform, segment });
             b.anchors.push(Anchor::Static);
         }
         let scene = Scene {
@@ -283,7 +323,6 @@ impl SceneView {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::sync::Arc;
 
     fn view_of(suite: &str, index: usize) -> (Sim, SceneView) {
         let model = SceneModel::build(crate::task(suite, index).unwrap()).unwrap();

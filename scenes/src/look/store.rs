@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use serde::Serialize;
 use sha1::{Digest, Sha1};
-use vifo_render::assets::{load_mesh, parse_texture_png};
+use vifo_render::assets::load_mesh;
 use vifo_render::imageio::decode_png_rgba;
 use vifo_render::glam::Vec2;
 use vifo_render::{Material, Mesh, Texture};
@@ -36,7 +36,34 @@ pub struct LoadedPart {
     /// The `<mesh scale>` (1 for primitives).
     pub scale: [f64; 3],
     pub mesh: Arc<Mesh>,
+    /// Coarser copies of `mesh` for far views: (world size of the merged cells, mesh), finest
+    /// first; empty for primitives and meshes that are already coarse.
+    pub lods: Lods,
     pub material: Material,
+}
+
+/// Coarser copies of a mesh, each with the world size (metres) of its merged cells.
+pub type Lods = Arc<[(f32, Arc<Mesh>)]>;
+
+/// World sizes of the merged cells of the coarser copies: at 256² a table-top object seen from
+/// agentview (about 1 m) is 3-4 mm per pixel; the wrist camera close by keeps the full mesh.
+const LOD_CELLS_M: [f32; 4] = [0.002, 0.004, 0.008, 0.016];
+
+/// A coarser copy is kept only if it has at most this fraction of the previous one's triangles.
+const LOD_KEEP: f32 = 0.75;
+
+/// The coarser copies of `mesh` drawn at `scale`.
+fn lods_of(mesh: &Mesh, scale: [f64; 3]) -> Lods {
+    let s = scale.iter().fold(0.0f64, |m, &x| m.max(x.abs())) as f32;
+    let mut out: Vec<(f32, Arc<Mesh>)> = Vec::new();
+    let mut last = mesh.triangle_count();
+    for cell in LOD_CELLS_M {
+        if let Some(coarse) = mesh.clustered(cell / s).filter(|m| (m.triangle_count() as f32) <= LOD_KEEP * last as f32) {
+            last = coarse.triangle_count();
+            out.push((cell, Arc::new(coarse)));
+        }
+    }
+    out.into()
 }
 
 /// Whether a category is drawn from LIBERO's files.
@@ -93,6 +120,8 @@ pub struct Look {
 #[derive(Default)]
 struct Loaded {
     meshes: BTreeMap<PathBuf, Result<Arc<Mesh>, String>>,
+    /// Coarser copies by file and scale bits.
+    lods: BTreeMap<(PathBuf, [u64; 3]), Lods>,
     /// Texture and its mean colour (for cube textures and meshes without UVs).
     textures: BTreeMap<PathBuf, Result<(Arc<Texture>, [f32; 3]), String>>,
     /// (upstream path, blob hash) of every file read.
@@ -120,12 +149,35 @@ impl Loaded {
                 let name = at.path.display().to_string();
                 let bytes = std::fs::read(&at.path).map_err(|e| format!("{name}: cannot read: {e}"))?;
                 hashes.insert(rel, blob_sha1(&bytes));
-                let (_, _, rgba) = decode_png_rgba(&bytes, &name).map_err(|e| e.to_string())?;
-                let texture = parse_texture_png(&bytes, &name).map_err(|e| e.to_string())?;
-                Ok((Arc::new(texture), mean_rgb(&rgba)))
+                let (mut w, mut h, mut rgba) = decode_png_rgba(&bytes, &name).map_err(|e| e.to_string())?;
+                let mean = mean_rgb(&rgba);
+                while w.max(h) > MAX_TEXTURE_SIDE && w % 2 == 0 && h % 2 == 0 {
+                    (w, h, rgba) = halve(w, h, &rgba);
+                }
+                let texture = Texture::from_rgba8(w, h, &rgba).map_err(|e| format!("{name}: {e}"))?;
+                Ok((Arc::new(texture), mean))
             })
             .clone()
     }
+}
+
+/// Textures are kept at most this many texels on a side: at 256² no surface shows more texels
+/// than that, and LIBERO's 4096² scanned-object atlases would otherwise take 85 MB each.
+const MAX_TEXTURE_SIDE: u32 = 1024;
+
+/// The image at half size, each texel the mean of a 2 × 2 block (rounded to nearest).
+fn halve(w: u32, h: u32, rgba: &[u8]) -> (u32, u32, Vec<u8>) {
+    let (w2, h2) = (w / 2, h / 2);
+    let mut out = vec![0u8; (w2 * h2 * 4) as usize];
+    for y in 0..h2 as usize {
+        for x in 0..w2 as usize {
+            for c in 0..4 {
+                let at = |dx: usize, dy: usize| u32::from(rgba[((2 * y + dy) * w as usize + 2 * x + dx) * 4 + c]);
+                out[(y * w2 as usize + x) * 4 + c] = ((at(0, 0) + at(1, 0) + at(0, 1) + at(1, 1) + 2) / 4) as u8;
+            }
+        }
+    }
+    (w2, h2, out)
 }
 
 /// Mean colour of RGBA8 pixels, in `[0, 1]`.
@@ -311,12 +363,14 @@ fn load_part(
         }
         found.ok_or_else(|| format!("{rel}: not found in any asset folder"))
     };
-    let (mesh, scale) = match source(&fact.shape) {
+    let (mesh, scale, lods) = match source(&fact.shape) {
         Source::File(file, scale) => {
             let at = find(file)?;
-            (loaded.mesh(file, &at)?, scale)
+            let mesh = loaded.mesh(file, &at)?;
+            let lods = loaded.lods.entry((at.path.clone(), scale.map(f64::to_bits))).or_insert_with(|| lods_of(&mesh, scale)).clone();
+            (mesh, scale, lods)
         }
-        Source::Primitive(r) => (shapes.get(&r), [1.0; 3]),
+        Source::Primitive(r) => (shapes.get(&r), [1.0; 3], Lods::from([])),
     };
     let texture = match &fact.material.texture {
         Some(t) => {
@@ -326,5 +380,5 @@ fn load_part(
         None => None,
     };
     let material = material(&fact.material, texture, &mesh);
-    Ok(LoadedPart { body: fact.body, pos: fact.pos, quat_wxyz: fact.quat, scale, mesh, material })
+    Ok(LoadedPart { body: fact.body, pos: fact.pos, quat_wxyz: fact.quat, scale, mesh, lods, material })
 }

@@ -13,7 +13,7 @@ use super::cameras::ImageOrder;
 use super::material::textured;
 use super::meshes::MeshCache;
 use crate::catalog::{Recipe, SiteShape};
-use crate::look::Look;
+use crate::look::{Lods, Look};
 use crate::scene_class::SceneClass;
 use crate::sim::{SceneModel, Sim};
 use crate::task::{Atom, Predicate};
@@ -68,10 +68,16 @@ pub struct SceneView {
     scene: Scene,
     /// Anchor of each always-shown instance (`scene.instances[..anchors.len()]`).
     anchors: Vec<Anchor>,
+    /// Coarser meshes of each always-shown instance; empty when no instance has any (the
+    /// built-in look), so those scenes are drawn as they are.
+    lods: Vec<Lods>,
     indicators: Vec<Indicator>,
     legend: Vec<Segment>,
     class: &'static SceneClass,
 }
+
+/// Largest merged-cell size of a coarser mesh, in pixels at the instance's depth.
+const LOD_PIXELS: f32 = 1.0;
 
 /// Objects and fixtures: LIBERO's assets are textured with MuJoCo's default material.
 fn object_material(rgba: [f32; 4]) -> Material {
@@ -118,6 +124,7 @@ struct Builder {
     meshes: MeshCache,
     instances: Vec<Instance>,
     anchors: Vec<Anchor>,
+    lods: Vec<Lods>,
     legend: Vec<Segment>,
 }
 
@@ -130,12 +137,13 @@ impl Builder {
 
     fn push(&mut self, recipe: &Recipe, material: Material, segment: u32, anchor: Anchor) {
         let mesh = self.meshes.get(recipe);
-        self.push_mesh(mesh, material, segment, anchor);
+        self.push_mesh(mesh, Lods::from([]), material, segment, anchor);
     }
 
-    fn push_mesh(&mut self, mesh: Arc<Mesh>, material: Material, segment: u32, anchor: Anchor) {
+    fn push_mesh(&mut self, mesh: Arc<Mesh>, lods: Lods, material: Material, segment: u32, anchor: Anchor) {
         self.instances.push(Instance { mesh, material, transform: Transform::IDENTITY, segment });
         self.anchors.push(anchor);
+        self.lods.push(lods);
     }
 }
 
@@ -150,7 +158,7 @@ impl SceneView {
     /// Like [`SceneView::new`], drawing each object and fixture whose category `look` has from
     /// LIBERO's meshes and materials (the others keep the built-in look).
     pub fn with_look(model: &SceneModel, look: Option<&Look>) -> SceneView {
-        let mut b = Builder { meshes: MeshCache::default(), instances: Vec::new(), anchors: Vec::new(), legend: Vec::new() };
+        let mut b = Builder { meshes: MeshCache::default(), instances: Vec::new(), anchors: Vec::new(), lods: Vec::new(), legend: Vec::new() };
         let mut indicators = Vec::new();
         for (entity, e) in model.entities.iter().enumerate() {
             let kind = if e.movable() { SegmentKind::Object } else { SegmentKind::Fixture };
@@ -160,7 +168,7 @@ impl SceneView {
                     // Fact bodies are catalog bodies (tested); a part on an unknown body is skipped.
                     let Some(body) = e.model.bodies.iter().position(|b| b.name == part.body) else { continue };
                     let anchor = Anchor::Entity { entity, body, local: Pose::from_wxyz(part.pos, part.quat_wxyz), scale: part.scale };
-                    b.push_mesh(part.mesh.clone(), part.material.clone(), segment, anchor);
+                    b.push_mesh(part.mesh.clone(), part.lods.clone(), part.material.clone(), segment, anchor);
                 }
             } else {
                 for part in &e.model.visuals {
@@ -191,7 +199,7 @@ impl SceneView {
             if let Some(parts) = parts {
                 for part in parts {
                     let anchor = Anchor::Robot { body, local: Pose::from_wxyz(part.pos, part.quat_wxyz), scale: part.scale };
-                    b.push_mesh(part.mesh.clone(), part.material.clone(), segment, anchor);
+                    b.push_mesh(part.mesh.clone(), part.lods.clone(), part.material.clone(), segment, anchor);
                 }
                 continue;
             }
@@ -221,6 +229,7 @@ impl SceneView {
             };
             b.instances.push(Instance { mesh: part.mesh, material, transform: part.transform, segment });
             b.anchors.push(Anchor::Static);
+            b.lods.push(Lods::from([]));
         }
         let scene = Scene {
             instances: b.instances,
@@ -229,7 +238,8 @@ impl SceneView {
             // LIBERO's gradient skybox (rgb1 0.9 0.9 1, rgb2 0.2 0.3 0.4); walls hide most of it.
             background: Background::Gradient { up: [0.9, 0.9, 1.0], down: [0.2, 0.3, 0.4] },
         };
-        SceneView { scene, anchors: b.anchors, indicators, legend: b.legend, class }
+        let lods = if b.lods.iter().any(|l| !l.is_empty()) { b.lods } else { Vec::new() };
+        SceneView { scene, anchors: b.anchors, lods, indicators, legend: b.legend, class }
     }
 
     /// Poses every instance as `sim` has its bodies, and shows the indicators whose condition
@@ -307,16 +317,37 @@ impl SceneView {
 
     /// Renders the current scene with `camera`, rows in `order`.
     pub fn render(&self, renderer: &mut Renderer, camera: &Camera, order: ImageOrder) -> Result<Frame, RenderError> {
-        let mut frame = renderer.render(&self.scene, camera)?;
-        order.apply(&mut frame);
+        let mut frame = Frame::default();
+        self.render_into(renderer, camera, order, &mut frame)?;
         Ok(frame)
     }
 
     /// Like [`SceneView::render`], reusing `frame`'s memory.
     pub fn render_into(&self, renderer: &mut Renderer, camera: &Camera, order: ImageOrder, frame: &mut Frame) -> Result<(), RenderError> {
-        renderer.render_into(&self.scene, camera, frame)?;
+        match self.for_camera(camera) {
+            Some(scene) => renderer.render_into(&scene, camera, frame)?,
+            None => renderer.render_into(&self.scene, camera, frame)?,
+        }
         order.apply(frame);
         Ok(())
+    }
+
+    /// The scene with each instance's coarsest mesh whose merged cells are no larger than
+    /// [`LOD_PIXELS`] pixels at the instance's depth in `camera`; `None` when no instance has coarser meshes.
+    fn for_camera(&self, camera: &Camera) -> Option<Scene> {
+        if self.lods.is_empty() {
+            return None;
+        }
+        let metres_per_pixel_at_1m = 2.0 * libm::tanf(camera.fovy_deg.to_radians() / 2.0) / camera.height as f32;
+        let mut scene = self.scene.clone();
+        for (instance, lods) in scene.instances.iter_mut().zip(&self.lods) {
+            let centre = instance.transform.transform_point(instance.mesh.bounds().center);
+            let pixel = (centre - camera.position).dot(camera.forward()) * metres_per_pixel_at_1m;
+            if let Some((_, mesh)) = lods.iter().take_while(|(cell, _)| *cell <= LOD_PIXELS * pixel).last() {
+                instance.mesh = mesh.clone();
+            }
+        }
+        Some(scene)
     }
 }
 

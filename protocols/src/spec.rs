@@ -130,4 +130,8 @@ pub struct EpisodeRecord {
     pub outcome: Outcome,
     /// Wall-clock milliseconds (informational; never part of comparisons).
     pub wall_ms: f64,
+    /// The look the cameras drew with: empty (and absent from the file) for the built-in look,
+    /// `libero-assets:<hash>` with LIBERO's asset files.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub look: String,
 }

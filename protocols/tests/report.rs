@@ -24,6 +24,7 @@ fn record(policy: &str, protocol: Protocol, family: &str, n: usize, outcome: Out
         policy: policy.into(),
         outcome,
         wall_ms: 1.0,
+        look: String::new(),
     }
 }
 

@@ -41,6 +41,7 @@ fn episode(spec: &EpisodeSpec) -> EpisodeRecord {
             steps,
         },
         wall_ms: 0.0,
+        look: String::new(),
     }
 }
 
@@ -184,4 +185,17 @@ fn a_corrupt_middle_line_is_reported_with_its_position() {
     std::fs::write(&path, text).unwrap();
     let err = read_records(&path).unwrap_err().to_string();
     assert!(err.contains("results.jsonl:2:") && err.contains("episode record"), "{err}");
+}
+
+#[test]
+fn built_in_look_records_have_no_look_field_asset_looks_round_trip() {
+    let spec = specs(1).remove(0);
+    let plain = episode(&spec);
+    let line = serde_json::to_string(&plain).unwrap();
+    assert!(!line.contains("\"look\""), "{line}");
+    assert_eq!(serde_json::from_str::<EpisodeRecord>(&line).unwrap(), plain);
+    let looked = EpisodeRecord { look: "libero-assets:0123456789abcdef".into(), ..plain };
+    let line = serde_json::to_string(&looked).unwrap();
+    assert!(line.contains("\"look\":\"libero-assets:0123456789abcdef\""), "{line}");
+    assert_eq!(serde_json::from_str::<EpisodeRecord>(&line).unwrap(), looked);
 }

@@ -36,7 +36,7 @@ pub const REST_STEPS: usize = 5;
 /// become true later. Remote policies never hold still, so their episodes always run out.
 pub fn rollout(env: &mut Env, policy: &mut dyn Policy, spec: &EpisodeSpec, options: &RolloutOptions) -> EpisodeRecord {
     let outcome = run(env, policy, spec, options).unwrap_or_else(|message| Outcome::Error { message });
-    EpisodeRecord { spec: spec.clone(), policy: policy.name(), outcome, wall_ms: 0.0 }
+    EpisodeRecord { spec: spec.clone(), policy: policy.name(), outcome, wall_ms: 0.0, look: super::scenes::look_label() }
 }
 
 fn run(env: &mut Env, policy: &mut dyn Policy, spec: &EpisodeSpec, options: &RolloutOptions) -> Result<Outcome, String> {
@@ -87,6 +87,7 @@ where
                     policy: options.policy.clone(),
                     outcome: Outcome::Error { message: format!("policy {}: {message}", options.policy) },
                     wall_ms: 0.0,
+                    look: super::scenes::look_label(),
                 }
             })
         },

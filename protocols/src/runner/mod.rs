@@ -197,6 +197,8 @@ where
         policy: policy.to_string(),
         outcome: Outcome::Error { message },
         wall_ms,
+        // The runner does not know how the episode drew; error records are rerun on resume.
+        look: String::new(),
     };
     match result {
         Ok(record) if record.spec.key() == spec.key() => EpisodeRecord { wall_ms, ..record },

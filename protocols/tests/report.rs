@@ -144,3 +144,11 @@ fn files_are_written() {
         assert_eq!(std::fs::read(dir.join(name)).unwrap(), std::fs::read(again.join(name)).unwrap(), "{name}");
     }
 }
+
+#[test]
+fn looks_count_episodes_per_look_with_empty_as_built_in() {
+    let plain = record("pi", Protocol::Original, "F1", 0, Outcome::Error { message: String::new() });
+    let looked = EpisodeRecord { look: "libero-assets:0123".into(), ..plain.clone() };
+    let looks = report::looks(&[plain.clone(), plain, looked]);
+    assert_eq!(looks.into_iter().collect::<Vec<_>>(), vec![("built-in".to_string(), 2), ("libero-assets:0123".to_string(), 1)]);
+}

@@ -143,6 +143,10 @@ pub struct EpisodeRecord {
     /// Results files written before sets existed hold `full` episodes.
     #[serde(default = "full_set")]
     pub set: SetName,
+    /// The look the cameras drew with: empty (and absent from the file) for the built-in look,
+    /// `libero-assets:<hash>` with LIBERO's asset files.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub look: String,
 }
 
 fn full_set() -> SetName {

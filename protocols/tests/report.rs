@@ -26,6 +26,7 @@ fn record(policy: &str, protocol: Protocol, family: &str, n: usize, outcome: Out
         outcome,
         wall_ms: 1.0,
         set: SetName::Paper,
+        look: String::new(),
     }
 }
 
@@ -158,4 +159,12 @@ fn sets_are_reported_apart() {
     assert_eq!(names, ["oft [full]", "oft [paper]", "pi [paper]"]);
     assert_eq!((two.table1[0].orig_sr.correct, two.table1[0].orig_sr.total), (0, 1));
     assert_eq!((two.table1[1].orig_sr.correct, two.table1[1].orig_sr.total), (1, 1));
+}
+
+#[test]
+fn looks_count_episodes_per_look_with_empty_as_built_in() {
+    let plain = record("pi", Protocol::Original, "F1", 0, Outcome::Error { message: String::new() });
+    let looked = EpisodeRecord { look: "libero-assets:0123".into(), ..plain.clone() };
+    let looks = report::looks(&[plain.clone(), plain, looked]);
+    assert_eq!(looks.into_iter().collect::<Vec<_>>(), vec![("built-in".to_string(), 2), ("libero-assets:0123".to_string(), 1)]);
 }

@@ -44,6 +44,7 @@ fn episode(spec: &EpisodeSpec) -> EpisodeRecord {
         },
         wall_ms: 0.0,
         set: SetName::Paper,
+        look: String::new(),
     }
 }
 
@@ -265,4 +266,17 @@ fn records_carry_the_set_and_a_file_of_another_set_is_not_resumed() {
     line.as_object_mut().unwrap().remove("set");
     let old: EpisodeRecord = serde_json::from_value(line).unwrap();
     assert_eq!(old.set, SetName::Full);
+}
+
+#[test]
+fn built_in_look_records_have_no_look_field_asset_looks_round_trip() {
+    let spec = specs(1).remove(0);
+    let plain = episode(&spec);
+    let line = serde_json::to_string(&plain).unwrap();
+    assert!(!line.contains("\"look\""), "{line}");
+    assert_eq!(serde_json::from_str::<EpisodeRecord>(&line).unwrap(), plain);
+    let looked = EpisodeRecord { look: "libero-assets:0123456789abcdef".into(), ..plain };
+    let line = serde_json::to_string(&looked).unwrap();
+    assert!(line.contains("\"look\":\"libero-assets:0123456789abcdef\""), "{line}");
+    assert_eq!(serde_json::from_str::<EpisodeRecord>(&line).unwrap(), looked);
 }

@@ -27,6 +27,7 @@ mod num;
 mod raster;
 mod scene;
 mod shapes;
+mod simplify;
 mod texture;
 mod transform;
 

@@ -8,6 +8,7 @@
 //!   our physics), shipped in `init_states/<suite>.json`.
 //! - [`catalog`]: every object and fixture category the 40 tasks use (collision, mass, sites,
 //!   procedural looks).
+//! - [`look`]: LIBERO's own meshes and textures, found and loaded at run time when installed.
 //! - [`sim`]: tasks running in the physics world; [`view`]: rendering them with LIBERO's cameras.
 //!
 //! This crate is data and parsing only; it depends on no physics or robot code.
@@ -16,6 +17,7 @@ pub mod bddl;
 pub mod catalog;
 pub mod init_file;
 pub mod init_states;
+pub mod look;
 pub mod scene_class;
 pub mod sim;
 pub mod task;

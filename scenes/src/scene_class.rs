@@ -41,6 +41,8 @@ pub struct Floor {
     /// MuJoCo friction (sliding, torsional, rolling).
     pub friction: [f64; 3],
     pub rgb: [f64; 3],
+    /// LIBERO's floor texture (path under its `assets/`), whose mean colour `rgb` is.
+    pub texture: &'static str,
 }
 
 /// An axis-aligned box in world coordinates.
@@ -220,7 +222,7 @@ static TABLETOP: SceneClass = SceneClass {
     workspace_offset: [0.0, 0.0, 0.9],
     region_site_z: 0.895,
     fixture_z_offset: 0.01 - 0.05,
-    floor: Floor { friction: DEFAULT_FRICTION, rgb: LIGHT_GRAY_FLOOR_TILE },
+    floor: Floor { friction: DEFAULT_FRICTION, rgb: LIGHT_GRAY_FLOOR_TILE, texture: "textures/light-gray-floor-tile.png" },
     table: Some(plain_table([0.6, 0.005, 0.0001])),
     robot_base: Pose { pos: [-0.66, 0.0, 0.912], quat_wxyz: IDENTITY },
     robot_on_mount: true,
@@ -238,7 +240,7 @@ static FLOOR: SceneClass = SceneClass {
     workspace_offset: [0.0, 0.0, -0.035],
     region_site_z: 0.02,
     fixture_z_offset: -0.025,
-    floor: Floor { friction: DEFAULT_FRICTION, rgb: LIGHT_GRAY_FLOOR_TILE },
+    floor: Floor { friction: DEFAULT_FRICTION, rgb: LIGHT_GRAY_FLOOR_TILE, texture: "textures/light-gray-floor-tile.png" },
     table: None,
     robot_base: Pose { pos: [-0.6, 0.0, 0.0], quat_wxyz: IDENTITY },
     robot_on_mount: false,
@@ -257,7 +259,7 @@ static KITCHEN: SceneClass = SceneClass {
     // Sites go 0.90 below the workspace height in a table body at 0.875.
     region_site_z: 0.875,
     fixture_z_offset: 0.01 - 0.05,
-    floor: Floor { friction: DEFAULT_FRICTION, rgb: GRAY_CERAMIC_TILE },
+    floor: Floor { friction: DEFAULT_FRICTION, rgb: GRAY_CERAMIC_TILE, texture: "textures/gray_ceramic_tile.png" },
     table: Some(plain_table(DEFAULT_FRICTION)),
     robot_base: Pose { pos: [-0.66, 0.0, 0.912], quat_wxyz: IDENTITY },
     robot_on_mount: true,
@@ -275,7 +277,7 @@ static LIVING_ROOM: SceneClass = SceneClass {
     workspace_offset: [0.0, 0.0, 0.41],
     region_site_z: 0.41,
     fixture_z_offset: 0.01 - 0.024,
-    floor: Floor { friction: DEFAULT_FRICTION, rgb: WOOD_PLANK_FLOOR },
+    floor: Floor { friction: DEFAULT_FRICTION, rgb: WOOD_PLANK_FLOOR, texture: "textures/seamless_wood_planks_floor.png" },
     table: Some(Table { top: &LIVING_ROOM_TABLE_TOP, friction: ASSET_FRICTION, rgb: LIVING_ROOM_TABLE }),
     robot_base: Pose { pos: [-0.51, 0.0, 0.42], quat_wxyz: IDENTITY },
     robot_on_mount: false,
@@ -290,7 +292,7 @@ static STUDY: SceneClass = SceneClass {
     workspace_offset: [-0.2, 0.0, 0.867],
     region_site_z: 0.867,
     fixture_z_offset: 0.01 - 0.05,
-    floor: Floor { friction: DEFAULT_FRICTION, rgb: LIGHT_GRAY_FLOOR_TILE },
+    floor: Floor { friction: DEFAULT_FRICTION, rgb: LIGHT_GRAY_FLOOR_TILE, texture: "textures/light-gray-floor-tile.png" },
     table: Some(Table { top: &STUDY_DESK_TOP, friction: ASSET_FRICTION, rgb: STUDY_DESK }),
     robot_base: Pose { pos: [-0.75, 0.0, 0.912], quat_wxyz: IDENTITY },
     robot_on_mount: true,

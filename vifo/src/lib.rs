@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod expert;
+pub mod look;
 pub mod render;
 pub mod start;
 pub mod xval;

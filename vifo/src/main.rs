@@ -15,6 +15,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Where LIBERO's asset files were found and which parts are drawn from them.
+    Assets(cmd::assets::AssetsArgs),
     /// Measure speed (physics, render).
     Bench(cmd::bench::BenchArgs),
     /// Run the scripted expert on LIBERO tasks and print success rates.
@@ -40,6 +42,7 @@ enum Command {
 fn main() {
     let cli = Cli::parse();
     let result: anyhow::Result<()> = match cli.command {
+        Command::Assets(args) => cmd::assets::run(&args),
         Command::Bench(args) => cmd::bench::run(&args),
         Command::Expert(args) => cmd::expert::run(&args),
         Command::Xval(args) => cmd::xval::run(&args),

@@ -8,12 +8,14 @@
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use anyhow::{Context, Result, anyhow, bail};
 use vifo_render::imageio::{GifWriter, save_png};
 use vifo_render::{Frame, Renderer};
 use vifo_robots::action::Action;
 use vifo_expert::Expert;
+use vifo_scenes::look::Look;
 use vifo_scenes::sim::{SceneModel, Sim};
 use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
 
@@ -44,6 +46,8 @@ pub struct RenderRequest {
     pub steps: usize,
     /// Drive the rollout with the scripted expert instead of the hold action.
     pub expert: bool,
+    /// LIBERO's look, or `None` for the built-in one.
+    pub look: Option<Arc<Look>>,
 }
 
 impl RenderRequest {
@@ -63,6 +67,7 @@ impl RenderRequest {
             frames: None,
             steps: 0,
             expert: false,
+            look: None,
         }
     }
 }
@@ -88,7 +93,7 @@ pub fn run(request: &RenderRequest) -> Result<usize> {
         bail!("nothing to write: give -o FILE.png, --gif FILE.gif or --frames DIR");
     }
     let mut sim = episode(request)?;
-    let mut view = SceneView::new(sim.model());
+    let mut view = SceneView::with_look(sim.model(), request.look.as_deref());
     let mut renderer = Renderer::default();
     let cameras = Cameras::new(request.size, request.size);
     let mut frame = Frame::default();

@@ -39,7 +39,15 @@ pub const REST_STEPS: usize = 5;
 pub fn rollout(env: &mut Env, policy: &mut dyn Policy, spec: &EpisodeSpec, options: &RolloutOptions) -> EpisodeRecord {
     let outcome = run(env, policy, spec, options).unwrap_or_else(|message| Outcome::Error { message });
     // The set is not the episode's business; the runner writes the run's into every record.
-    EpisodeRecord { version: RESULTS_VERSION, spec: spec.clone(), policy: policy.name(), outcome, wall_ms: 0.0, set: SetName::Paper }
+    EpisodeRecord {
+        version: RESULTS_VERSION,
+        spec: spec.clone(),
+        policy: policy.name(),
+        outcome,
+        wall_ms: 0.0,
+        set: SetName::Paper,
+        look: super::scenes::look_label(),
+    }
 }
 
 fn run(env: &mut Env, policy: &mut dyn Policy, spec: &EpisodeSpec, options: &RolloutOptions) -> Result<Outcome, String> {
@@ -92,6 +100,7 @@ where
                     outcome: Outcome::Error { message: format!("policy {}: {message}", options.policy) },
                     wall_ms: 0.0,
                     set: options.set,
+                    look: super::scenes::look_label(),
                 }
             })
         },

@@ -3,10 +3,11 @@
 //! the shipped initial states.
 
 use std::collections::BTreeMap;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use vifo_scenes::Task;
 use vifo_scenes::init_states::{self, EpisodeStart};
+use vifo_scenes::look::Look;
 use vifo_scenes::sim::SceneModel;
 use vifo_scenes::view::SceneView;
 
@@ -32,8 +33,34 @@ pub fn assets(task: &'static Task) -> Result<&'static SceneAssets, EnvError> {
     }
     let model = SceneModel::build(task).map_err(|e| EnvError::Scene(e.to_string()))?;
     let starts = init_states::fixed(task).map_err(|e| EnvError::Scene(e.to_string()))?;
-    let view = SceneView::new(&model);
+    let view = SceneView::with_look(&model, look());
     let assets: &'static SceneAssets = Box::leak(Box::new(SceneAssets { model, view, starts }));
     built.insert(task.name.clone(), assets);
     Ok(assets)
+}
+
+/// The look of every scene this process builds: set once, before the first episode.
+static LOOK: OnceLock<Option<Arc<Look>>> = OnceLock::new();
+
+/// Draws every scene of this process with `look` (`None`: the built-in look). Must come before
+/// the first scene is built; asking again for the same look is fine, for another one an error.
+pub fn use_look(look: Option<Arc<Look>>) -> Result<(), EnvError> {
+    let wanted = look.as_deref().map(Look::label);
+    let set = LOOK.get_or_init(|| look);
+    let current = set.as_deref().map(Look::label);
+    if current == wanted {
+        Ok(())
+    } else {
+        Err(EnvError::Scene(format!("this process already draws with look {}", current.unwrap_or_else(|| "built-in".into()))))
+    }
+}
+
+fn look() -> Option<&'static Look> {
+    LOOK.get_or_init(|| None).as_deref()
+}
+
+/// What records store as the look: empty for the built-in look (so its records are byte for
+/// byte what they were before looks existed), else `libero-assets:<hash>`.
+pub fn look_label() -> String {
+    look().map_or_else(String::new, Look::label)
 }

@@ -122,6 +122,17 @@ pub fn family_of(instance_id: &str) -> Option<Family> {
     instance_id.split('/').find_map(|part| Family::ALL.into_iter().find(|f| f.to_string() == part))
 }
 
+/// Episodes per look (`built-in`, or `libero-assets:<hash>`): rows of different looks are not
+/// comparable, so a report over more than one says so.
+pub fn looks(records: &[EpisodeRecord]) -> BTreeMap<String, usize> {
+    let mut out = BTreeMap::new();
+    for r in records {
+        let look = if r.look.is_empty() { "built-in" } else { r.look.as_str() };
+        *out.entry(look.to_string()).or_insert(0) += 1;
+    }
+    out
+}
+
 /// Builds both tables. `records` may mix policies, instance sets and repeated episodes; `vqa`
 /// maps a policy name to its VQA scores (a policy may have only one of the two). Each row holds
 /// one policy's episodes of one set (see [`Report::sets`]).

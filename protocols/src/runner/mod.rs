@@ -225,6 +225,8 @@ where
         outcome: Outcome::Error { message },
         wall_ms,
         set: SetName::Full,
+        // The runner does not know how the episode drew; error records are rerun on resume.
+        look: String::new(),
     };
     match result {
         Ok(record) if record.spec.key() == spec.key() => EpisodeRecord { wall_ms, ..record },

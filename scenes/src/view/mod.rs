@@ -11,7 +11,7 @@
 
 mod arena;
 mod cameras;
-mod material;
+pub(crate) mod material;
 mod meshes;
 mod scene_view;
 

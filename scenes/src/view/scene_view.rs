@@ -1,7 +1,9 @@
 //! [`SceneView`]: a task's render scene, built once per [`SceneModel`] and posed per frame.
 
-use vifo_render::glam::{Mat3, Vec3};
-use vifo_render::{Frame, Instance, Material, RenderError, Renderer, Scene, Transform};
+use vifo_render::glam::{Mat3, Vec2, Vec3};
+use std::sync::Arc;
+
+use vifo_render::{Frame, Instance, Material, Mesh, RenderError, Renderer, Scene, Texture, Transform};
 use vifo_render::{Background, Camera, Headlight, Light};
 use vifo_robots::model::Shape;
 use vifo_robots::spatial::Pose;
@@ -11,6 +13,7 @@ use super::cameras::ImageOrder;
 use super::material::textured;
 use super::meshes::MeshCache;
 use crate::catalog::{Recipe, SiteShape};
+use crate::look::{Lods, Look};
 use crate::scene_class::SceneClass;
 use crate::sim::{SceneModel, Sim};
 use crate::task::{Atom, Predicate};
@@ -65,10 +68,16 @@ pub struct SceneView {
     scene: Scene,
     /// Anchor of each always-shown instance (`scene.instances[..anchors.len()]`).
     anchors: Vec<Anchor>,
+    /// Coarser meshes of each always-shown instance; empty when no instance has any (the
+    /// built-in look), so those scenes are drawn as they are.
+    lods: Vec<Lods>,
     indicators: Vec<Indicator>,
     legend: Vec<Segment>,
     class: &'static SceneClass,
 }
+
+/// Largest merged-cell size of a coarser mesh, in pixels at the instance's depth.
+const LOD_PIXELS: f32 = 1.0;
 
 /// Objects and fixtures: LIBERO's assets are textured with MuJoCo's default material.
 fn object_material(rgba: [f32; 4]) -> Material {
@@ -79,6 +88,12 @@ fn object_material(rgba: [f32; 4]) -> Material {
 /// Surface finish of the robot (robosuite's Panda materials are glossy).
 fn robot_material(rgba: [f32; 4]) -> Material {
     Material { rgba, specular: 0.5, shininess: 0.3, ..Material::default() }
+}
+
+/// LIBERO's `floorplane` material with its texture: specular and shininess 0, `texrepeat` 3 with
+/// `texuniform`, which MuJoCo draws as 9 repeats across the 6 m floor (the render crate's README).
+fn floor_material(texture: Arc<Texture>) -> Material {
+    Material { specular: 0.0, shininess: 0.0, texture: Some(texture), uv_scale: Vec2::splat(9.0), ..Material::default() }
 }
 
 fn recipe_of(shape: &Shape) -> Recipe {
@@ -109,6 +124,7 @@ struct Builder {
     meshes: MeshCache,
     instances: Vec<Instance>,
     anchors: Vec<Anchor>,
+    lods: Vec<Lods>,
     legend: Vec<Segment>,
 }
 
@@ -121,8 +137,13 @@ impl Builder {
 
     fn push(&mut self, recipe: &Recipe, material: Material, segment: u32, anchor: Anchor) {
         let mesh = self.meshes.get(recipe);
+        self.push_mesh(mesh, Lods::from([]), material, segment, anchor);
+    }
+
+    fn push_mesh(&mut self, mesh: Arc<Mesh>, lods: Lods, material: Material, segment: u32, anchor: Anchor) {
         self.instances.push(Instance { mesh, material, transform: Transform::IDENTITY, segment });
         self.anchors.push(anchor);
+        self.lods.push(lods);
     }
 }
 
@@ -131,15 +152,30 @@ impl SceneView {
     /// body shapes, the arena, the scene class's lights and MuJoCo's headlight. Transforms are
     /// placeholders until [`SceneView::update`].
     pub fn new(model: &SceneModel) -> SceneView {
-        let mut b = Builder { meshes: MeshCache::default(), instances: Vec::new(), anchors: Vec::new(), legend: Vec::new() };
+        SceneView::with_look(model, None)
+    }
+
+    /// Like [`SceneView::new`], drawing each object and fixture whose category `look` has from
+    /// LIBERO's meshes and materials (the others keep the built-in look).
+    pub fn with_look(model: &SceneModel, look: Option<&Look>) -> SceneView {
+        let mut b = Builder { meshes: MeshCache::default(), instances: Vec::new(), anchors: Vec::new(), lods: Vec::new(), legend: Vec::new() };
         let mut indicators = Vec::new();
         for (entity, e) in model.entities.iter().enumerate() {
             let kind = if e.movable() { SegmentKind::Object } else { SegmentKind::Fixture };
             let segment = b.segment(e.name.clone(), kind);
-            for part in &e.model.visuals {
-                let local = Pose::from_wxyz(part.pos, part.quat_wxyz);
-                let anchor = Anchor::Entity { entity, body: part.body, local, scale: part.scale };
-                b.push(&part.recipe, object_material(part.rgba), segment, anchor);
+            if let Some(parts) = look.and_then(|l| l.parts(&e.model.category)) {
+                for part in parts {
+                    // Fact bodies are catalog bodies (tested); a part on an unknown body is skipped.
+                    let Some(body) = e.model.bodies.iter().position(|b| b.name == part.body) else { continue };
+                    let anchor = Anchor::Entity { entity, body, local: Pose::from_wxyz(part.pos, part.quat_wxyz), scale: part.scale };
+                    b.push_mesh(part.mesh.clone(), part.lods.clone(), part.material.clone(), segment, anchor);
+                }
+            } else {
+                for part in &e.model.visuals {
+                    let local = Pose::from_wxyz(part.pos, part.quat_wxyz);
+                    let anchor = Anchor::Entity { entity, body: part.body, local, scale: part.scale };
+                    b.push(&part.recipe, object_material(part.rgba), segment, anchor);
+                }
             }
             // Sites LIBERO draws only in a state: the stove's burner glows red while it is on.
             for site in e.model.sites.iter().filter(|s| s.name == "burner" && s.rgba[3] > 0.0) {
@@ -155,10 +191,18 @@ impl SceneView {
             }
         }
         for (body, spec) in model.robot.arm().model().bodies.iter().enumerate() {
-            if spec.visuals.is_empty() {
+            let parts = look.and_then(|l| l.robot_parts(spec.name));
+            if spec.visuals.is_empty() && parts.is_none() {
                 continue;
             }
             let segment = b.segment(format!("robot0_{}", spec.name), SegmentKind::RobotLink);
+            if let Some(parts) = parts {
+                for part in parts {
+                    let anchor = Anchor::Robot { body, local: Pose::from_wxyz(part.pos, part.quat_wxyz), scale: part.scale };
+                    b.push_mesh(part.mesh.clone(), part.lods.clone(), part.material.clone(), segment, anchor);
+                }
+                continue;
+            }
             for v in &spec.visuals {
                 b.push(&recipe_of(&v.shape), robot_material(v.rgba), segment, Anchor::Robot { body, local: v.local, scale: [1.0; 3] });
             }
@@ -179,8 +223,13 @@ impl SceneView {
                     id
                 }
             };
-            b.instances.push(Instance { mesh: part.mesh, material: part.material, transform: part.transform, segment });
+            let material = match look.and_then(|l| l.floor_texture(class.floor.texture)) {
+                Some(texture) if part.piece == ArenaPiece::Floor => floor_material(texture.clone()),
+                _ => part.material,
+            };
+            b.instances.push(Instance { mesh: part.mesh, material, transform: part.transform, segment });
             b.anchors.push(Anchor::Static);
+            b.lods.push(Lods::from([]));
         }
         let scene = Scene {
             instances: b.instances,
@@ -189,7 +238,8 @@ impl SceneView {
             // LIBERO's gradient skybox (rgb1 0.9 0.9 1, rgb2 0.2 0.3 0.4); walls hide most of it.
             background: Background::Gradient { up: [0.9, 0.9, 1.0], down: [0.2, 0.3, 0.4] },
         };
-        SceneView { scene, anchors: b.anchors, indicators, legend: b.legend, class }
+        let lods = if b.lods.iter().any(|l| !l.is_empty()) { b.lods } else { Vec::new() };
+        SceneView { scene, anchors: b.anchors, lods, indicators, legend: b.legend, class }
     }
 
     /// Poses every instance as `sim` has its bodies, and shows the indicators whose condition
@@ -267,23 +317,43 @@ impl SceneView {
 
     /// Renders the current scene with `camera`, rows in `order`.
     pub fn render(&self, renderer: &mut Renderer, camera: &Camera, order: ImageOrder) -> Result<Frame, RenderError> {
-        let mut frame = renderer.render(&self.scene, camera)?;
-        order.apply(&mut frame);
+        let mut frame = Frame::default();
+        self.render_into(renderer, camera, order, &mut frame)?;
         Ok(frame)
     }
 
     /// Like [`SceneView::render`], reusing `frame`'s memory.
     pub fn render_into(&self, renderer: &mut Renderer, camera: &Camera, order: ImageOrder, frame: &mut Frame) -> Result<(), RenderError> {
-        renderer.render_into(&self.scene, camera, frame)?;
+        match self.for_camera(camera) {
+            Some(scene) => renderer.render_into(&scene, camera, frame)?,
+            None => renderer.render_into(&self.scene, camera, frame)?,
+        }
         order.apply(frame);
         Ok(())
+    }
+
+    /// The scene with each instance's coarsest mesh whose merged cells are no larger than
+    /// [`LOD_PIXELS`] pixels at the instance's depth in `camera`; `None` when no instance has coarser meshes.
+    fn for_camera(&self, camera: &Camera) -> Option<Scene> {
+        if self.lods.is_empty() {
+            return None;
+        }
+        let metres_per_pixel_at_1m = 2.0 * libm::tanf(camera.fovy_deg.to_radians() / 2.0) / camera.height as f32;
+        let mut scene = self.scene.clone();
+        for (instance, lods) in scene.instances.iter_mut().zip(&self.lods) {
+            let centre = instance.transform.transform_point(instance.mesh.bounds().center);
+            let pixel = (centre - camera.position).dot(camera.forward()) * metres_per_pixel_at_1m;
+            if let Some((_, mesh)) = lods.iter().take_while(|(cell, _)| *cell <= LOD_PIXELS * pixel).last() {
+                instance.mesh = mesh.clone();
+            }
+        }
+        Some(scene)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::sync::Arc;
 
     fn view_of(suite: &str, index: usize) -> (Sim, SceneView) {
         let model = SceneModel::build(crate::task(suite, index).unwrap()).unwrap();

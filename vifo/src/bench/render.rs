@@ -10,7 +10,13 @@ use serde::Serialize;
 use vifo_render::{Frame, Renderer};
 use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
 
+use std::sync::Arc;
+
+use vifo_scenes::look::Look;
+use vifo_scenes::sim::SceneModel;
+
 use super::timing::{Clock, median_ms};
+use crate::look::label;
 use crate::start::InitSource;
 use crate::render::{RenderRequest, episode};
 
@@ -40,13 +46,18 @@ pub struct RenderBench {
     pub ms_per_step_two_cameras_256: f64,
     pub fps_agentview_256: f64,
     pub steps_per_second_two_cameras_256: f64,
+    /// `built-in` or `libero-assets:<hash>`.
+    pub look: String,
+    /// This process's peak resident memory (Linux `VmHWM`) after building the scenes of all 40
+    /// tasks with this look; `None` where the system does not report it.
+    pub peak_rss_mb_all_40_tasks: Option<f64>,
 }
 
 /// Runs the benchmark on initial state 0 from `source`.
-pub fn run(source: InitSource, batches: usize) -> Result<RenderBench> {
-    let request = RenderRequest { size: SIZE, ..RenderRequest::still(TASK, source) };
+pub fn run(source: InitSource, batches: usize, look: Option<Arc<Look>>) -> Result<RenderBench> {
+    let request = RenderRequest { size: SIZE, look, ..RenderRequest::still(TASK, source) };
     let sim = episode(&request)?;
-    let mut view = SceneView::new(sim.model());
+    let mut view = SceneView::with_look(sim.model(), request.look.as_deref());
     view.update(&sim);
     let cameras = Cameras::new(SIZE, SIZE);
     let mut renderer = Renderer::default();
@@ -70,7 +81,17 @@ pub fn run(source: InitSource, batches: usize) -> Result<RenderBench> {
         }
         Ok(())
     })?;
+    // Every task's scene alive at once, as a process evaluating all 40 tasks holds them.
+    let mut all = Vec::new();
+    for task in vifo_scenes::all_tasks() {
+        let model = SceneModel::build(task)?;
+        all.push(SceneView::with_look(&model, request.look.as_deref()));
+    }
+    let peak_rss_mb_all_40_tasks = peak_rss_mb();
+    drop(all);
     Ok(RenderBench {
+        look: label(request.look.as_deref()),
+        peak_rss_mb_all_40_tasks,
         task: TASK,
         size: SIZE,
         clock: if Clock::cpu_ns().is_some() { "thread CPU time" } else { "wall-clock time" },
@@ -85,4 +106,12 @@ pub fn run(source: InitSource, batches: usize) -> Result<RenderBench> {
         fps_agentview_256: 1e3 / ms_per_frame_agentview_256,
         steps_per_second_two_cameras_256: 1e3 / ms_per_step_two_cameras_256,
     })
+}
+
+/// Peak resident set size of this process in MB (Linux `/proc/self/status` `VmHWM`).
+fn peak_rss_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
 }

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::{Args, Subcommand};
 use vifo::bench;
+use vifo::look::LookArgs;
 use vifo::start::InitSource;
 
 #[derive(Args)]
@@ -33,6 +34,8 @@ pub enum BenchWhat {
         /// Timed batches of about 100 ms (the median is reported).
         #[arg(long, default_value_t = 9)]
         batches: usize,
+        #[command(flatten)]
+        look: LookArgs,
     },
     /// Cost of drawing a cue instance into a 256² frame, per family, on real frames.
     Cues {
@@ -58,9 +61,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 }
             }
         }
-        BenchWhat::Render { libero_init, batches } => {
+        BenchWhat::Render { libero_init, batches, look } => {
             let source = InitSource::from_libero_dir(libero_init.clone());
-            let r = bench::render::run(source, *batches)?;
+            let r = bench::render::run(source, *batches, look.look()?)?;
             if args.json {
                 println!("{}", serde_json::to_string_pretty(&r)?);
             } else {
@@ -70,6 +73,11 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 println!("robot0_eye_in_hand frame {:>8.4} ms", r.ms_per_frame_eye_in_hand_256);
                 println!("scene update             {:>8.4} ms", r.ms_per_update);
                 println!("control step, 2 cameras  {:>8.4} ms  ({:.0} steps/s)", r.ms_per_step_two_cameras_256, r.steps_per_second_two_cameras_256);
+                println!("look                     {}", r.look);
+                match r.peak_rss_mb_all_40_tasks {
+                    Some(mb) => println!("peak memory, all 40 tasks' scenes built: {mb:.0} MB"),
+                    None => println!("peak memory: not reported by this system"),
+                }
             }
         }
         BenchWhat::Cues { tasks, batches } => {

@@ -1,5 +1,6 @@
 //! Subcommands of `vifo`, one module each.
 
+pub mod assets;
 pub mod xval;
 pub mod report;
 pub mod vqa;

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::{Result, anyhow, bail};
 use clap::Args;
+use vifo::look::{LookArgs, label};
 use vifo::start::InitSource;
 use vifo::render::{self, RenderRequest};
 use vifo_protocols::scene_cues::{self, EpisodeCue, start::settled_start};
@@ -55,12 +56,15 @@ pub struct RenderArgs {
     /// Let the scripted expert drive the rollout (it solves the task) instead of holding still.
     #[arg(long)]
     pub expert: bool,
+    #[command(flatten)]
+    pub look: LookArgs,
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
     if let Some(id) = &args.cue {
         return render_cue(id, &args);
     }
+    let look = args.look.look()?;
     let request = RenderRequest {
         task: args.task.unwrap_or_default(),
         init: args.init,
@@ -74,9 +78,11 @@ pub fn run(args: RenderArgs) -> Result<()> {
         frames: args.frames,
         steps: args.steps,
         expert: args.expert,
+        look,
     };
     let frames = render::run(&request)?;
-    println!("rendered {frames} frame(s) of {} (init {}) with {}", request.task, request.init, request.camera);
+    let look = label(request.look.as_deref());
+    println!("rendered {frames} frame(s) of {} (init {}) with {}, look {look}", request.task, request.init, request.camera);
     Ok(())
 }
 
@@ -93,7 +99,8 @@ fn render_cue(id: &str, args: &RenderArgs) -> Result<()> {
     let task = scene_cues::task_of(spec)?;
     let model = SceneModel::build(task)?;
     let sim = settled_start(&model, args.init)?;
-    let mut view = SceneView::new(&model);
+    let look = args.look.look()?;
+    let mut view = SceneView::with_look(&model, look.as_deref());
     view.update(&sim);
     let mut renderer = Renderer::default();
     let camera = Cameras::new(args.size, args.size).get(args.camera, &sim);
@@ -101,7 +108,8 @@ fn render_cue(id: &str, args: &RenderArgs) -> Result<()> {
     let mut frame = view.render(&mut renderer, &camera, ImageOrder::Upright)?.color;
     let report = cue.apply(&sim, &mut renderer, &camera, &mut frame)?;
     save_png(&frame, output)?;
-    println!("{id} on {} (init {}) with {} -> {} ({})", spec.task, args.init, args.camera, output.display(), serde_json::to_string(&report)?);
+    let look = label(look.as_deref());
+    println!("{id} on {} (init {}) with {}, look {look} -> {} ({})", spec.task, args.init, args.camera, output.display(), serde_json::to_string(&report)?);
     if let Some(demo) = cue.demo().filter(|d| !d.success) {
         println!("note: the expert's demonstration failed ({}); the cue shows the states it reached", demo.failure.as_deref().unwrap_or("unknown"));
     }

@@ -20,6 +20,9 @@ pub struct Args {
     /// Folder for table1/table2 .md/.csv/.json and chart_*.png.
     #[arg(long, default_value = "report")]
     out: PathBuf,
+    /// Put episodes drawn with different looks (built-in, LIBERO's assets) in one table.
+    #[arg(long)]
+    mix_looks: bool,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -41,6 +44,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         vqa.insert(policy.to_string(), scores);
     }
     anyhow::ensure!(!records.is_empty() || !vqa.is_empty(), "nothing to report: give results files or --vqa scores");
+    let looks = report::looks(&records);
+    let listed = looks.iter().map(|(l, n)| format!("{l} ({n} episodes)")).collect::<Vec<_>>().join(", ");
+    anyhow::ensure!(
+        looks.len() <= 1 || args.mix_looks,
+        "the results mix looks: {listed}; their numbers are not comparable (report them separately, or pass --mix-looks)"
+    );
+    if !looks.is_empty() {
+        eprintln!("look: {listed}");
+    }
     let report = report::build(&records, &vqa);
     let markdown = report.write(&args.out).with_context(|| format!("writing {}", args.out.display()))?;
     print!("{markdown}");

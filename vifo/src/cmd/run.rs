@@ -22,6 +22,7 @@ use vifo_protocols::remote::RemotePolicy;
 use vifo_protocols::runner::{RunOptions, Shard, read_records};
 use vifo_protocols::spec::EpisodeSpec;
 use vifo_protocols::{Policy, Protocol, report};
+use vifo::look::LookArgs;
 use vifo_scenes::view::CameraName;
 
 mod estimate;
@@ -86,6 +87,8 @@ pub struct Args {
     /// hold the waits for a shared machine's cores). `--resume` later continues to the whole run.
     #[arg(long)]
     sample: Option<usize>,
+    #[command(flatten)]
+    look: LookArgs,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -110,6 +113,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     anyhow::ensure!((16..=4096).contains(&args.size), "--size must be between 16 and 4096 pixels");
+    // The look matters (and is recorded) only where cameras draw.
+    if args.render_always || policies.iter().any(|p| builtin(p).is_none_or(|b| b.uses_images())) {
+        vifo_protocols::env::scenes::use_look(args.look.look()?)?;
+    }
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(if quick { "vifo-run-quick" } else { "vifo-run" }));
     let all_specs = specs::specs(&selection)?;
     let specs = match args.sample {

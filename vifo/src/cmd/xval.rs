@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 use clap::Args;
 use vifo::xval::projection::{self, ModelFacts, ProjectionSummary};
+use vifo::look::{LookArgs, label};
 use vifo::xval::{self, Recording, images};
 
 #[derive(Args)]
@@ -14,10 +15,12 @@ pub struct XvalArgs {
     /// Print one JSON object instead of tables.
     #[arg(long)]
     pub json: bool,
-    /// Render records 0 and 50 with both cameras and write `ours | MuJoCo` PNGs into this folder
-    /// (prints PSNR and SSIM per image).
+    /// Render records 0 and 50 with both cameras and write `MuJoCo | ours | difference` PNGs
+    /// into this folder (prints PSNR and SSIM per image, and min/median/max per camera).
     #[arg(long, value_name = "OUT")]
     pub images: Option<PathBuf>,
+    #[command(flatten)]
+    pub look: LookArgs,
     /// Project every recorded object at records 0 and 50 with both cameras and compare with
     /// MuJoCo's projection from `model_facts.json`.
     #[arg(long)]
@@ -73,18 +76,29 @@ pub fn run(args: &XvalArgs) -> Result<()> {
 }
 
 fn run_images(args: &XvalArgs, out: &Path) -> Result<()> {
+    let look = args.look.look()?;
     let mut reports = Vec::new();
     for path in xval::recordings_in(&args.dir)? {
-        reports.extend(images::compare(&path, &Recording::load(&path)?, out)?);
+        reports.extend(images::compare(&path, &Recording::load(&path)?, out, look.as_deref())?);
     }
+    let summary = images::summarize(&reports);
+    let look = label(look.as_deref());
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "images": reports }))?);
+        println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "look": look, "images": reports, "cameras": summary }))?);
         return Ok(());
     }
-    println!("Our cameras against MuJoCo's images ({0}×{0}; side by side in {1})", images::IMAGE_SIZE, out.display());
+    println!("Our cameras against MuJoCo's images ({0}×{0}; MuJoCo | ours | difference ×4 in {1}); look {look}", images::IMAGE_SIZE, out.display());
     println!("{:<34} {:<20} {:>4} {:>9} {:>7}", "file", "camera", "t", "PSNR dB", "SSIM");
     for r in &reports {
         println!("{:<34} {:<20} {:>4} {:>9.2} {:>7.3}", r.file, r.camera, r.t, r.psnr_db, r.ssim);
+    }
+    println!();
+    println!("{:<20} {:>6} {:>24} {:>24}", "camera", "images", "PSNR dB min/median/max", "SSIM min/median/max");
+    for c in &summary {
+        println!(
+            "{:<20} {:>6} {:>8.2}/{:>7.2}/{:>7.2} {:>8.3}/{:>7.3}/{:>7.3}",
+            c.camera, c.images, c.psnr_db.min, c.psnr_db.median, c.psnr_db.max, c.ssim.min, c.ssim.median, c.ssim.max
+        );
     }
     Ok(())
 }

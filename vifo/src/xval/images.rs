@@ -13,7 +13,8 @@ use anyhow::{Context, Result, bail};
 use serde::Serialize;
 use vifo_render::imageio::{load_png, save_png, side_by_side};
 use vifo_render::metrics::{psnr, ssim};
-use vifo_render::Renderer;
+use vifo_render::{Renderer, RgbImage};
+use vifo_scenes::look::Look;
 use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
 
 use super::reference::Recording;
@@ -32,8 +33,68 @@ pub struct ImageReport {
     pub t: usize,
     pub psnr_db: f64,
     pub ssim: f64,
-    /// The side-by-side PNG written (ours | MuJoCo's).
+    /// The side-by-side PNG written (MuJoCo's | ours | difference).
     pub output: PathBuf,
+}
+
+/// Min, median and max of one metric over one camera's images.
+#[derive(Clone, Debug, Serialize)]
+pub struct Spread {
+    pub min: f64,
+    pub median: f64,
+    pub max: f64,
+}
+
+/// PSNR and SSIM spread of one camera.
+#[derive(Clone, Debug, Serialize)]
+pub struct CameraSummary {
+    pub camera: &'static str,
+    pub images: usize,
+    pub psnr_db: Spread,
+    pub ssim: Spread,
+}
+
+fn spread(mut values: Vec<f64>) -> Option<Spread> {
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    let median = match n {
+        0 => return None,
+        _ if n % 2 == 1 => values[n / 2],
+        _ => 0.5 * (values[n / 2 - 1] + values[n / 2]),
+    };
+    Some(Spread { min: values[0], median, max: values[n - 1] })
+}
+
+/// Per camera (in [`CameraName::ALL`] order), the spread of PSNR and SSIM over `reports`.
+pub fn summarize(reports: &[ImageReport]) -> Vec<CameraSummary> {
+    CameraName::ALL
+        .iter()
+        .filter_map(|c| {
+            let mine: Vec<&ImageReport> = reports.iter().filter(|r| r.camera == c.as_str()).collect();
+            Some(CameraSummary {
+                camera: c.as_str(),
+                images: mine.len(),
+                psnr_db: spread(mine.iter().map(|r| r.psnr_db).collect())?,
+                ssim: spread(mine.iter().map(|r| r.ssim).collect())?,
+            })
+        })
+        .collect()
+}
+
+/// Per-pixel absolute difference, times 4 (clamped) so small differences show.
+pub fn difference(a: &RgbImage, b: &RgbImage) -> RgbImage {
+    let mut out = RgbImage::new(a.width.min(b.width), a.height.min(b.height));
+    let w = out.width as usize;
+    for y in 0..out.height as usize {
+        for x in 0..w {
+            for c in 0..3 {
+                let pa = a.data[(y * a.width as usize + x) * 3 + c];
+                let pb = b.data[(y * b.width as usize + x) * 3 + c];
+                out.data[(y * w + x) * 3 + c] = (u32::from(pa.abs_diff(pb)) * 4).min(255) as u8;
+            }
+        }
+    }
+    out
 }
 
 /// The reference image of `camera` at record `t` next to the recording `path`.
@@ -42,9 +103,9 @@ pub fn reference_image(path: &Path, camera: CameraName, t: usize) -> PathBuf {
     path.with_file_name(format!("{stem}_{camera}_step{t:02}.png"))
 }
 
-/// Renders the recording at [`IMAGE_STEPS`] with both cameras, writes `ours | MuJoCo` PNGs into
-/// `out` and returns PSNR and SSIM per image.
-pub fn compare(path: &Path, rec: &Recording, out: &Path) -> Result<Vec<ImageReport>> {
+/// Renders the recording at [`IMAGE_STEPS`] with both cameras in `look` (`None`: built-in),
+/// writes `MuJoCo | ours | difference` PNGs into `out` and returns PSNR and SSIM per image.
+pub fn compare(path: &Path, rec: &Recording, out: &Path, look: Option<&Look>) -> Result<Vec<ImageReport>> {
     let last = IMAGE_STEPS[IMAGE_STEPS.len() - 1];
     if rec.steps.len() <= last {
         bail!("{}: {} records; the image check needs record {last}", path.display(), rec.steps.len());
@@ -52,7 +113,7 @@ pub fn compare(path: &Path, rec: &Recording, out: &Path) -> Result<Vec<ImageRepo
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let file = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let mut sim = start(rec)?;
-    let mut view = SceneView::new(sim.model());
+    let mut view = SceneView::with_look(sim.model(), look);
     let mut renderer = Renderer::default();
     let cameras = Cameras::new(IMAGE_SIZE, IMAGE_SIZE);
     let mut reports = Vec::new();
@@ -68,7 +129,7 @@ pub fn compare(path: &Path, rec: &Recording, out: &Path) -> Result<Vec<ImageRepo
             let ours = view.render(&mut renderer, &cameras.get(camera, &sim), ImageOrder::Upright)?.color;
             let theirs = load_png(reference_image(path, camera, t))?;
             let output = out.join(format!("{}_{camera}_step{t:02}.png", file.trim_end_matches(".json")));
-            save_png(&side_by_side(&ours, &theirs, 4), &output)?;
+            save_png(&side_by_side(&side_by_side(&theirs, &ours, 4), &difference(&ours, &theirs), 4), &output)?;
             reports.push(ImageReport { file: file.clone(), camera: camera.as_str(), t, psnr_db: psnr(&ours, &theirs)?, ssim: ssim(&ours, &theirs)?, output });
         }
     }

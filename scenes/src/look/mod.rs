@@ -1,0 +1,24 @@
+//! LIBERO's own look: its meshes and textures, found on this machine and loaded at run time.
+//!
+//! - [`discover`]: where the asset folders are (`--assets`, `VIFO_LIBERO_ASSETS`, Python
+//!   packages; robosuite for the robot).
+//! - [`AssetTree`]: one upstream file found by path, or by blob hash under another name.
+//! - [`Look`]: every catalog category's and Panda body's visual parts loaded once (meshes and
+//!   textures shared by `Arc`), with a report per category and body and a content hash; those
+//!   whose files are missing or broken keep the built-in procedural look.
+//!
+//! The visual facts (which mesh and material each part has, at which pose and scale) are written
+//! in `facts.rs`, generated from LIBERO's XMLs by `scenes/tools/gen_look_facts.py`.
+
+mod discover;
+mod facts;
+mod parts;
+mod store;
+mod tree;
+
+pub use discover::{BadFlag, ENV_VAR, Origin, PythonFound, Root, Roots, Sources, ask_python, discover, discover_from};
+pub use store::{BUILT_IN, CategoryReport, FileReport, LoadedPart, Lods, Look, PartKind, Status};
+pub use tree::{AssetTree, FoundBy, KNOWN_BLOBS, Located, blob_sha1};
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,384 @@
+//! [`Look`]: LIBERO's meshes and textures, loaded once per process and shared by `Arc`.
+//!
+//! A category is drawn from its asset files only when every one of its visual parts loads;
+//! otherwise it keeps the built-in procedural look and the problem is reported once, naming the
+//! file. One bad file never affects another category.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use serde::Serialize;
+use sha1::{Digest, Sha1};
+use vifo_render::assets::load_mesh;
+use vifo_render::imageio::decode_png_rgba;
+use vifo_render::glam::Vec2;
+use vifo_render::{Material, Mesh, Texture};
+
+use super::discover::Roots;
+use super::facts::{CATEGORIES, PANDA};
+use super::parts::{MaterialFact, PartFact, Shape};
+use super::tree::{AssetTree, Located, blob_sha1};
+use crate::catalog::{self, ObjectKind, Recipe};
+use crate::scene_class::scene_class;
+use crate::task::ProblemClass;
+use crate::view::MeshCache;
+use crate::view::material::textured;
+
+/// One visual part ready to draw: where it sits on its body, its mesh and its material.
+#[derive(Clone, Debug)]
+pub struct LoadedPart {
+    /// The body it moves with: a catalog body name (`main`, `cabinet_top`) or a robot body name
+    /// (`link3`, `leftfinger`).
+    pub body: &'static str,
+    pub pos: [f64; 3],
+    pub quat_wxyz: [f64; 4],
+    /// The `<mesh scale>` (1 for primitives).
+    pub scale: [f64; 3],
+    pub mesh: Arc<Mesh>,
+    /// Coarser copies of `mesh` for far views: (world size of the merged cells, mesh), finest
+    /// first; empty for primitives and meshes that are already coarse.
+    pub lods: Lods,
+    pub material: Material,
+}
+
+/// Coarser copies of a mesh, each with the world size (metres) of its merged cells.
+pub type Lods = Arc<[(f32, Arc<Mesh>)]>;
+
+/// World sizes of the merged cells of the coarser copies: at 256² a table-top object seen from
+/// agentview (about 1 m) is 3-4 mm per pixel; the wrist camera close by keeps the full mesh.
+const LOD_CELLS_M: [f32; 4] = [0.002, 0.004, 0.008, 0.016];
+
+/// A coarser copy is kept only if it has at most this fraction of the previous one's triangles.
+const LOD_KEEP: f32 = 0.75;
+
+/// The coarser copies of `mesh` drawn at `scale`.
+fn lods_of(mesh: &Mesh, scale: [f64; 3]) -> Lods {
+    let s = scale.iter().fold(0.0f64, |m, &x| m.max(x.abs())) as f32;
+    let mut out: Vec<(f32, Arc<Mesh>)> = Vec::new();
+    let mut last = mesh.triangle_count();
+    for cell in LOD_CELLS_M {
+        if let Some(coarse) = mesh.clustered(cell / s).filter(|m| (m.triangle_count() as f32) <= LOD_KEEP * last as f32) {
+            last = coarse.triangle_count();
+            out.push((cell, Arc::new(coarse)));
+        }
+    }
+    out.into()
+}
+
+/// Whether a category is drawn from LIBERO's files.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Status {
+    Assets,
+    BuiltIn,
+}
+
+/// A file a category needs and where it was found (`None`: not found).
+#[derive(Clone, Debug, Serialize)]
+pub struct FileReport {
+    pub file: &'static str,
+    pub found: Option<Located>,
+}
+
+/// What a report line is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PartKind {
+    Object,
+    Fixture,
+    /// One body of the robot.
+    Robot,
+    /// Floor, walls, table of a scene class.
+    Arena,
+}
+
+/// What `vifo assets` prints per category or robot body.
+#[derive(Clone, Debug, Serialize)]
+pub struct CategoryReport {
+    /// Catalog category, or `robot0_<body>`.
+    pub category: String,
+    pub kind: PartKind,
+    pub status: Status,
+    pub files: Vec<FileReport>,
+    /// Why the category falls back (the first file that failed and how).
+    pub problem: Option<String>,
+}
+
+/// LIBERO's look as found on this machine.
+pub struct Look {
+    roots: Roots,
+    hash: String,
+    parts: BTreeMap<&'static str, Vec<LoadedPart>>,
+    robot: BTreeMap<&'static str, Vec<LoadedPart>>,
+    /// Floor textures by upstream path.
+    floors: BTreeMap<&'static str, Arc<Texture>>,
+    report: Vec<CategoryReport>,
+}
+
+/// Meshes and textures by file, so a file shared by several parts is read once.
+#[derive(Default)]
+struct Loaded {
+    meshes: BTreeMap<PathBuf, Result<Arc<Mesh>, String>>,
+    /// Coarser copies by file and scale bits.
+    lods: BTreeMap<(PathBuf, [u64; 3]), Lods>,
+    /// Texture and its mean colour (for cube textures and meshes without UVs).
+    textures: BTreeMap<PathBuf, Result<(Arc<Texture>, [f32; 3]), String>>,
+    /// (upstream path, blob hash) of every file read.
+    hashes: BTreeMap<&'static str, String>,
+}
+
+impl Loaded {
+    fn mesh(&mut self, rel: &'static str, at: &Located) -> Result<Arc<Mesh>, String> {
+        let hashes = &mut self.hashes;
+        self.meshes
+            .entry(at.path.clone())
+            .or_insert_with(|| {
+                let bytes = std::fs::read(&at.path).map_err(|e| format!("{}: cannot read: {e}", at.path.display()))?;
+                hashes.insert(rel, blob_sha1(&bytes));
+                load_mesh(&at.path).map(Arc::new).map_err(|e| e.to_string())
+            })
+            .clone()
+    }
+
+    fn texture(&mut self, rel: &'static str, at: &Located) -> Result<(Arc<Texture>, [f32; 3]), String> {
+        let hashes = &mut self.hashes;
+        self.textures
+            .entry(at.path.clone())
+            .or_insert_with(|| {
+                let name = at.path.display().to_string();
+                let bytes = std::fs::read(&at.path).map_err(|e| format!("{name}: cannot read: {e}"))?;
+                hashes.insert(rel, blob_sha1(&bytes));
+                let (mut w, mut h, mut rgba) = decode_png_rgba(&bytes, &name).map_err(|e| e.to_string())?;
+                let mean = mean_rgb(&rgba);
+                while w.max(h) > MAX_TEXTURE_SIDE && w % 2 == 0 && h % 2 == 0 {
+                    (w, h, rgba) = halve(w, h, &rgba);
+                }
+                let texture = Texture::from_rgba8(w, h, &rgba).map_err(|e| format!("{name}: {e}"))?;
+                Ok((Arc::new(texture), mean))
+            })
+            .clone()
+    }
+}
+
+/// Textures are kept at most this many texels on a side: at 256² no surface shows more texels
+/// than that, and LIBERO's 4096² scanned-object atlases would otherwise take 85 MB each.
+const MAX_TEXTURE_SIDE: u32 = 1024;
+
+/// The image at half size, each texel the mean of a 2 × 2 block (rounded to nearest).
+fn halve(w: u32, h: u32, rgba: &[u8]) -> (u32, u32, Vec<u8>) {
+    let (w2, h2) = (w / 2, h / 2);
+    let mut out = vec![0u8; (w2 * h2 * 4) as usize];
+    for y in 0..h2 as usize {
+        for x in 0..w2 as usize {
+            for c in 0..4 {
+                let at = |dx: usize, dy: usize| u32::from(rgba[((2 * y + dy) * w as usize + 2 * x + dx) * 4 + c]);
+                out[(y * w2 as usize + x) * 4 + c] = ((at(0, 0) + at(1, 0) + at(0, 1) + at(1, 1) + 2) / 4) as u8;
+            }
+        }
+    }
+    (w2, h2, out)
+}
+
+/// Mean colour of RGBA8 pixels, in `[0, 1]`.
+fn mean_rgb(rgba: &[u8]) -> [f32; 3] {
+    let n = (rgba.len() / 4).max(1) as f64;
+    let mut sum = [0f64; 3];
+    for px in rgba.chunks_exact(4) {
+        for c in 0..3 {
+            sum[c] += f64::from(px[c]);
+        }
+    }
+    sum.map(|s| (s / n / 255.0) as f32)
+}
+
+/// The mesh file of a part, or the procedural recipe of a primitive.
+enum Source {
+    File(&'static str, [f64; 3]),
+    Primitive(Recipe),
+}
+
+fn source(shape: &Shape) -> Source {
+    match *shape {
+        Shape::Mesh { file, scale } => Source::File(file, scale),
+        Shape::Box { half } => Source::Primitive(Recipe::Box { half }),
+        Shape::Capsule { radius, half_height } => Source::Primitive(Recipe::Capsule { radius, half_height }),
+    }
+}
+
+/// MuJoCo's material for a part. A 2D texture is sampled with the mesh's UVs (`texrepeat` as
+/// the UV scale); a cube texture, or a mesh without UVs, is drawn in the texture's mean colour
+/// (MuJoCo maps cube textures by direction, which the renderer does not do).
+fn material(fact: &MaterialFact, texture: Option<(Arc<Texture>, [f32; 3])>, mesh: &Mesh) -> Material {
+    let rgba = fact.rgba.map(|x| x as f32);
+    let (specular, shininess, emission) = (fact.specular as f32, fact.shininess as f32, fact.emission as f32);
+    let plain = Material { rgba, specular, shininess, emission, ..Material::default() };
+    match (texture, &fact.texture) {
+        (Some((tex, _)), Some(t)) if !t.cube && mesh.uvs().is_some() => {
+            Material { texture: Some(tex), uv_scale: Vec2::new(t.repeat[0] as f32, t.repeat[1] as f32), ..plain }
+        }
+        (Some((_, mean)), Some(_)) => {
+            let tinted = [rgba[0] * mean[0], rgba[1] * mean[1], rgba[2] * mean[2], rgba[3]];
+            Material { emission, ..textured(tinted, specular, shininess) }
+        }
+        _ => plain,
+    }
+}
+
+impl Look {
+    /// Loads every category's and robot body's parts found under `roots`.
+    pub fn load(roots: Roots) -> Look {
+        let mut loaded = Loaded::default();
+        let mut shapes = MeshCache::default();
+        let mut report = Vec::new();
+        let tree = AssetTree::new(&roots.libero);
+        let mut parts = BTreeMap::new();
+        for (category, _xml, facts) in CATEGORIES.iter() {
+            // Every fact category is in the catalog (tested); skip rather than panic if not.
+            let Ok(model) = catalog::object(category) else { continue };
+            let kind = if model.kind == ObjectKind::Movable { PartKind::Object } else { PartKind::Fixture };
+            let (line, ok) = load_group(category.to_string(), kind, facts.iter(), &tree, &mut loaded, &mut shapes);
+            report.push(line);
+            if let Some(ok) = ok {
+                parts.insert(*category, ok);
+            }
+        }
+        let robot_tree = AssetTree::with_known(roots.robot.as_slice(), &[]);
+        let mut robot = BTreeMap::new();
+        let mut bodies: Vec<&'static str> = PANDA.iter().map(|p| p.body).collect();
+        bodies.dedup();
+        for body in bodies {
+            let facts = PANDA.iter().filter(|p| p.body == body);
+            let (line, ok) = load_group(format!("robot0_{body}"), PartKind::Robot, facts, &robot_tree, &mut loaded, &mut shapes);
+            report.push(line);
+            if let Some(ok) = ok {
+                robot.insert(body, ok);
+            }
+        }
+        let mut floors = BTreeMap::new();
+        let mut floor_files: Vec<&'static str> = ProblemClass::ALL.iter().filter_map(|&p| scene_class(p)).map(|c| c.floor.texture).collect();
+        floor_files.sort_unstable();
+        floor_files.dedup();
+        for file in floor_files {
+            let found = tree.find(file);
+            let loaded = found.clone().ok_or_else(|| format!("{file}: not found in any asset folder")).and_then(|at| loaded.texture(file, &at));
+            let (status, problem) = match loaded {
+                Ok((texture, _)) => {
+                    floors.insert(file, texture);
+                    (Status::Assets, None)
+                }
+                Err(e) => (Status::BuiltIn, Some(e)),
+            };
+            report.push(CategoryReport { category: format!("floor {file}"), kind: PartKind::Arena, status, files: vec![FileReport { file, found }], problem });
+        }
+        let mut h = Sha1::new();
+        for (rel, blob) in &loaded.hashes {
+            h.update(format!("{rel} {blob}\n").as_bytes());
+        }
+        let hash = if loaded.hashes.is_empty() { String::new() } else { h.finalize().iter().take(8).map(|b| format!("{b:02x}")).collect() };
+        Look { roots, hash, parts, robot, floors, report }
+    }
+
+    /// The parts of `category`, when it is drawn from the asset files.
+    pub fn parts(&self, category: &str) -> Option<&[LoadedPart]> {
+        self.parts.get(category).map(Vec::as_slice)
+    }
+
+    /// Where files were looked for.
+    pub fn roots(&self) -> &Roots {
+        &self.roots
+    }
+
+    /// Per category: drawn from assets or built in, which files, and why not.
+    pub fn report(&self) -> &[CategoryReport] {
+        &self.report
+    }
+
+    /// Content hash of the files read (16 hex digits over upstream path and blob hash of each),
+    /// empty when nothing was read.
+    pub fn hash(&self) -> &str {
+        &self.hash
+    }
+
+    /// The parts of robot body `body` (`link3`, `leftfinger`), when drawn from robosuite's files.
+    pub fn robot_parts(&self, body: &str) -> Option<&[LoadedPart]> {
+        self.robot.get(body).map(Vec::as_slice)
+    }
+
+    /// The floor texture `file` (a [`crate::scene_class::Floor::texture`]), when found.
+    pub fn floor_texture(&self, file: &str) -> Option<&Arc<Texture>> {
+        self.floors.get(file)
+    }
+
+    /// True when at least one category, robot body or floor is drawn from asset files.
+    pub fn is_used(&self) -> bool {
+        !self.parts.is_empty() || !self.robot.is_empty() || !self.floors.is_empty()
+    }
+
+    /// What results files record as the look: `built-in`, or `libero-assets:<hash>`.
+    pub fn label(&self) -> String {
+        if self.is_used() { format!("libero-assets:{}", self.hash) } else { BUILT_IN.to_string() }
+    }
+}
+
+/// The look label of the procedural scenes.
+pub const BUILT_IN: &str = "built-in";
+
+/// Loads one category's (or robot body's) parts: all of them, or none and the first problem.
+fn load_group<'a>(
+    category: String,
+    kind: PartKind,
+    facts: impl Iterator<Item = &'a PartFact>,
+    tree: &AssetTree,
+    loaded: &mut Loaded,
+    shapes: &mut MeshCache,
+) -> (CategoryReport, Option<Vec<LoadedPart>>) {
+    let mut files = Vec::new();
+    let mut problem = None;
+    let mut out = Vec::new();
+    for fact in facts {
+        match load_part(fact, tree, loaded, shapes, &mut files) {
+            Ok(p) => out.push(p),
+            Err(e) => {
+                problem.get_or_insert(e);
+            }
+        }
+    }
+    let ok = problem.is_none() && !out.is_empty();
+    let status = if ok { Status::Assets } else { Status::BuiltIn };
+    (CategoryReport { category, kind, status, files, problem }, ok.then_some(out))
+}
+
+fn load_part(
+    fact: &PartFact,
+    tree: &AssetTree,
+    loaded: &mut Loaded,
+    shapes: &mut MeshCache,
+    files: &mut Vec<FileReport>,
+) -> Result<LoadedPart, String> {
+    let mut find = |rel: &'static str| -> Result<Located, String> {
+        let found = tree.find(rel);
+        if !files.iter().any(|f| f.file == rel) {
+            files.push(FileReport { file: rel, found: found.clone() });
+        }
+        found.ok_or_else(|| format!("{rel}: not found in any asset folder"))
+    };
+    let (mesh, scale, lods) = match source(&fact.shape) {
+        Source::File(file, scale) => {
+            let at = find(file)?;
+            let mesh = loaded.mesh(file, &at)?;
+            let lods = loaded.lods.entry((at.path.clone(), scale.map(f64::to_bits))).or_insert_with(|| lods_of(&mesh, scale)).clone();
+            (mesh, scale, lods)
+        }
+        Source::Primitive(r) => (shapes.get(&r), [1.0; 3], Lods::from([])),
+    };
+    let texture = match &fact.material.texture {
+        Some(t) => {
+            let at = find(t.file)?;
+            Some(loaded.texture(t.file, &at)?)
+        }
+        None => None,
+    };
+    let material = material(&fact.material, texture, &mesh);
+    Ok(LoadedPart { body: fact.body, pos: fact.pos, quat_wxyz: fact.quat, scale, mesh, lods, material })
+}

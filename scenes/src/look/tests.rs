@@ -1,0 +1,114 @@
+//! A generated asset tree: real categories drawn from small valid files, broken files falling
+//! back for their category only.
+
+use std::path::Path;
+
+use super::facts::CATEGORIES;
+use super::parts::Shape;
+use super::*;
+
+/// Writes a valid one-triangle `.msh` with UVs at `path`.
+fn msh(path: &Path) {
+    let mut b = Vec::new();
+    for c in [3i32, 0, 3, 1] {
+        b.extend_from_slice(&c.to_le_bytes());
+    }
+    for f in [0f32, 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 1.] {
+        b.extend_from_slice(&f.to_le_bytes());
+    }
+    for i in [0i32, 1, 2] {
+        b.extend_from_slice(&i.to_le_bytes());
+    }
+    write(path, &b);
+}
+
+fn png(path: &Path, rgb: [u8; 3]) {
+    let img = vifo_render::RgbImage::filled(2, 2, rgb);
+    write(path, &vifo_render::imageio::encode_png(&img).unwrap());
+}
+
+fn write(path: &Path, bytes: &[u8]) {
+    std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+    std::fs::write(path, bytes).unwrap();
+}
+
+/// Every file of `category`, written valid.
+fn category_files(root: &Path, category: &str) {
+    let (_, _, facts) = CATEGORIES.iter().find(|(c, _, _)| *c == category).unwrap();
+    for f in facts.iter() {
+        if let Shape::Mesh { file, .. } = f.shape {
+            msh(&root.join(file));
+        }
+        if let Some(t) = &f.material.texture {
+            png(&root.join(t.file), [200, 100, 50]);
+        }
+    }
+}
+
+fn look_of(root: &Path) -> Look {
+    Look::load(Roots { libero: vec![Root { path: root.to_path_buf(), origin: Origin::Flag }], robot: None, notes: vec![] })
+}
+
+#[test]
+fn every_fact_category_and_body_is_in_the_catalog() {
+    for (category, _, facts) in CATEGORIES.iter() {
+        let model = crate::catalog::object(category).unwrap();
+        assert!(!facts.is_empty(), "{category}");
+        for f in facts.iter() {
+            assert!(model.bodies.iter().any(|b| b.name == f.body), "{category}: {}", f.body);
+        }
+    }
+}
+
+#[test]
+fn categories_with_all_files_use_them_broken_ones_fall_back_alone() {
+    let tmp = tempfile::tempdir().unwrap();
+    let root = tmp.path();
+    for c in ["plate", "akita_black_bowl", "ketchup"] {
+        category_files(root, c);
+    }
+    // The bowl's mesh is truncated, the ketchup's texture is not a PNG.
+    let bowl = root.join("stable_scanned_objects/akita_black_bowl/visual/akita_black_bowl_vis.msh");
+    let bytes = std::fs::read(&bowl).unwrap();
+    std::fs::write(&bowl, &bytes[..bytes.len() - 3]).unwrap();
+    let ketchup = root.join("stable_hope_objects/ketchup/texture_map.png");
+    std::fs::write(&ketchup, b"not a png").unwrap();
+    let look = look_of(root);
+    let status = |c: &str| look.report().iter().find(|r| r.category == c).unwrap();
+    assert_eq!(status("plate").status, Status::Assets);
+    assert!(look.parts("plate").is_some_and(|p| p[0].material.texture.is_some()));
+    for (c, file) in [("akita_black_bowl", bowl), ("ketchup", ketchup)] {
+        let r = status(c);
+        assert_eq!(r.status, Status::BuiltIn, "{c}");
+        let problem = r.problem.as_deref().unwrap();
+        assert!(problem.contains(&file.display().to_string()), "{c}: {problem}");
+        assert!(look.parts(c).is_none());
+    }
+    let missing = status("milk");
+    assert_eq!(missing.status, Status::BuiltIn);
+    assert!(missing.problem.as_deref().unwrap().contains("not found in any asset folder"));
+    assert!(look.is_used());
+    assert!(look.label().starts_with("libero-assets:") && look.hash().len() == 16);
+}
+
+#[test]
+fn the_hash_follows_the_content() {
+    let tmp = tempfile::tempdir().unwrap();
+    category_files(tmp.path(), "plate");
+    let a = look_of(tmp.path()).hash().to_string();
+    assert_eq!(look_of(tmp.path()).hash(), a);
+    png(&tmp.path().join("stable_scanned_objects/plate/texture.png"), [1, 2, 3]);
+    assert_ne!(look_of(tmp.path()).hash(), a);
+    let empty = tempfile::tempdir().unwrap();
+    let none = look_of(empty.path());
+    assert!(!none.is_used());
+    assert_eq!(none.label(), BUILT_IN);
+}
+
+#[test]
+fn every_panda_fact_body_is_a_robot_body() {
+    let model = vifo_robots::panda::model(vifo_robots::panda::Mount::Pedestal);
+    for f in super::facts::PANDA {
+        assert!(model.bodies.iter().any(|b| b.name == f.body), "{}", f.body);
+    }
+}

@@ -1,0 +1,69 @@
+//! LIBERO's look: the built-in look is unchanged by the asset machinery, and with the asset
+//! wheels installed every category and robot body is drawn from them, deterministically.
+
+use vifo::render::{RenderRequest, episode};
+use vifo::start::InitSource;
+use vifo_render::Renderer;
+use vifo_render::imageio::encode_png;
+use vifo_scenes::look::{self, Look, Status};
+use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
+
+fn png_sha1(task: &str, camera: CameraName, look: Option<&Look>) -> (String, Vec<u8>) {
+    let sim = episode(&RenderRequest::still(task, InitSource::Shipped)).unwrap();
+    let mut view = SceneView::with_look(sim.model(), look);
+    view.update(&sim);
+    let frame = view.render(&mut Renderer::default(), &Cameras::new(256, 256).get(camera, &sim), ImageOrder::Upright).unwrap();
+    let png = encode_png(&frame.color).unwrap();
+    (look::blob_sha1(&png), frame.color.data)
+}
+
+/// `sha1sum` of the PNGs `vifo render --task <task> --camera <camera>` wrote before LIBERO's
+/// look existed (commit 5215612).
+const BEFORE: [(&str, CameraName, &str); 4] = [
+    ("libero_spatial/0", CameraName::AgentView, "1a34887f11728a4190f7f91b015492ed04f641e4"),
+    ("libero_spatial/0", CameraName::EyeInHand, "4f33d09bcb237ef35d30ee20c70d1f5edf8bcf3a"),
+    ("libero_goal/7", CameraName::AgentView, "5e4d76a6901f1daf1c24082b82d3fcdc3b58b88a"),
+    ("libero_goal/7", CameraName::EyeInHand, "f9a5e7dae5b10414d27c2eed1a5259fb20aca134"),
+];
+
+#[test]
+fn the_built_in_look_is_bit_for_bit_what_it_was() {
+    for (task, camera, sha1) in BEFORE {
+        let sim = episode(&RenderRequest::still(task, InitSource::Shipped)).unwrap();
+        let mut view = SceneView::new(sim.model());
+        view.update(&sim);
+        let frame = view.render(&mut Renderer::default(), &Cameras::new(256, 256).get(camera, &sim), ImageOrder::Upright).unwrap();
+        let png = encode_png(&frame.color).unwrap();
+        assert_eq!(plain_sha1(&png), sha1, "{task} {camera}");
+        // A look with nothing in it draws the same bytes.
+        let empty = tempdir_look();
+        assert_eq!(png_sha1(task, camera, Some(&empty)).1, frame.color.data, "{task} {camera}");
+    }
+}
+
+fn plain_sha1(bytes: &[u8]) -> String {
+    use sha1::{Digest, Sha1};
+    Sha1::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+}
+
+fn tempdir_look() -> Look {
+    Look::load(look::Roots::default())
+}
+
+#[test]
+fn installed_assets_draw_every_category_and_robot_body() {
+    let roots = look::discover(None, None).unwrap();
+    if roots.libero.is_empty() || roots.robot.is_none() {
+        println!("SKIPPED installed_assets_draw_every_category_and_robot_body: no LIBERO asset wheels or robosuite installed ({:?})", roots.notes);
+        return;
+    }
+    let look = Look::load(roots);
+    for r in look.report() {
+        assert_eq!(r.status, Status::Assets, "{}: {:?}", r.category, r.problem);
+    }
+    let (a, frame) = png_sha1("libero_spatial/0", CameraName::AgentView, Some(&look));
+    let (b, again) = png_sha1("libero_spatial/0", CameraName::AgentView, Some(&look));
+    assert_eq!((a, frame.clone()), (b, again));
+    let (_, builtin) = png_sha1("libero_spatial/0", CameraName::AgentView, None);
+    assert_ne!(frame, builtin);
+}

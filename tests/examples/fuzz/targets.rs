@@ -507,7 +507,7 @@ fn msgpack_run(bytes: &[u8]) -> bool {
 // ---------------------------------------------------------------- results files
 
 const RECORD_KEYS: &[&str] = &[
-    "version", "set", "spec", "policy", "outcome", "wall_ms", "task", "suite", "index", "protocol", "instance", "init", "episode",
+    "version", "set", "spec", "policy", "outcome", "wall_ms", "look", "task", "suite", "index", "protocol", "instance", "init", "episode",
     "instruction", "language_task", "cue_task", "seed", "status", "language_success", "cue_success", "steps", "message",
 ];
 
@@ -524,7 +524,7 @@ fn results_seeds() -> Vec<Vec<u8>> {
             Outcome::Completed { language_success: Some(i % 2 == 0), cue_success: None, steps: 220 + i }
         },
         wall_ms: 10.0 * i as f64,
-        set: vifo_cues::SetName::Paper,
+        look: String::new(),
     };
     let lines: Vec<Vec<u8>> = specs.iter().enumerate().map(|(i, s)| serde_json::to_vec(&record(i, s)).expect("serialize")).collect();
     lines.chunks(8).map(|c| c.iter().flat_map(|l| l.iter().copied().chain([b'\n'])).collect()).collect()

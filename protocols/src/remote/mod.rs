@@ -130,15 +130,21 @@ impl RemotePolicy {
     /// Sends one observation and returns the whole reply, bypassing the action queue.
     pub fn infer(&mut self, obs: &Observation) -> Result<Reply, PolicyError> {
         let request = encode_request(obs, self.config.image_size)?;
+        parse_reply(&self.round_trip(&request)?)
+    }
+
+    /// Sends one encoded request and returns the reply's bytes: the transport for other
+    /// request layouts over openpi's protocol (`crate::serving`).
+    pub fn round_trip(&mut self, request: &[u8]) -> Result<Vec<u8>, PolicyError> {
         if self.conn.is_none() {
             self.reconnect()?;
         }
-        let result = match self.exchange(&request) {
+        let result = match self.exchange(request) {
             // A connection idle since the last episode may have been closed by the server's
             // keep-alive; one fresh attempt is safe because inference has no server state.
             Err(PolicyError::Connection(_)) if self.idle => {
                 self.reconnect()?;
-                self.exchange(&request)
+                self.exchange(request)
             }
             other => other,
         };
@@ -147,7 +153,7 @@ impl RemotePolicy {
             self.conn = None;
         }
         self.requests += 1;
-        parse_reply(&result?)
+        result
     }
 
     fn reconnect(&mut self) -> Result<(), PolicyError> {

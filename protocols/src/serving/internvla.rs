@@ -53,7 +53,9 @@ pub fn check_metadata(meta: &Value, replan_steps: usize) -> Result<(), PolicyErr
     });
     match parsed {
         Some(v) if v >= (2, 1) => {}
-        _ => return Err(bad(format!("metadata `protocol_version` is {version:?}, the LIBERO client needs >= 2.1"))),
+        _ => {
+            return Err(bad(format!("metadata `protocol_version` is {version:?}, the LIBERO client needs >= 2.1")));
+        }
     }
     if get(m, "preprocessing_owner").and_then(Value::as_str) != Some("server_canonical") {
         return Err(bad("metadata `preprocessing_owner` must be \"server_canonical\"".into()));
@@ -79,9 +81,8 @@ pub fn check_metadata(meta: &Value, replan_steps: usize) -> Result<(), PolicyErr
 
 /// The msgpack request.
 pub fn encode(input: &ModelInput) -> Result<Vec<u8>, PolicyError> {
-    let image = |img: &vifo_cues::RgbImage| {
-        ndarray::encode_u8(&[img.height as usize, img.width as usize, 3], img.data.clone())
-    };
+    let image =
+        |img: &vifo_cues::RgbImage| ndarray::encode_u8(&[img.height as usize, img.width as usize, 3], img.data.clone());
     let state: Vec<u8> = input.state.iter().flat_map(|&v| (v as f32).to_le_bytes()).collect();
     let example = Value::Map(vec![
         (Value::from("image"), Value::Array(vec![image(&input.image), image(&input.wrist)])),
@@ -101,7 +102,8 @@ pub fn encode(input: &ModelInput) -> Result<Vec<u8>, PolicyError> {
         ),
     ]);
     let mut bytes = Vec::new();
-    rmpv::encode::write_value(&mut bytes, &doc).map_err(|e| PolicyError::Other(format!("encoding the request: {e}")))?;
+    rmpv::encode::write_value(&mut bytes, &doc)
+        .map_err(|e| PolicyError::Other(format!("encoding the request: {e}")))?;
     Ok(bytes)
 }
 
@@ -118,6 +120,9 @@ fn floats(v: &Value, field: &str) -> Result<(Vec<usize>, Vec<f64>), PolicyError>
 pub fn parse(bytes: &[u8]) -> Result<Vec<[f64; 7]>, PolicyError> {
     let mut rest = bytes;
     let doc = rmpv::decode::read_value(&mut rest).map_err(|e| bad(format!("reply is not a msgpack document: {e}")))?;
+    if !rest.is_empty() {
+        return Err(bad(format!("{} unexpected bytes after the msgpack reply", rest.len())));
+    }
     let Value::Map(m) = &doc else {
         return Err(bad(format!("reply is {}, expected a map", kind(&doc))));
     };

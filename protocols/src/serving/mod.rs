@@ -43,7 +43,8 @@ pub enum Format {
 }
 
 impl Format {
-    pub const ALL: [Format; 5] = [Format::Openpi, Format::InternVla, Format::OpenVlaOft, Format::Xiaomi, Format::LeRobot];
+    pub const ALL: [Format; 5] =
+        [Format::Openpi, Format::InternVla, Format::OpenVlaOft, Format::Xiaomi, Format::LeRobot];
 
     /// `--policy-format` name.
     pub fn name(self) -> &'static str {
@@ -84,7 +85,11 @@ impl Format {
             return if candidates.contains(&f) {
                 Ok(f)
             } else {
-                Err(PolicyError::Connection(format!("{url}: format {} travels on {}://, not {scheme}://", f.name(), f.scheme())))
+                Err(PolicyError::Connection(format!(
+                    "{url}: format {} travels on {}://, not {scheme}://",
+                    f.name(),
+                    f.scheme()
+                )))
             };
         }
         Ok(profile.map(|p| p.format).filter(|f| candidates.contains(f)).unwrap_or(candidates[0]))
@@ -253,7 +258,9 @@ impl Policy for ServedPolicy {
 /// checking every value is finite. `field` names the reply entry in errors.
 pub fn rows7(values: &[f64], rows: usize, cols: usize, field: &str) -> Result<Vec<[f64; 7]>, PolicyError> {
     if cols < 7 || rows == 0 || values.len() != rows * cols {
-        return Err(PolicyError::Malformed(format!("`{field}` has {rows} rows of {cols}, expected at least 1 row of 7")));
+        return Err(PolicyError::Malformed(format!(
+            "`{field}` has {rows} rows of {cols}, expected at least 1 row of 7"
+        )));
     }
     if let Some(i) = values.iter().position(|v| !v.is_finite()) {
         return Err(PolicyError::Malformed(format!("`{field}`[{}, {}] is {}", i / cols, i % cols, values[i])));

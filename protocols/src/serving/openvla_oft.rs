@@ -64,9 +64,13 @@ fn bad(m: String) -> PolicyError {
 
 /// A json_numpy object as `(shape, values)`; `field` names it in errors.
 fn decode_array(obj: &Map<String, Value>, field: &str) -> Result<(Vec<usize>, Vec<f64>), PolicyError> {
-    let data = obj.get("__numpy__").and_then(Value::as_str).ok_or_else(|| bad(format!("`{field}.__numpy__` is not a string")))?;
+    let data = obj
+        .get("__numpy__")
+        .and_then(Value::as_str)
+        .ok_or_else(|| bad(format!("`{field}.__numpy__` is not a string")))?;
     let bytes = STANDARD.decode(data).map_err(|e| bad(format!("`{field}.__numpy__` is not base64: {e}")))?;
-    let dtype = obj.get("dtype").and_then(Value::as_str).ok_or_else(|| bad(format!("`{field}` has no string `dtype`")))?;
+    let dtype =
+        obj.get("dtype").and_then(Value::as_str).ok_or_else(|| bad(format!("`{field}` has no string `dtype`")))?;
     let shape: Vec<usize> = obj
         .get("shape")
         .and_then(Value::as_array)
@@ -78,11 +82,20 @@ fn decode_array(obj: &Map<String, Value>, field: &str) -> Result<(Vec<usize>, Ve
     let size = match dtype {
         "<f4" => 4,
         "<f8" => 8,
-        other => return Err(bad(format!("`{field}` has dtype {other:?}, expected \"<f4\" or \"<f8\""))),
+        other => {
+            return Err(bad(format!("`{field}` has dtype {other:?}, expected \"<f4\" or \"<f8\"")));
+        }
     };
-    let n = shape.iter().try_fold(1usize, |a, &d| a.checked_mul(d)).ok_or_else(|| bad(format!("`{field}.shape` overflows")))?;
+    let n = shape
+        .iter()
+        .try_fold(1usize, |a, &d| a.checked_mul(d))
+        .ok_or_else(|| bad(format!("`{field}.shape` overflows")))?;
     if n.checked_mul(size) != Some(bytes.len()) {
-        return Err(bad(format!("`{field}` of shape {shape:?} and dtype {dtype} needs {} bytes, got {}", n * size, bytes.len())));
+        return Err(bad(format!(
+            "`{field}` of shape {shape:?} and dtype {dtype} needs {} bytes, got {}",
+            n * size,
+            bytes.len()
+        )));
     }
     let values = if size == 4 {
         bytes.chunks_exact(4).map(|b| f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))).collect()
@@ -115,12 +128,15 @@ fn row(v: &Value, field: &str) -> Result<Vec<f64>, PolicyError> {
 pub fn parse(body: &str) -> Result<Vec<[f64; 7]>, PolicyError> {
     let doc: Value = serde_json::from_str(body).map_err(|e| bad(format!("reply is not JSON: {e}")))?;
     match &doc {
-        Value::String(s) => Err(PolicyError::Other(format!("policy server answered {s:?} (deploy.py's reply to an exception; see its log)"))),
+        Value::String(s) => Err(PolicyError::Other(format!(
+            "policy server answered {s:?} (deploy.py's reply to an exception; see its log)"
+        ))),
         Value::Array(rows) => {
             if rows.is_empty() {
                 return Err(bad("reply is an empty action chunk".into()));
             }
-            let rows: Vec<Vec<f64>> = rows.iter().enumerate().map(|(i, r)| row(r, &format!("actions[{i}]"))).collect::<Result<_, _>>()?;
+            let rows: Vec<Vec<f64>> =
+                rows.iter().enumerate().map(|(i, r)| row(r, &format!("actions[{i}]"))).collect::<Result<_, _>>()?;
             let cols = rows[0].len();
             if let Some(i) = rows.iter().position(|r| r.len() != cols) {
                 return Err(bad(format!("`actions[{i}]` has {} values, `actions[0]` {cols}", rows[i].len())));

@@ -27,7 +27,11 @@ pub enum Value {
     /// A module-level name (`GLOBAL` / `STACK_GLOBAL`).
     Global(String, String),
     /// `callable(*args)` (`REDUCE`, `NEWOBJ`), with the state `BUILD` gave it, if any.
-    Call { callable: Box<Value>, args: Box<Value>, state: Option<Box<Value>> },
+    Call {
+        callable: Box<Value>,
+        args: Box<Value>,
+        state: Option<Box<Value>>,
+    },
     /// A persistent id (`BINPERSID`), as torch's storages use.
     PersistentId(Box<Value>),
 }
@@ -292,7 +296,8 @@ impl Reader<'_> {
 
     fn u64(&mut self) -> Result<usize, String> {
         let b = self.take(8)?;
-        usize::try_from(u64::from_le_bytes(b.try_into().expect("8 bytes"))).map_err(|_| "pickle length overflows".into())
+        usize::try_from(u64::from_le_bytes(b.try_into().expect("8 bytes")))
+            .map_err(|_| "pickle length overflows".into())
     }
 
     fn line(&mut self) -> Result<String, String> {
@@ -346,7 +351,9 @@ impl Reader<'_> {
         if items.len() % 2 != 0 {
             return Err("pickle: odd number of dict items".into());
         }
-        let Value::Dict(d) = self.top()? else { return Err("pickle: SETITEMS on a non-dict".into()) };
+        let Value::Dict(d) = self.top()? else {
+            return Err("pickle: SETITEMS on a non-dict".into());
+        };
         let mut it = items.into_iter();
         while let (Some(k), Some(v)) = (it.next(), it.next()) {
             d.push((k, v));
@@ -468,12 +475,16 @@ impl Reader<'_> {
                 }
                 b'a' => {
                     let v = self.pop()?;
-                    let Value::List(l) = self.top()? else { return Err("pickle: APPEND to a non-list".into()) };
+                    let Value::List(l) = self.top()? else {
+                        return Err("pickle: APPEND to a non-list".into());
+                    };
                     l.push(v);
                 }
                 b'e' => {
                     let items = self.pop_mark()?;
-                    let Value::List(l) = self.top()? else { return Err("pickle: APPENDS to a non-list".into()) };
+                    let Value::List(l) = self.top()? else {
+                        return Err("pickle: APPENDS to a non-list".into());
+                    };
                     l.extend(items);
                 }
                 b'}' => self.stack.push(Value::Dict(vec![])),
@@ -494,7 +505,9 @@ impl Reader<'_> {
                 0x8f => self.stack.push(Value::List(vec![])),
                 0x90 => {
                     let items = self.pop_mark()?;
-                    let Value::List(l) = self.top()? else { return Err("pickle: ADDITEMS to a non-set".into()) };
+                    let Value::List(l) = self.top()? else {
+                        return Err("pickle: ADDITEMS to a non-set".into());
+                    };
                     l.extend(items);
                 }
                 0x91 => {
@@ -564,7 +577,9 @@ impl Reader<'_> {
                     let i = self.line()?.parse().map_err(|_| "pickle: bad GET index")?;
                     self.memo_get(i)?;
                 }
-                other => return Err(format!("pickle opcode 0x{other:02x} at offset {} is not supported", self.pos - 1)),
+                other => {
+                    return Err(format!("pickle opcode 0x{other:02x} at offset {} is not supported", self.pos - 1));
+                }
             }
         }
     }
@@ -642,8 +657,12 @@ pub fn tensor(v: &Value) -> Result<Tensor, String> {
 }
 
 fn numpy_array(v: &Value) -> Result<Tensor, String> {
-    let Value::Call { state: Some(state), .. } = v else { return Err("numpy array without state".into()) };
-    let Value::Tuple(s) = state.as_ref() else { return Err("numpy array state is not a tuple".into()) };
+    let Value::Call { state: Some(state), .. } = v else {
+        return Err("numpy array without state".into());
+    };
+    let Value::Tuple(s) = state.as_ref() else {
+        return Err("numpy array state is not a tuple".into());
+    };
     let [_, shape, dtype, fortran, data] = s.as_slice() else {
         return Err(format!("numpy array state has {} entries, expected 5", s.len()));
     };
@@ -651,7 +670,9 @@ fn numpy_array(v: &Value) -> Result<Tensor, String> {
     if *fortran != Value::Bool(false) {
         return Err("numpy array in Fortran order".into());
     }
-    let Value::Call { args, state: dstate, .. } = dtype else { return Err("numpy dtype missing".into()) };
+    let Value::Call { args, state: dstate, .. } = dtype else {
+        return Err("numpy dtype missing".into());
+    };
     let code = match args.as_ref() {
         Value::Tuple(a) => match a.first() {
             Some(Value::Str(c)) => c.clone(),
@@ -684,7 +705,9 @@ fn numpy_array(v: &Value) -> Result<Tensor, String> {
 
 fn torch_tensor(v: &Value) -> Result<Tensor, String> {
     let Value::Call { args, .. } = v else { unreachable!("checked by the caller") };
-    let Value::Tuple(a) = args.as_ref() else { return Err("tensor args are not a tuple".into()) };
+    let Value::Tuple(a) = args.as_ref() else {
+        return Err("tensor args are not a tuple".into());
+    };
     if a.len() < 4 {
         return Err(format!("tensor args have {} entries, expected at least 4", a.len()));
     }
@@ -708,7 +731,9 @@ fn torch_tensor(v: &Value) -> Result<Tensor, String> {
                 _ => return Err("_load_from_bytes args are not a tuple".into()),
             }
         }
-        _ => return Err(format!("tensor storage is {}, expected torch.storage._load_from_bytes", a[0].kind())),
+        _ => {
+            return Err(format!("tensor storage is {}, expected torch.storage._load_from_bytes", a[0].kind()));
+        }
     };
     let code = match storage_type.as_str() {
         "FloatStorage" => "f4",
@@ -751,10 +776,16 @@ fn legacy_storage(b: &[u8]) -> Result<(String, Vec<u8>), String> {
     let (_sys_info, rest) = read(rest)?;
     let (obj, rest) = read(rest)?;
     let (keys, mut rest) = read(rest)?;
-    let Value::PersistentId(id) = obj else { return Err(format!("torch storage stream holds {}", obj.kind())) };
-    let Value::Tuple(id) = *id else { return Err("torch storage id is not a tuple".into()) };
+    let Value::PersistentId(id) = obj else {
+        return Err(format!("torch storage stream holds {}", obj.kind()));
+    };
+    let Value::Tuple(id) = *id else {
+        return Err("torch storage id is not a tuple".into());
+    };
     let (storage_type, key) = match id.as_slice() {
-        [Value::Str(tag), Value::Global(m, t), Value::Str(key), ..] if tag == "storage" && m == "torch" => (t.clone(), key.clone()),
+        [Value::Str(tag), Value::Global(m, t), Value::Str(key), ..] if tag == "storage" && m == "torch" => {
+            (t.clone(), key.clone())
+        }
         _ => return Err("torch storage id is not ('storage', torch.<Type>Storage, key, …)".into()),
     };
     let element = match storage_type.as_str() {
@@ -763,7 +794,9 @@ fn legacy_storage(b: &[u8]) -> Result<(String, Vec<u8>), String> {
         "HalfStorage" | "BFloat16Storage" | "ShortStorage" => 2,
         _ => 1,
     };
-    let Value::List(keys) = keys else { return Err("torch storage keys are not a list".into()) };
+    let Value::List(keys) = keys else {
+        return Err("torch storage keys are not a list".into());
+    };
     for k in keys {
         if rest.len() < 8 {
             return Err("torch storage data truncated".into());

@@ -282,7 +282,8 @@ mod tests {
 
     #[test]
     fn grippers_follow_each_script() {
-        let oft: Vec<f64> = [0.0, 0.3, 0.5, 0.9, 1.0].iter().map(|&g| Gripper::OpenVlaBinarizeInvert.apply(g)).collect();
+        let oft: Vec<f64> =
+            [0.0, 0.3, 0.5, 0.9, 1.0].iter().map(|&g| Gripper::OpenVlaBinarizeInvert.apply(g)).collect();
         assert_eq!(oft, [1.0, 1.0, 0.0, -1.0, -1.0]);
         let intern: Vec<f64> = [0.0, 0.49, 0.5, 1.0].iter().map(|&g| Gripper::ThresholdHalfInvert.apply(g)).collect();
         assert_eq!(intern, [1.0, 1.0, -1.0, -1.0]);

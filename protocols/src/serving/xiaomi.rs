@@ -80,14 +80,21 @@ impl XiaomiTransport {
         let timeout = self.request_timeout;
         let conn = self.conn.as_mut().ok_or_else(|| PolicyError::Connection("not connected".into()))?;
         let io = |e: std::io::Error, what: &str| match e.kind() {
-            std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut => PolicyError::Timeout(timeout.as_secs_f64()),
+            std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut => {
+                PolicyError::Timeout(timeout.as_secs_f64())
+            }
             _ => PolicyError::Connection(format!("{what}: {e}")),
         };
-        conn.set_read_timeout(Some(timeout)).and_then(|()| conn.set_write_timeout(Some(timeout))).map_err(|e| io(e, "socket"))?;
+        conn.set_read_timeout(Some(timeout))
+            .and_then(|()| conn.set_write_timeout(Some(timeout)))
+            .map_err(|e| io(e, "socket"))?;
         let len = u32::try_from(request.len()).map_err(|_| PolicyError::Other("request over 4 GiB".into()))?;
-        conn.write_all(&len.to_be_bytes()).and_then(|()| conn.write_all(request)).map_err(|e| io(e, "sending the observation"))?;
+        conn.write_all(&len.to_be_bytes())
+            .and_then(|()| conn.write_all(request))
+            .map_err(|e| io(e, "sending the observation"))?;
         let mut prefix = [0u8; 4];
-        conn.read_exact(&mut prefix).map_err(|e| io(e, "waiting for the reply (the server closes the connection when the model raises)"))?;
+        conn.read_exact(&mut prefix)
+            .map_err(|e| io(e, "waiting for the reply (the server closes the connection when the model raises)"))?;
         let n = u32::from_be_bytes(prefix) as usize;
         if n > MAX_REPLY {
             return Err(PolicyError::Malformed(format!("reply length prefix says {n} bytes, more than {MAX_REPLY}")));

@@ -13,9 +13,6 @@
 //! them); without them every test prints why it skipped and passes.
 
 use std::collections::VecDeque;
-use std::io::{BufRead, BufReader, Read};
-use std::process::{Child, Command, Stdio};
-use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use vifo_cues::RgbImage;
@@ -25,23 +22,7 @@ use vifo_protocols::env::{Env, EnvConfig};
 use vifo_protocols::serving::{Format, Profile, ServedPolicy, ServingConfig};
 use vifo_protocols::spec::{Outcome, Protocol, TaskRef};
 use vifo_protocols::{Observation, Policy, PolicyError};
-
-/// True when python3 can import `modules`; otherwise prints a skip notice.
-fn python_ready(test: &str, modules: &str) -> bool {
-    let ok = Command::new("python3")
-        .args(["-c", &format!("import {modules}")])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success());
-    if !ok {
-        println!(
-            "SKIPPED {test}: python3 cannot import {modules} (python3 -m pip install \"openpi-client==0.1.2\" \
-             \"websockets>=11\" \"json-numpy==2.1.1\" \"grpcio==1.85.3\")"
-        );
-    }
-    ok
-}
+use vifo_tests::python;
 
 /// The Python modules each format's test server needs.
 fn modules(format: Format) -> &'static str {
@@ -53,77 +34,38 @@ fn modules(format: Format) -> &'static str {
     }
 }
 
-/// A test server process, killed when dropped; its stderr is kept for failure messages.
-struct Server {
-    child: Child,
-    port: u16,
-    stderr: Arc<Mutex<String>>,
-}
+/// The scripted test server of a format.
+struct Server(python::Server);
 
 impl Server {
-    fn start(script: &str, args: &[&str]) -> Server {
-        let path = vifo_tests::workspace_root().join("tests").join("python").join(script);
-        let mut child = Command::new("python3")
-            .arg(path)
-            .args(args)
-            .args(["--port", "0"])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("start python3");
-        let stderr = Arc::new(Mutex::new(String::new()));
-        let mut pipe = child.stderr.take().unwrap();
-        let sink = stderr.clone();
-        std::thread::spawn(move || {
-            let mut buf = [0u8; 4096];
-            while let Ok(n) = pipe.read(&mut buf) {
-                if n == 0 {
-                    break;
-                }
-                sink.lock().unwrap().push_str(&String::from_utf8_lossy(&buf[..n]));
-            }
-        });
-        let mut line = String::new();
-        BufReader::new(child.stdout.take().unwrap()).read_line(&mut line).unwrap();
-        let Some(port) = line.trim().strip_prefix("PORT ").and_then(|p| p.parse().ok()) else {
-            let _ = child.kill();
-            std::thread::sleep(Duration::from_millis(200));
-            panic!("server did not report its port: {line:?}; stderr: {}", stderr.lock().unwrap());
-        };
-        Server { child, port, stderr }
-    }
-
     /// The server for `format` (`chunk` actions per reply).
     fn for_format(format: Format, chunk: usize, extra: &[&str]) -> Server {
         let chunk = chunk.to_string();
         match format {
-            Format::Openpi => Server::start("scripted_policy_server.py", &["--chunk", &chunk]),
+            Format::Openpi => Server(python::Server::start(&script("scripted_policy_server.py"), &["--chunk", &chunk])),
             other => {
                 let mut args = vec![other.name(), "--chunk", &chunk, "--lifetime", "600"];
                 args.extend(extra);
-                Server::start("format_servers.py", &args)
+                Server(python::Server::start(&script("format_servers.py"), &args))
             }
         }
     }
 
     fn url(&self, format: Format) -> String {
         match format {
-            Format::OpenVlaOft => format!("http://127.0.0.1:{}/act", self.port),
-            other => format!("{}://127.0.0.1:{}", other.scheme(), self.port),
+            Format::OpenVlaOft => format!("http://127.0.0.1:{}/act", self.0.port),
+            other => format!("{}://127.0.0.1:{}", other.scheme(), self.0.port),
         }
     }
 
     /// What the server printed on stderr (its failed checks).
     fn log(&self) -> String {
-        self.stderr.lock().unwrap().clone()
+        self.0.log()
     }
 }
 
-impl Drop for Server {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
+fn script(name: &str) -> std::path::PathBuf {
+    vifo_tests::workspace_root().join("tests").join("python").join(name)
 }
 
 /// A case: the format, the model profile, the chunk the server answers.
@@ -290,7 +232,7 @@ fn run_gate(case: &Case) {
 fn gate(format: Format) {
     let test = format!("gate_{}", format.name());
     let case = cases().into_iter().find(|c| c.format == format).unwrap();
-    if python_ready(&test, modules(format)) {
+    if python::ready(&test, modules(format)) {
         run_gate(&case);
     }
 }
@@ -313,6 +255,11 @@ fn gate_openvla_oft() {
 #[test]
 fn gate_xiaomi() {
     gate(Format::Xiaomi);
+}
+
+#[test]
+fn gate_lerobot() {
+    gate(Format::LeRobot);
 }
 
 fn pattern(salt: u32) -> RgbImage {
@@ -341,7 +288,7 @@ fn observation(instruction: &str) -> Observation {
 /// Each malformed reply is an error naming what is wrong; the next episode works.
 fn malformed(format: Format, kinds: &[(&str, &str)]) {
     let test = format!("malformed_{}", format.name());
-    if !python_ready(&test, modules(format)) {
+    if !python::ready(&test, modules(format)) {
         return;
     }
     let case = cases().into_iter().find(|c| c.format == format).unwrap();
@@ -411,8 +358,21 @@ fn malformed_xiaomi() {
 }
 
 #[test]
+fn malformed_lerobot() {
+    malformed(
+        Format::LeRobot,
+        &[
+            ("wrong_shape", "`actions[0].action` has shape [5]"),
+            ("wrong_dtype", "torch.LongStorage is not a float tensor"),
+            ("missing_action", "`actions[0]` has no `action`"),
+            ("error_status", "scripted failure"),
+        ],
+    );
+}
+
+#[test]
 fn internvla_metadata_is_checked() {
-    if !python_ready("internvla_metadata_is_checked", modules(Format::InternVla)) {
+    if !python::ready("internvla_metadata_is_checked", modules(Format::InternVla)) {
         return;
     }
     let case = cases().into_iter().find(|c| c.format == Format::InternVla).unwrap();

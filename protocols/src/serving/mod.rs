@@ -17,6 +17,7 @@
 //! field; nothing panics.
 
 pub mod internvla;
+pub mod lerobot;
 pub mod openpi;
 pub mod openvla_oft;
 pub mod pickle;
@@ -199,9 +200,7 @@ impl ServedPolicy {
             Format::InternVla => Box::new(internvla::InternVlaTransport::connect(config)?),
             Format::OpenVlaOft => Box::new(openvla_oft::OftTransport::new(config)?),
             Format::Xiaomi => Box::new(xiaomi::XiaomiTransport::connect(config)?),
-            Format::LeRobot => {
-                return Err(PolicyError::Other("grpc:// (LeRobot async inference) is not built in yet".into()));
-            }
+            Format::LeRobot => Box::new(lerobot::LeRobotTransport::connect(config)?),
         };
         let name = format!("{}@{}", config.profile.name, config.url);
         Ok(ServedPolicy::new(config.profile.clone(), name, transport))

@@ -253,7 +253,8 @@ impl Writer {
 
 /// Reads one pickle from the start of `bytes`; returns the value and the bytes after it.
 pub fn read(bytes: &[u8]) -> Result<(Value, &[u8]), String> {
-    let mut r = Reader { data: bytes, pos: 0, stack: Vec::new(), marks: Vec::new(), memo: Vec::new() };
+    let mut r =
+        Reader { data: bytes, pos: 0, stack: Vec::new(), marks: Vec::new(), memo: Vec::new(), budget: COPY_BUDGET };
     let v = r.run()?;
     Ok((v, &bytes[r.pos..]))
 }
@@ -267,15 +268,56 @@ pub fn read_all(bytes: &[u8]) -> Result<Value, String> {
     Ok(v)
 }
 
+/// How much a pickle may copy through its memo (`GET`, `DUP`, `MEMOIZE`), in [`weight`] units
+/// (nodes and bytes): action replies copy a few kB; a pickle that doubles a list on every step
+/// is refused instead of exhausting memory.
+const COPY_BUDGET: usize = 1 << 22;
+
 struct Reader<'a> {
     data: &'a [u8],
     pos: usize,
     stack: Vec<Value>,
     marks: Vec<usize>,
     memo: Vec<Option<Value>>,
+    budget: usize,
+}
+
+/// Nodes plus bytes of a value, counted until `limit` is passed.
+fn weight(v: &Value, limit: usize) -> usize {
+    let mut total = 1;
+    let mut todo = vec![v];
+    while let Some(v) = todo.pop() {
+        total += match v {
+            Value::Str(s) => s.len(),
+            Value::Bytes(b) | Value::BigInt(b) => b.len(),
+            _ => 1,
+        };
+        if total > limit {
+            break;
+        }
+        match v {
+            Value::Tuple(xs) | Value::List(xs) => todo.extend(xs),
+            Value::Dict(items) => todo.extend(items.iter().flat_map(|(k, v)| [k, v])),
+            Value::Call { callable, args, state } => {
+                todo.push(callable);
+                todo.push(args);
+                todo.extend(state.as_deref());
+            }
+            Value::PersistentId(id) => todo.push(id),
+            _ => {}
+        }
+    }
+    total
 }
 
 impl Reader<'_> {
+    /// Charges a copy of `v` to the budget.
+    fn charge(&mut self, v: &Value) -> Result<(), String> {
+        let w = weight(v, self.budget);
+        self.budget = self.budget.checked_sub(w).ok_or("pickle copies too much through its memo")?;
+        Ok(())
+    }
+
     fn take(&mut self, n: usize) -> Result<&[u8], String> {
         let end = self.pos.checked_add(n).filter(|&e| e <= self.data.len()).ok_or_else(|| {
             format!("pickle truncated: {n} bytes wanted at offset {}, {} left", self.pos, self.data.len() - self.pos)
@@ -331,6 +373,7 @@ impl Reader<'_> {
 
     fn memo_put(&mut self, i: usize) -> Result<(), String> {
         let v = self.stack.last().cloned().ok_or("pickle: memoize on an empty stack")?;
+        self.charge(&v)?;
         if i > 1 << 24 {
             return Err(format!("pickle: memo index {i} too large"));
         }
@@ -343,6 +386,7 @@ impl Reader<'_> {
 
     fn memo_get(&mut self, i: usize) -> Result<(), String> {
         let v = self.memo.get(i).cloned().flatten().ok_or_else(|| format!("pickle: memo {i} is empty"))?;
+        self.charge(&v)?;
         self.stack.push(v);
         Ok(())
     }
@@ -384,6 +428,7 @@ impl Reader<'_> {
                 }
                 b'2' => {
                     let v = self.top()?.clone();
+                    self.charge(&v)?;
                     self.stack.push(v);
                 }
                 b'N' => self.stack.push(Value::None),
@@ -621,8 +666,17 @@ fn ints(v: &Value, what: &str) -> Result<Vec<usize>, String> {
     }
 }
 
-/// Decodes one element type into f64s; `None` for types that are not floats.
+/// Decodes one element type into f64s; `None` for types that are not floats or bytes that are
+/// not a whole number of elements.
 fn floats(kind: &str, bytes: &[u8]) -> Option<Vec<f64>> {
+    let size = match kind {
+        "f8" => 8,
+        "f4" => 4,
+        _ => 2,
+    };
+    if bytes.len() % size != 0 {
+        return None;
+    }
     Some(match kind {
         "f8" => bytes.chunks_exact(8).map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes"))).collect(),
         "f4" => bytes.chunks_exact(4).map(|b| f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]]))).collect(),
@@ -695,13 +749,20 @@ fn numpy_array(v: &Value) -> Result<Tensor, String> {
         Value::Bytes(b) => b,
         other => return Err(format!("numpy data is {}", other.kind())),
     };
-    let values = floats(&code, bytes).ok_or_else(|| format!("numpy dtype {dtype:?} is not a float type"))?;
-    let n: usize = shape.iter().product();
-    if values.len() != n || bytes.len() % values.len().max(1) != 0 {
+    if !matches!(code.as_str(), "f2" | "f4" | "f8") {
+        return Err(format!("numpy dtype {dtype:?} is not a float type"));
+    }
+    let values =
+        floats(&code, bytes).ok_or_else(|| format!("numpy data of {} bytes is not {dtype} elements", bytes.len()))?;
+    let n = shape.iter().try_fold(1usize, |a, &d| a.checked_mul(d)).ok_or("numpy shape overflows")?;
+    if values.len() != n {
         return Err(format!("numpy array of shape {shape:?} has {} values", values.len()));
     }
     Ok(Tensor { shape, values, dtype })
 }
+
+/// Tensors above this many elements are refused (an action chunk has a few hundred).
+const MAX_ELEMENTS: usize = 1 << 24;
 
 fn torch_tensor(v: &Value) -> Result<Tensor, String> {
     let Value::Call { args, .. } = v else { unreachable!("checked by the caller") };
@@ -742,12 +803,17 @@ fn torch_tensor(v: &Value) -> Result<Tensor, String> {
         "BFloat16Storage" => "bf16",
         other => return Err(format!("tensor of torch.{other} is not a float tensor")),
     };
-    let all = floats(code, &data).expect("float codes");
-    let n: usize = shape.iter().product();
+    let all = floats(code, &data).ok_or("torch storage is not a whole number of elements")?;
+    let n = shape.iter().try_fold(1usize, |a, &d| a.checked_mul(d)).filter(|&n| n <= MAX_ELEMENTS);
+    let n = n.ok_or_else(|| format!("tensor of size {shape:?} is larger than {MAX_ELEMENTS} elements"))?;
     let mut values = Vec::with_capacity(n);
     let mut index = vec![0usize; shape.len()];
     for _ in 0..n {
-        let at = offset + index.iter().zip(&stride).map(|(i, s)| i * s).sum::<usize>();
+        let at = index
+            .iter()
+            .zip(&stride)
+            .try_fold(offset, |acc, (i, s)| i.checked_mul(*s).and_then(|x| acc.checked_add(x)))
+            .unwrap_or(usize::MAX);
         values.push(*all.get(at).ok_or_else(|| format!("tensor element {at} is beyond its storage of {}", all.len()))?);
         for d in (0..shape.len()).rev() {
             index[d] += 1;
@@ -852,6 +918,13 @@ mod tests {
         assert!(read_all(&[0x80, 3, b't']).unwrap_err().contains("mark"));
         assert!(read_all(&[0x80, 3, b'N', b'.', 0]).unwrap_err().contains("unexpected bytes"));
         assert!(tensor(&Value::Int(3)).unwrap_err().contains("an int"));
+        // A list doubled 40 times through the memo would need 2^40 copies.
+        let mut bomb = vec![0x80, 3, b']', 0x94];
+        for i in 0..40u8 {
+            bomb.extend([b'h', i, b'h', i, 0x86, 0x94]);
+        }
+        bomb.push(b'.');
+        assert!(read_all(&bomb).unwrap_err().contains("copies too much"));
         assert_eq!(f16_to_f64(0x3c00), 1.0);
         assert_eq!(f16_to_f64(0xc000), -2.0);
     }

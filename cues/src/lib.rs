@@ -7,10 +7,12 @@
 //! them) to an [`Inserter`]. See the README for the family catalogue and the rules.
 
 pub mod anchors;
+pub mod composition;
 pub mod draw;
 pub mod error;
 pub mod families;
 pub mod glyphs;
+pub mod hash;
 pub mod image;
 pub mod insert;
 pub mod instances;
@@ -23,7 +25,7 @@ pub use anchors::{Anchor, Anchors, PinholeCamera, Projector, WorldAnchor};
 pub use error::CueError;
 pub use image::{RgbImage, RgbaImage};
 pub use insert::{AnchorUse, FrameInputs, InsertReport, Inserter};
-pub use instances::{InstanceSet, TaskDescription};
+pub use instances::{InstanceSet, SetName, TaskDescription};
 pub use parse::{ParseError, ParsedTask, Relation, Step, parse, parse_with_goals};
 pub use spec::{CueParams, CueSpec, Family, InsertMode, NormBox};
 pub use variants::{Needs, VARIANTS, Variant};

@@ -184,9 +184,16 @@ impl CueSpec {
         })
     }
 
-    /// Stable id: `<task>/<family>/<variant>`, e.g. `libero_goal/3/F2/curved_arrow_yellow`.
+    /// Stable id: `<task>/<family>/<variant>`, e.g. `libero_goal/3/F2/curved_arrow_yellow`,
+    /// with `@<step number>` added when the spec shows a later step than the variant's first
+    /// fitting one (`libero_10/2/F2/straight_arrow_red@2`; see [`crate::instances`]).
     pub fn id(&self) -> String {
-        format!("{}/{}/{}", self.task, self.family, self.variant)
+        let first = variants::find(&self.variant)
+            .and_then(|v| crate::instances::first_step(&self.steps, &self.instruction, v.needs));
+        match first {
+            Some(first) if first != self.step => format!("{}/{}/{}@{}", self.task, self.family, self.variant, self.step + 1),
+            _ => format!("{}/{}/{}", self.task, self.family, self.variant),
+        }
     }
 
     /// The variant, after checking that the spec is consistent (known variant of the stated

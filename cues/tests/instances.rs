@@ -1,22 +1,23 @@
-//! The instance set over LIBERO's 40 tasks: compatibility, composition against the paper,
-//! determinism and JSON round trip.
+//! The instance sets over LIBERO's 40 tasks: compatibility, per-step instances, the `full` and
+//! `paper` sets against the paper, determinism and JSON round trip.
 
 mod common;
 
+use std::collections::BTreeSet;
+
+use vifo_cues::composition::coverage;
 use vifo_cues::instances::{InstanceSet, TaskDescription};
+use vifo_cues::signage::Category;
+use vifo_cues::variants::Form;
 use vifo_cues::{Family, Inserter, VARIANTS};
 
 fn set() -> InstanceSet {
     InstanceSet::build(&common::descriptions()).unwrap()
 }
 
-#[test]
-fn composition_is_close_to_the_paper() {
-    let set = set();
-    let total = set.instances.len();
-    assert!((1212..=1482).contains(&total), "{total} instances, paper 1,347 ± 10 %");
-    let c = set.composition();
-    for (family, count) in &c {
+fn print(name: &str, set: &InstanceSet) {
+    println!("{name}: {} instances", set.instances.len());
+    for (family, count) in set.composition() {
         println!(
             "{family} {:<24} {:>4} instances {:>5.1} % on {:>2} tasks",
             family.name(),
@@ -25,19 +26,81 @@ fn composition_is_close_to_the_paper() {
             count.tasks
         );
     }
-    // Seven families on all 40 tasks, ghosts on the 38 that move an object.
-    for family in Family::ALL {
-        let expected_tasks = if family == Family::F3 { 38 } else { 40 };
-        assert_eq!(c[&family].tasks, expected_tasks, "{family}");
+}
+
+/// Seven families on all 40 tasks, ghosts on the 38 that move an object.
+fn assert_task_coverage(set: &InstanceSet) {
+    for (family, count) in set.composition() {
+        assert_eq!(count.tasks, if family == Family::F3 { 38 } else { 40 }, "{family}");
     }
-    // The three largest families are geometric, highlight and pictorial (paper: 23.8, 20.8, 20.0 %).
-    let mut by_size: Vec<_> = c.iter().collect();
-    by_size.sort_by_key(|(_, c)| std::cmp::Reverse(c.instances));
-    let top: Vec<Family> = by_size[..3].iter().map(|(f, _)| **f).collect();
-    assert_eq!(top, [Family::F2, Family::F4, Family::F7]);
-    for (family, paper) in [(Family::F2, 0.238), (Family::F7, 0.208), (Family::F4, 0.200)] {
-        assert!((c[&family].share - paper).abs() < 0.04, "{family}: {:.3} vs {paper}", c[&family].share);
+}
+
+#[test]
+fn the_full_set_has_every_variant_on_every_task_it_fits() {
+    let set = set();
+    print("full", &set);
+    assert_task_coverage(&set);
+    let variants: BTreeSet<&str> = set.instances.iter().map(|s| s.variant.as_str()).collect();
+    assert_eq!(variants.len(), VARIANTS.len(), "every catalogued variant fits some task");
+    // Every signage category is on some F6 instance.
+    let categories: BTreeSet<String> = set
+        .instances
+        .iter()
+        .filter_map(|s| match vifo_cues::variants::find(&s.variant).unwrap().form {
+            Form::Sign(c) => Some(format!("{c:?}")),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(categories.len(), Category::ALL.len(), "{categories:?}");
+}
+
+#[test]
+fn the_paper_set_has_the_papers_size_and_stated_shares() {
+    let full = set();
+    let paper = full.paper().unwrap();
+    print("paper", &paper);
+    assert_eq!(paper.instances.len(), 1347);
+    let variants: BTreeSet<&str> = paper.instances.iter().map(|s| s.variant.as_str()).collect();
+    assert_eq!(variants.len(), 33);
+    assert_eq!(variants.len(), vifo_cues::instances::paper::kept_variants().len());
+    let c = paper.composition();
+    for (family, share) in vifo_cues::instances::paper::STATED_SHARES {
+        assert!((c[&family].share - share).abs() <= 0.005, "{family}: {:.4} vs {share}", c[&family].share);
     }
+    assert_task_coverage(&paper);
+    // A subset of the full set, in its order, chosen the same way every time.
+    let full_ids: Vec<String> = full.instances.iter().map(|s| s.id()).collect();
+    let ids: Vec<String> = paper.instances.iter().map(|s| s.id()).collect();
+    let mut at = 0;
+    for id in &ids {
+        at += full_ids[at..].iter().position(|f| f == id).expect("paper ids are full ids, in order") + 1;
+    }
+    assert_eq!(paper, full.paper().unwrap());
+}
+
+#[test]
+fn what_the_paper_set_encodes_is_near_the_papers_figure() {
+    let paper = set().paper().unwrap();
+    for (component, c) in coverage(&paper.instances) {
+        println!("{:<30} {:>5.1} % (paper {:>4.1} %)", component.label(), c.percent, c.paper_percent);
+        assert!((c.percent - c.paper_percent).abs() <= 5.0, "{component:?}");
+    }
+}
+
+#[test]
+fn scene_anchored_variants_show_each_step_that_marks_something_new() {
+    let set = set();
+    let ids: BTreeSet<String> = set.instances.iter().map(|s| s.id()).collect();
+    // "put the white mug on the left plate and put the yellow and white mug on the right plate":
+    // an arrow per step; the text shows the whole task once.
+    let second = set.instances.iter().find(|s| s.id() == "libero_10/4/F2/straight_arrow_red@2").unwrap();
+    assert_eq!((second.step, second.source.as_str()), (1, "yellow and white mug"));
+    assert!(!ids.contains("libero_10/4/F1/caption_bar@2"));
+    // "put both the alphabet soup and the tomato sauce in the basket": one crosshair on the
+    // basket, a glow on each object.
+    assert!(ids.contains("libero_10/0/F2/target_crosshair_magenta"));
+    assert!(!ids.contains("libero_10/0/F2/target_crosshair_magenta@2"));
+    assert!(ids.contains("libero_10/0/F7/glow_halo@2"));
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! Episode specifications and results.
 
 use serde::{Deserialize, Serialize};
+use vifo_cues::SetName;
 
 /// The four evaluation protocols of the paper plus the cue-free baseline.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
@@ -121,13 +122,29 @@ pub enum Outcome {
     Error { message: String },
 }
 
+/// The version of the benchmark's results: records of another version were made by other
+/// tasks, physics or scoring and must not be mixed with these (a resumed run refuses them).
+/// Files written before records carried it read as version 0.
+pub const RESULTS_VERSION: u32 = 1;
+
 /// One line of a results file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct EpisodeRecord {
+    /// [`RESULTS_VERSION`] of the run that wrote it.
+    #[serde(default)]
+    pub version: u32,
     pub spec: EpisodeSpec,
     /// Policy name or server address.
     pub policy: String,
     pub outcome: Outcome,
     /// Wall-clock milliseconds (informational; never part of comparisons).
     pub wall_ms: f64,
+    /// The instance set the episode was run for (the runner writes its `RunOptions::set`).
+    /// Results files written before sets existed hold `full` episodes.
+    #[serde(default = "full_set")]
+    pub set: SetName,
+}
+
+fn full_set() -> SetName {
+    SetName::Full
 }

@@ -123,3 +123,40 @@ fn specs_that_do_not_fit_the_protocol_are_errors() {
     // No episode after a failed reset.
     assert!(matches!(env.step(&[0.0; 7]), Err(EnvError::NotStarted)));
 }
+
+/// Changes the first movable object's root body.
+fn perturb(env: &mut Env, change: impl FnOnce(&mut vifo_physics::rapier::prelude::RigidBody)) {
+    let sim = env.sim_mut().expect("episode");
+    let body = sim.model().entities.iter().find(|e| e.movable()).expect("a movable object").bodies[0];
+    change(&mut sim.world_mut().rapier_mut().bodies[body]);
+}
+
+#[test]
+fn a_blown_up_simulation_ends_the_episode_as_an_error_naming_the_step() {
+    use vifo_physics::rapier::prelude::{RigidBody, Vector};
+    let nan_position = |b: &mut RigidBody| b.set_translation(Vector::new(0.0, f64::NAN, 1.0), true);
+    let launched = |b: &mut RigidBody| b.set_linvel(Vector::new(0.0, 0.0, 400.0), true);
+    let cases: [(&dyn Fn(&mut RigidBody), &str); 2] =
+        [(&nan_position, "body distance from the origin is NaN"), (&launched, "exceeds 20 m/s")];
+    let mut env = Env::new(small(&[CameraName::AgentView]));
+    for (change, expected) in cases {
+        env.reset(&goal0(Protocol::Original)).unwrap();
+        for _ in 0..3 {
+            env.step(&[0.0; 7]).unwrap();
+        }
+        let image = env.observation().agentview.clone();
+        perturb(&mut env, change);
+        match env.step(&[0.0; 7]) {
+            Err(e @ EnvError::Physics { .. }) => {
+                // The message the rollout writes into the episode's error record.
+                let message = e.to_string();
+                assert!(message.starts_with("physics blew up at step 4: "), "{message}");
+                assert!(message.contains(expected), "{message}");
+            }
+            other => panic!("expected a physics error, got {:?}", other.map(|r| r.steps)),
+        }
+        // Nothing was rendered or scored from the broken state, and the episode is over.
+        assert_eq!(env.observation().agentview, image);
+        assert!(matches!(env.step(&[0.0; 7]), Err(EnvError::Finished { .. })));
+    }
+}

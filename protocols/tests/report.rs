@@ -2,14 +2,15 @@
 
 use std::collections::BTreeMap;
 
-use vifo_cues::Family;
+use vifo_cues::{Family, SetName};
 use vifo_protocols::report::{self, Metric, family_of};
-use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
+use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, RESULTS_VERSION, TaskRef};
 use vifo_protocols::vqa::{Accuracy, Stage, VqaScores};
 
 fn record(policy: &str, protocol: Protocol, family: &str, n: usize, outcome: Outcome) -> EpisodeRecord {
     let task = TaskRef { suite: "libero_goal".into(), index: 1 };
     EpisodeRecord {
+        version: RESULTS_VERSION,
         spec: EpisodeSpec {
             task: task.clone(),
             protocol,
@@ -24,6 +25,7 @@ fn record(policy: &str, protocol: Protocol, family: &str, n: usize, outcome: Out
         policy: policy.into(),
         outcome,
         wall_ms: 1.0,
+        set: SetName::Paper,
     }
 }
 
@@ -142,4 +144,18 @@ fn files_are_written() {
     for name in ["table1.md", "table2.csv", "chart_avf.png"] {
         assert_eq!(std::fs::read(dir.join(name)).unwrap(), std::fs::read(again.join(name)).unwrap(), "{name}");
     }
+}
+
+#[test]
+fn sets_are_reported_apart() {
+    let mut records = records();
+    let one = report::build(&records, &BTreeMap::new());
+    assert_eq!(one.sets, [SetName::Paper]);
+    assert!(report::tables::table1_markdown(&one).contains("Instance set: paper."));
+    records.push(EpisodeRecord { set: SetName::Full, ..record("oft", Protocol::Original, "-", 1, done(Some(false), None)) });
+    let two = report::build(&records, &BTreeMap::new());
+    let names: Vec<&str> = two.table1.iter().map(|r| r.policy.as_str()).collect();
+    assert_eq!(names, ["oft [full]", "oft [paper]", "pi [paper]"]);
+    assert_eq!((two.table1[0].orig_sr.correct, two.table1[0].orig_sr.total), (0, 1));
+    assert_eq!((two.table1[1].orig_sr.correct, two.table1[1].orig_sr.total), (1, 1));
 }

@@ -3,8 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
+use vifo_cues::SetName;
 use vifo_protocols::runner::{self, RunError, RunOptions, Shard, final_records, read_records, seed_for};
-use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
+use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, RESULTS_VERSION, TaskRef};
 
 fn specs(n: usize) -> Vec<EpisodeSpec> {
     (0..n)
@@ -33,6 +34,7 @@ fn specs(n: usize) -> Vec<EpisodeSpec> {
 fn episode(spec: &EpisodeSpec) -> EpisodeRecord {
     let steps = (spec.seed % 300) as usize;
     EpisodeRecord {
+        version: RESULTS_VERSION,
         spec: spec.clone(),
         policy: "scripted".into(),
         outcome: Outcome::Completed {
@@ -41,6 +43,7 @@ fn episode(spec: &EpisodeSpec) -> EpisodeRecord {
             steps,
         },
         wall_ms: 0.0,
+        set: SetName::Paper,
     }
 }
 
@@ -184,4 +187,82 @@ fn a_corrupt_middle_line_is_reported_with_its_position() {
     std::fs::write(&path, text).unwrap();
     let err = read_records(&path).unwrap_err().to_string();
     assert!(err.contains("results.jsonl:2:") && err.contains("episode record"), "{err}");
+}
+
+#[test]
+fn an_unwritable_output_is_a_clear_error_before_any_episode_runs() {
+    let (dir, _) = temp();
+    // A plain file where the output folder should be: no user (not even root) can write there.
+    let blocker = dir.path().join("not-a-folder");
+    std::fs::write(&blocker, "x").unwrap();
+    let path = blocker.join("results.jsonl");
+    let ran = std::sync::atomic::AtomicUsize::new(0);
+    let counting = |spec: &EpisodeSpec| {
+        ran.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        episode(spec)
+    };
+    match runner::run(&specs(4), counting, &options(&path, 1)) {
+        Err(RunError::Io { path: p, .. }) => assert!(blocker.starts_with(&p) || p.starts_with(&blocker), "{p:?}"),
+        other => panic!("expected an I/O error naming the folder, got {other:?}"),
+    }
+    assert_eq!(ran.into_inner(), 0);
+    // A device is no results file (and would be read forever).
+    assert!(matches!(read_records(Path::new("/dev/zero")), Err(RunError::Io { .. })));
+}
+
+#[test]
+fn a_second_run_on_the_same_file_is_refused_while_the_first_holds_the_lock() {
+    let all = specs(6);
+    let (_dir, path) = temp();
+    let held = runner::RunLock::take(&path).unwrap();
+    let err = runner::run(&all, episode, &options(&path, 1)).unwrap_err();
+    assert!(matches!(err, RunError::Locked { .. }), "{err:?}");
+    assert!(err.to_string().contains("another run is writing"), "{err}");
+    assert!(!path.exists() || read_records(&path).unwrap().records.is_empty());
+    drop(held);
+    // The lock goes with its holder (a killed process included): the next run proceeds.
+    assert_eq!(runner::run(&all, episode, &options(&path, 1)).unwrap().ran, 6);
+    assert!(matches!(runner::RunLock::take(&path), Ok(_)));
+}
+
+#[test]
+fn results_of_another_version_are_refused_and_kept() {
+    let all = specs(6);
+    let (_dir, path) = temp();
+    runner::run(&all[..3], episode, &options(&path, 1)).unwrap();
+    // The same records as an older benchmark (before records carried a version) wrote them.
+    let old: String = std::fs::read_to_string(&path).unwrap().replace("\"version\":1,", "");
+    assert!(!old.contains("version"));
+    std::fs::write(&path, &old).unwrap();
+    assert!(read_records(&path).unwrap().records.iter().all(|r| r.version == 0));
+    let err = runner::run(&all, episode, &RunOptions { resume: true, ..options(&path, 1) }).unwrap_err();
+    assert!(matches!(err, RunError::OtherVersion { found: 0, expected: 1, .. }), "{err:?}");
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), old);
+}
+
+/// `/dev/full` fails every write as a full disk does.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_disk_stops_the_writer_without_a_partial_line() {
+    let mut writer = runner::ResultsWriter::append(Path::new("/dev/full"), 0).unwrap();
+    let record = episode(&specs(1)[0]);
+    let first = writer.write(&record).unwrap_err().to_string();
+    assert!(first.contains("/dev/full") && first.to_lowercase().contains("no space"), "{first}");
+    let second = writer.write(&record).unwrap_err().to_string();
+    assert!(second.contains("an earlier write failed"), "{second}");
+}
+
+#[test]
+fn records_carry_the_set_and_a_file_of_another_set_is_not_resumed() {
+    let all = specs(8);
+    let (_dir, path) = temp();
+    runner::run(&all[..4], episode, &RunOptions { set: SetName::Full, ..options(&path, 1) }).unwrap();
+    assert!(read_records(&path).unwrap().records.iter().all(|r| r.set == SetName::Full));
+    let other = runner::run(&all, episode, &RunOptions { resume: true, ..options(&path, 1) });
+    assert!(matches!(other, Err(RunError::OtherSet { found: SetName::Full, wanted: SetName::Paper, .. })));
+    // A line written before sets existed reads as the full set.
+    let mut line = serde_json::to_value(episode(&all[0])).unwrap();
+    line.as_object_mut().unwrap().remove("set");
+    let old: EpisodeRecord = serde_json::from_value(line).unwrap();
+    assert_eq!(old.set, SetName::Full);
 }

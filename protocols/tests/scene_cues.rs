@@ -4,9 +4,10 @@
 
 use std::sync::Arc;
 
-use vifo_cues::{AnchorUse, CueSpec, Family, InsertMode, parse, variants};
+use vifo_cues::{AnchorUse, CueSpec, Family, InsertMode, SetName, parse, variants};
 use vifo_protocols::scene_cues::{
-    CameraProjector, EpisodeCue, SceneCueError, ScenePoint, anchors, builtin_instances, instance, start::settled_start,
+    CameraProjector, EpisodeCue, SceneCueError, ScenePoint, anchors, builtin_instances, builtin_set, instance,
+    start::settled_start,
     task_of,
 };
 use vifo_render::{Camera, Frame, RgbImage, Renderer};
@@ -236,16 +237,19 @@ fn every_instance_finds_its_things_in_its_scene() {
 }
 
 #[test]
-fn the_instance_set_meets_the_paper_composition() {
-    let set = builtin_instances().unwrap();
-    let total = set.instances.len();
-    assert!((1212..=1482).contains(&total), "{total}");
-    assert!(variants::VARIANTS.len() >= 33);
-    for (family, count) in set.composition() {
-        assert!(variants::of_family(family).count() >= 3, "{family}");
-        assert_eq!(count.tasks, if family == Family::F3 { 38 } else { 40 }, "{family}");
+fn both_instance_sets_cover_the_tasks_and_every_instance_is_found_by_id() {
+    let full = builtin_instances().unwrap();
+    let paper = builtin_set(SetName::Paper).unwrap();
+    assert_eq!(builtin_set(SetName::Full).unwrap(), full);
+    assert_eq!(paper.instances.len(), 1347);
+    assert!(full.instances.len() > paper.instances.len());
+    for set in [full, paper] {
+        for (family, count) in set.composition() {
+            assert!(variants::of_family(family).count() >= 3, "{family}");
+            assert_eq!(count.tasks, if family == Family::F3 { 38 } else { 40 }, "{family}");
+        }
     }
-    for spec in &set.instances {
+    for spec in &full.instances {
         assert_eq!(instance(&spec.id()).unwrap(), spec);
     }
 }

@@ -14,7 +14,6 @@
 
 pub mod bddl;
 pub mod catalog;
-pub mod expert;
 pub mod init_file;
 pub mod init_states;
 pub mod scene_class;

@@ -2,6 +2,12 @@
 //!
 //! Tests that need LIBERO's reference data read it from `../shared` next to the workspace root.
 //! A fresh clone has no such folder; such tests then print why they skipped and pass.
+//!
+//! [`fault_server`] is a misbehaving openpi server and [`fault_trials`] the runs against it
+//! that the fault test and `examples/policy_faults.rs` share.
+
+pub mod fault_server;
+pub mod fault_trials;
 
 use std::path::PathBuf;
 

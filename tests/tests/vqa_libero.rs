@@ -40,6 +40,12 @@ fn libero() -> (Vec<CueSpec>, BTreeMap<String, Scene>) {
     (InstanceSet::build(&descriptions).unwrap().instances, scenes)
 }
 
+/// The paper set's instances (the default set of `vifo vqa export`).
+fn paper() -> Vec<CueSpec> {
+    let (full, _) = libero();
+    InstanceSet { instances: full }.paper().unwrap().instances
+}
+
 fn questions() -> Vec<Question> {
     let (instances, scenes) = libero();
     generate(&instances, &scenes).unwrap()
@@ -92,14 +98,19 @@ fn answer_letters_are_balanced() {
 
 #[test]
 fn text_only_baselines_stay_near_chance() {
-    let qs = questions();
-    let report = answerers::blind(&qs);
-    println!("{}", report.markdown());
-    for (stage, (strategy, acc)) in &report.best {
-        let p = acc.percent().unwrap();
-        assert!(p <= 35.0, "{stage:?}: {} reaches {p:.1} %", strategy.name());
+    let (_, scenes) = libero();
+    let paper = generate(&paper(), &scenes).unwrap();
+    assert_eq!(paper.len(), 5388);
+    for qs in [&questions(), &paper] {
+        let report = answerers::blind(qs);
+        println!("{} questions\n{}", qs.len(), report.markdown());
+        for (stage, (strategy, acc)) in &report.best {
+            let p = acc.percent().unwrap();
+            assert!(p <= 35.0, "{stage:?}: {} reaches {p:.1} %", strategy.name());
+        }
+        assert_eq!(report.strategies.len(), Blind::ALL.len());
     }
-    assert_eq!(report.strategies.len(), Blind::ALL.len());
+    let qs = questions();
     // The oracle, through the whole extraction and scoring path, gets everything right.
     let oracle = answerers::oracle(&qs).into_iter().map(|p| (p.id, p.prediction)).collect();
     let s = score("oracle", &qs, &oracle);

@@ -4,9 +4,9 @@ use std::sync::Arc;
 
 use anyhow::Result;
 use serde::Serialize;
-use vifo_scenes::expert::Expert;
+use vifo_expert::Expert;
 use vifo_scenes::init_states;
-use vifo_scenes::sim::SceneModel;
+use vifo_scenes::sim::{Extremes, SceneModel};
 
 use crate::start::Starts;
 
@@ -20,6 +20,9 @@ pub struct ExpertEpisode {
     /// The first object seen below the table top or floor during the episode (checked every
     /// step), if any.
     pub below_support: Option<String>,
+    /// The largest speeds and penetration seen over the episode (what the physics guard's
+    /// limits are chosen against).
+    pub extremes: Extremes,
 }
 
 /// Runs the expert from initial state `init` (`seed` places the fixtures of LIBERO's states).
@@ -34,16 +37,17 @@ pub fn episode(model: &Arc<SceneModel>, starts: &Starts, init: usize, seed: u64,
     }
     let mut expert = match Expert::new(&sim) {
         Ok(e) => e,
-        Err(err) => return Ok(ExpertEpisode { init, success: false, steps: 0, failure: Some(err.to_string()), below_support: None }),
+        Err(err) => return Ok(ExpertEpisode { init, success: false, steps: 0, failure: Some(err.to_string()), below_support: None, extremes: sim.extremes() }),
     };
     let mut steps = 0;
     let mut below = None;
+    let mut extremes = sim.extremes();
     while steps < budget {
         if below.is_none() {
             below = init_states::below_support(&sim).into_iter().next().map(|b| format!("step {steps}: {b}"));
         }
         if sim.success()? {
-            return Ok(ExpertEpisode { init, success: true, steps, failure: None, below_support: below });
+            return Ok(ExpertEpisode { init, success: true, steps, failure: None, below_support: below, extremes });
         }
         let action = expert.act(&sim);
         if trace && steps % 5 == 0 {
@@ -55,6 +59,7 @@ pub fn episode(model: &Arc<SceneModel>, starts: &Starts, init: usize, seed: u64,
             );
         }
         sim.step(&action);
+        extremes = extremes.max(sim.extremes());
         steps += 1;
         if expert.finished() && expert.failure().is_some() {
             break;
@@ -64,7 +69,7 @@ pub fn episode(model: &Arc<SceneModel>, starts: &Starts, init: usize, seed: u64,
     if below.is_none() {
         below = init_states::below_support(&sim).into_iter().next().map(|b| format!("step {steps}: {b}"));
     }
-    Ok(ExpertEpisode { init, success, steps, failure: expert.failure().map(str::to_string), below_support: below })
+    Ok(ExpertEpisode { init, success, steps, failure: expert.failure().map(str::to_string), below_support: below, extremes })
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@ use anyhow::{Context, Result, anyhow, bail};
 use vifo_render::imageio::{GifWriter, save_png};
 use vifo_render::{Frame, Renderer};
 use vifo_robots::action::Action;
-use vifo_scenes::expert::Expert;
+use vifo_expert::Expert;
 use vifo_scenes::sim::{SceneModel, Sim};
 use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
 

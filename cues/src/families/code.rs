@@ -45,12 +45,7 @@ pub fn action_code(spec: &CueSpec) -> String {
 /// The fiducial id of a spec: FNV-1a of "relation|source|target" modulo the codebook size.
 pub fn fiducial_id(spec: &CueSpec) -> usize {
     let key = format!("{}|{}|{}", spec.relation.name(), spec.source, spec.target.as_deref().unwrap_or(""));
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for b in key.bytes() {
-        h ^= b as u64;
-        h = h.wrapping_mul(0x100_0000_01b3);
-    }
-    (h % fiducial::CODEBOOK_SIZE as u64) as usize
+    (crate::hash::fnv1a64(key.as_bytes()) % fiducial::CODEBOOK_SIZE as u64) as usize
 }
 
 fn qr_card(payload: &str, w: u32, h: u32) -> Result<Pixmap, CueError> {

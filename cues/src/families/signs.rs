@@ -12,6 +12,12 @@ use crate::signage::{Category, SignSpec, compose_pixmap};
 
 const POST: Rgba = [60, 60, 66, 255];
 
+/// Things a hazard sign warns about: the hot appliances of LIBERO's scenes.
+pub const HAZARDS: &[&str] = &["stove", "microwave"];
+
+/// Carriers an object is handed over in, for a person to take away.
+pub const CARRIERS: &[&str] = &["basket", "caddy", "tray"];
+
 /// Draws the sign of `category` for the spec's step at the chosen anchor.
 fn sign_at(ctx: &mut Ctx<'_>, category: Category, which: Which) -> Result<(), CueError> {
     let s = ctx.scale();
@@ -54,4 +60,26 @@ pub fn zone_target(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
 
 pub fn permission_source(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     sign_at(ctx, Category::Permission, Which::Source)
+}
+
+pub fn prohibition_source(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    sign_at(ctx, Category::Prohibition, Which::Source)
+}
+
+/// At the appliance: the target ("put the moka pot on the stove"), or the source of a step
+/// without one ("turn on the stove").
+pub fn hazard(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    sign_at(ctx, Category::Hazard, if ctx.spec.target.is_some() { Which::Target } else { Which::Source })
+}
+
+pub fn handover_target(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    sign_at(ctx, Category::HumanRobot, if ctx.spec.target.is_some() { Which::Target } else { Which::Source })
+}
+
+pub fn maintenance_source(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    sign_at(ctx, Category::Maintenance, Which::Source)
+}
+
+pub fn system_state(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
+    sign_at(ctx, Category::SystemState, Which::Source)
 }

@@ -55,21 +55,42 @@ pub struct SignSpec {
 }
 
 impl SignSpec {
-    /// The sign for one task step in a category: the predicate carries out the step's relation,
-    /// the target is the step's destination (or, without one, the object acted on), and side
-    /// relations ("to the right of") get a direction arrow.
+    /// The sign for one task step in a category. The predicate carries out the step's
+    /// relation (grasp at a source that is carried away), the target is the thing the sign
+    /// stands at, and the category adds its meaning:
+    /// - prohibition forbids the opposite of a state change ("do not close" at a drawer to
+    ///   open), with the negation slash;
+    /// - permission gets the authorised check; system state a status badge with the state to
+    ///   reach (on/off); human–robot interaction the hand-over predicate;
+    /// - side relations ("to the right of") get a direction arrow at the target.
     pub fn for_step(category: Category, step: &Step, on_source: bool) -> SignSpec {
+        use crate::parse::Relation;
         let name = if on_source { &step.source } else { step.target.as_ref().unwrap_or(&step.source) };
-        let predicate = if on_source && step.relation.moves_source() {
+        let mut predicate = if on_source && step.relation.moves_source() {
             Predicate::Grasp
         } else {
             Predicate::for_relation(step.relation)
         };
         let modifier = match (category, step.relation) {
             (Category::Permission, _) => Some(Modifier::Authorized),
-            (Category::Prohibition, _) => Some(Modifier::Negation),
-            (_, crate::parse::Relation::LeftOf) if !on_source => Some(Modifier::Direction(modifier::Direction::Left)),
-            (_, crate::parse::Relation::RightOf) if !on_source => Some(Modifier::Direction(modifier::Direction::Right)),
+            (Category::Prohibition, r) => {
+                predicate = match r {
+                    Relation::Open => Predicate::Close,
+                    Relation::Close => Predicate::Open,
+                    Relation::TurnOn => Predicate::TurnOff,
+                    Relation::TurnOff => Predicate::TurnOn,
+                    _ => predicate,
+                };
+                Some(Modifier::Negation)
+            }
+            (Category::SystemState, Relation::TurnOn) => Some(Modifier::Status { on: true }),
+            (Category::SystemState, Relation::TurnOff) => Some(Modifier::Status { on: false }),
+            (Category::HumanRobot, _) => {
+                predicate = Predicate::HandOver;
+                None
+            }
+            (_, Relation::LeftOf) if !on_source => Some(Modifier::Direction(modifier::Direction::Left)),
+            (_, Relation::RightOf) if !on_source => Some(Modifier::Direction(modifier::Direction::Right)),
             _ => None,
         };
         SignSpec { category, actor: Actor::Arm, predicate, target: SignTarget::named(name), modifier }

@@ -1,4 +1,5 @@
-//! Modifiers (the `m` of a sign): negation, direction, hazard, authorisation, alignment.
+//! Modifiers (the `m` of a sign): negation, direction, hazard, authorisation, alignment,
+//! system state.
 
 use serde::{Deserialize, Serialize};
 use tiny_skia::{Pixmap, Transform};
@@ -31,6 +32,9 @@ pub enum Modifier {
     Authorized,
     /// A crosshair badge: "align here".
     Alignment,
+    /// A power badge with a status lamp: the state a device is to be in (green lamp and a
+    /// closed power symbol for on, a dark lamp and a crossed symbol for off).
+    Status { on: bool },
 }
 
 const BADGE_RIM: Rgba = [255, 255, 255, 255];
@@ -82,6 +86,23 @@ pub fn draw(pm: &mut Pixmap, modifier: Modifier, style: &Style, s: f32) {
             }
             if let Some(p) = polyline(&[v2(0.78, 0.16), v2(0.83, 0.21), v2(0.91, 0.11)]) {
                 draw::stroke(pm, &p, BADGE_RIM, 0.035, ts);
+            }
+        }
+        Modifier::Status { on } => {
+            let c = v2(0.84, 0.84);
+            if let Some(p) = circle(c, 0.14) {
+                draw::fill_outlined(pm, &p, [20, 20, 24, 255], BADGE_RIM, 0.015, ts);
+            }
+            let lamp = if on { [60, 220, 90, 255] } else { [120, 40, 40, 255] };
+            // Power symbol: an open ring with a bar through the gap at the top.
+            if let Some(p) = crate::draw::geom::arc(c, 0.075, -1.1, 4.24) {
+                draw::stroke(pm, &p, lamp, 0.025, ts);
+            }
+            if let Some(p) = line(v2(c.x, c.y - 0.1), v2(c.x, c.y - 0.02)) {
+                draw::stroke(pm, &p, lamp, 0.025, ts);
+            }
+            if !on && let Some(p) = line(v2(c.x - 0.1, c.y + 0.1), v2(c.x + 0.1, c.y - 0.1)) {
+                draw::stroke(pm, &p, [230, 60, 60, 255], 0.022, ts);
             }
         }
         Modifier::Alignment => {

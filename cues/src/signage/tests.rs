@@ -38,7 +38,10 @@ fn parts_change_the_sign_and_composition_is_deterministic() {
         SignSpec { modifier: Some(Modifier::HazardMark), ..base.clone() },
         SignSpec { modifier: Some(Modifier::Authorized), ..base.clone() },
         SignSpec { modifier: Some(Modifier::Alignment), ..base.clone() },
+        SignSpec { modifier: Some(Modifier::Status { on: true }), ..base.clone() },
     ];
+    let on = compose(&SignSpec { modifier: Some(Modifier::Status { on: true }), ..base.clone() });
+    assert_ne!(on, compose(&SignSpec { modifier: Some(Modifier::Status { on: false }), ..base.clone() }));
     for v in &variants {
         assert_ne!(compose(v), image, "{v:?} looks like the base sign");
     }
@@ -72,4 +75,17 @@ fn libero_steps_fill_predicate_and_target() {
     let right = parse("put the chocolate pudding to the right of the plate").unwrap();
     let sign = SignSpec::for_step(Category::TargetZone, right.primary(), false);
     assert_eq!(sign.modifier, Some(Modifier::Direction(modifier::Direction::Right)));
+}
+
+#[test]
+fn categories_add_their_meaning_to_a_step() {
+    let task = parse("turn on the stove and put the moka pot on it").unwrap();
+    // Prohibition forbids the opposite of the state change: "do not turn off".
+    let no = SignSpec::for_step(Category::Prohibition, &task.steps[0], true);
+    assert_eq!((no.predicate, no.modifier), (Predicate::TurnOff, Some(Modifier::Negation)));
+    let state = SignSpec::for_step(Category::SystemState, &task.steps[0], true);
+    assert_eq!((state.predicate, state.modifier), (Predicate::TurnOn, Some(Modifier::Status { on: true })));
+    let basket = parse("pick up the orange juice and place it in the basket").unwrap();
+    let handover = SignSpec::for_step(Category::HumanRobot, &basket.steps[0], false);
+    assert_eq!((handover.predicate, handover.target.label.as_deref()), (Predicate::HandOver, Some("basket")));
 }

@@ -1,9 +1,10 @@
-//! The cue instances of LIBERO's 40 tasks, and the names their scenes give things.
+//! The cue instances of LIBERO's 40 tasks (both named sets), and the names their scenes give
+//! things.
 
 use std::collections::BTreeMap;
 use std::sync::OnceLock;
 
-use vifo_cues::CueSpec;
+use vifo_cues::{CueSpec, SetName};
 use vifo_scenes::task::Entity;
 
 use super::BenchmarkError;
@@ -11,18 +12,21 @@ use crate::scene_cues;
 use crate::spec::TaskRef;
 use crate::vqa::{Scene, SceneEntity};
 
-/// Every cue instance of the 40 built-in tasks, in suite, task and catalogue order.
-pub fn all() -> &'static [CueSpec] {
-    // The tasks and the parser are compiled in and `benchmark` tests build this set, so a
+/// Every cue instance of a named set of the 40 built-in tasks, in suite, task and catalogue
+/// order.
+pub fn all(set: SetName) -> &'static [CueSpec] {
+    // The tasks and the parser are compiled in and `benchmark` tests build both sets, so a
     // failure here is a build defect, not bad input.
-    &scene_cues::builtin_instances().unwrap_or_else(|e| panic!("instance set of the built-in tasks: {e}")).instances
+    &scene_cues::builtin_set(set).unwrap_or_else(|e| panic!("{set} instance set of the built-in tasks: {e}")).instances
 }
 
-/// The instance with this id (`libero_goal/3/F2/curved_arrow_yellow`).
+/// The instance with this id (`libero_goal/3/F2/curved_arrow_yellow`), from either set (the
+/// `full` set holds every instance).
 pub fn find(id: &str) -> Result<&'static CueSpec, BenchmarkError> {
     static BY_ID: OnceLock<BTreeMap<String, usize>> = OnceLock::new();
-    let index = BY_ID.get_or_init(|| all().iter().enumerate().map(|(i, s)| (s.id(), i)).collect());
-    index.get(id).map(|&i| &all()[i]).ok_or_else(|| BenchmarkError::UnknownInstance(id.to_string()))
+    let full = all(SetName::Full);
+    let index = BY_ID.get_or_init(|| full.iter().enumerate().map(|(i, s)| (s.id(), i)).collect());
+    index.get(id).map(|&i| &full[i]).ok_or_else(|| BenchmarkError::UnknownInstance(id.to_string()))
 }
 
 /// The task an instance belongs to.

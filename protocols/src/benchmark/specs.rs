@@ -3,7 +3,7 @@
 
 use std::collections::BTreeSet;
 
-use vifo_cues::{CueSpec, Family};
+use vifo_cues::{CueSpec, Family, SetName};
 
 use super::{BenchmarkError, builtin_task, instances, language};
 use crate::runner::{seed_for, stable_hash};
@@ -15,6 +15,8 @@ pub const INIT_STATES: usize = 50;
 /// Which part of the benchmark to run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Selection {
+    /// The instance set the cue instances come from.
+    pub set: SetName,
     /// Suite names; empty means all four.
     pub suites: Vec<String>,
     pub protocols: Vec<Protocol>,
@@ -27,9 +29,16 @@ pub struct Selection {
 }
 
 impl Selection {
-    /// The whole benchmark, `episodes` per instance and protocol.
+    /// The whole benchmark over the paper set, `episodes` per instance and protocol.
     pub fn all(episodes: usize) -> Selection {
-        Selection { suites: Vec::new(), protocols: Protocol::ALL.to_vec(), families: Vec::new(), per_family: None, episodes }
+        Selection {
+            set: SetName::Paper,
+            suites: Vec::new(),
+            protocols: Protocol::ALL.to_vec(),
+            families: Vec::new(),
+            per_family: None,
+            episodes,
+        }
     }
 
     /// `vifo run`'s quick default: one instance per family, one episode each, every protocol.
@@ -85,7 +94,7 @@ pub fn spec(
 /// Episode `e` uses initial state `e % 50` and repetition `e / 50`.
 pub fn specs(selection: &Selection) -> Result<Vec<EpisodeSpec>, BenchmarkError> {
     let suites = suite_list(&selection.suites)?;
-    let chosen = choose_instances(&suites, &selection.families, selection.per_family)?;
+    let chosen = choose_instances(selection.set, &suites, &selection.families, selection.per_family)?;
     let mut out = Vec::new();
     let episodes = |out: &mut Vec<EpisodeSpec>, task: &TaskRef, protocol: Protocol, instance: Option<&str>| {
         (0..selection.episodes)
@@ -128,6 +137,7 @@ fn suite_list(names: &[String]) -> Result<Vec<String>, BenchmarkError> {
 /// from the suites in turn (starting at a different suite per family) and, within a suite,
 /// in the order of a stable hash of the id, one per task.
 fn choose_instances(
+    set: SetName,
     suites: &[String],
     families: &[Family],
     per_family: Option<usize>,
@@ -136,7 +146,7 @@ fn choose_instances(
         let suite = c.task.split('/').next().unwrap_or("");
         suites.iter().any(|s| s == suite) && (families.is_empty() || families.contains(&c.family))
     };
-    let all: Vec<&'static CueSpec> = instances::all().iter().filter(in_scope).collect();
+    let all: Vec<&'static CueSpec> = instances::all(set).iter().filter(in_scope).collect();
     let Some(limit) = per_family else { return Ok(all) };
     let mut out = Vec::new();
     for (f, family) in Family::ALL.iter().enumerate() {
@@ -172,14 +182,21 @@ mod tests {
     #[test]
     fn the_whole_benchmark_has_every_instance_under_three_protocols_and_every_task_once() {
         let specs = specs(&Selection::all(1)).unwrap();
-        let n = instances::all().len();
+        let n = instances::all(SetName::Paper).len();
+        assert_eq!(n, 1347);
         assert_eq!(specs.len(), 40 + 3 * n);
+        let full = specs_of(SetName::Full);
+        assert_eq!(full.len(), 40 + 3 * instances::all(SetName::Full).len());
         let keys: BTreeSet<String> = specs.iter().map(|s| s.key()).collect();
         assert_eq!(keys.len(), specs.len());
         for s in &specs {
             assert_eq!(s.seed, seed_for(s));
             assert_eq!(s.instance.is_some(), s.protocol.uses_cue());
         }
+    }
+
+    fn specs_of(set: SetName) -> Vec<EpisodeSpec> {
+        specs(&Selection { set, ..Selection::all(1) }).unwrap()
     }
 
     #[test]

@@ -95,6 +95,9 @@ pub enum EnvError {
     NotStarted,
     #[error("the episode is over ({steps} steps); call reset")]
     Finished { steps: usize },
+    /// The simulation blew up ([`Sim::blow_up`]); the episode is over and scores nothing.
+    #[error("physics blew up at step {step}: {why}")]
+    Physics { step: usize, why: String },
 }
 
 /// What one step produced.
@@ -188,6 +191,9 @@ impl Env {
         let mut sim = Sim::new(assets.model.clone());
         init_states::apply(&mut sim, start).map_err(|e| EnvError::Scene(format!("{}: initial state {}: {e}", spec.task, spec.init)))?;
         init_states::wait(&mut sim);
+        if let Some(why) = sim.blow_up() {
+            return Err(EnvError::Physics { step: 0, why });
+        }
         let mut view = assets.view.clone();
         view.update(&sim);
         let cue_spec = match (spec.protocol.uses_cue(), spec.instance.as_deref()) {
@@ -249,9 +255,16 @@ impl Env {
         }
     }
 
+    /// The running episode's simulation, to perturb it (a push, a forced fault); `None` before
+    /// the first reset.
+    pub fn sim_mut(&mut self) -> Option<&mut Sim> {
+        self.episode.as_mut().map(|ep| &mut ep.sim)
+    }
+
     /// Applies one 7-D action (`[dx, dy, dz, dax, day, daz, gripper]`, clipped to [-1, 1]) for
     /// one 20 Hz control step. A wrong length or a non-finite value is an error and leaves the
-    /// simulation untouched.
+    /// simulation untouched. A step after which the physics guard finds a NaN or exploding
+    /// state ([`Sim::blow_up`]) is [`EnvError::Physics`] and ends the episode.
     pub fn step(&mut self, action: &[f64]) -> Result<StepResult<'_>, EnvError> {
         let ep = self.episode.as_mut().ok_or(EnvError::NotStarted)?;
         if ep.done {
@@ -260,6 +273,12 @@ impl Env {
         let action = Action::new(action)?;
         ep.sim.step(&action);
         ep.steps += 1;
+        if let Some(why) = ep.sim.blow_up() {
+            // Neither success nor failure: the state is no task's, so nothing is evaluated or
+            // rendered from it, and the episode cannot continue.
+            ep.done = true;
+            return Err(EnvError::Physics { step: ep.steps, why });
+        }
         ep.evaluate()?;
         self.observe()?;
         Ok(self.result())

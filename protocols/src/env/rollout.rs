@@ -2,10 +2,12 @@
 
 use std::sync::Mutex;
 
+use vifo_cues::SetName;
+
 use super::{Env, EnvConfig};
 use crate::policy::Policy;
 use crate::runner::{self, RunError, RunOptions, RunSummary};
-use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome};
+use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome, RESULTS_VERSION};
 
 /// How episodes are run.
 #[derive(Clone, Debug, PartialEq)]
@@ -36,7 +38,8 @@ pub const REST_STEPS: usize = 5;
 /// become true later. Remote policies never hold still, so their episodes always run out.
 pub fn rollout(env: &mut Env, policy: &mut dyn Policy, spec: &EpisodeSpec, options: &RolloutOptions) -> EpisodeRecord {
     let outcome = run(env, policy, spec, options).unwrap_or_else(|message| Outcome::Error { message });
-    EpisodeRecord { spec: spec.clone(), policy: policy.name(), outcome, wall_ms: 0.0 }
+    // The set is not the episode's business; the runner writes the run's into every record.
+    EpisodeRecord { version: RESULTS_VERSION, spec: spec.clone(), policy: policy.name(), outcome, wall_ms: 0.0, set: SetName::Paper }
 }
 
 fn run(env: &mut Env, policy: &mut dyn Policy, spec: &EpisodeSpec, options: &RolloutOptions) -> Result<Outcome, String> {
@@ -83,10 +86,12 @@ where
         |spec| {
             workers.with(&make, |env, p| rollout(env, &mut **p, spec, rollout_options)).unwrap_or_else(|message| {
                 EpisodeRecord {
+                    version: RESULTS_VERSION,
                     spec: spec.clone(),
                     policy: options.policy.clone(),
                     outcome: Outcome::Error { message: format!("policy {}: {message}", options.policy) },
                     wall_ms: 0.0,
+                    set: options.set,
                 }
             })
         },

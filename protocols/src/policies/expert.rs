@@ -1,7 +1,7 @@
 //! The scripted expert as a policy, following the language, the cue, or the cue only when the
 //! language authorises it.
 
-use vifo_scenes::expert::Expert;
+use vifo_expert::Expert;
 use vifo_scenes::task::Atom;
 use vifo_robots::action::Action;
 

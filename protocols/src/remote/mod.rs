@@ -130,12 +130,16 @@ impl RemotePolicy {
     /// Sends one observation and returns the whole reply, bypassing the action queue.
     pub fn infer(&mut self, obs: &Observation) -> Result<Reply, PolicyError> {
         let request = encode_request(obs, self.config.image_size)?;
-        parse_reply(&self.round_trip(&request)?)
+        self.round_trip(&request, parse_reply)
     }
 
-    /// Sends one encoded request and returns the reply's bytes: the transport for other
+    /// Sends one encoded request and reads the reply with `parse`: the transport for other
     /// request layouts over openpi's protocol (`crate::serving`).
-    pub fn round_trip(&mut self, request: &[u8]) -> Result<Vec<u8>, PolicyError> {
+    pub fn round_trip<T>(
+        &mut self,
+        request: &[u8],
+        parse: impl FnOnce(&[u8]) -> Result<T, PolicyError>,
+    ) -> Result<T, PolicyError> {
         if self.conn.is_none() {
             self.reconnect()?;
         }
@@ -149,11 +153,13 @@ impl RemotePolicy {
             other => other,
         };
         self.idle = false;
-        if result.is_err() {
+        // A server that sent something unreadable may be in any state: start afresh.
+        let reply = result.and_then(|bytes| parse(&bytes));
+        if reply.is_err() {
             self.conn = None;
         }
         self.requests += 1;
-        result
+        reply
     }
 
     fn reconnect(&mut self) -> Result<(), PolicyError> {
@@ -264,8 +270,17 @@ fn open(uri: &Uri, config: &RemoteConfig) -> Result<(WebSocket<TcpStream>, Value
         tungstenite::HandshakeError::Interrupted(_) => PolicyError::Timeout(timeout.as_secs_f64()),
     })?;
     let bytes = read_binary(&mut ws, deadline, timeout, "waiting for the server's metadata")?;
-    let metadata = rmpv::decode::read_value(&mut &bytes[..])
+    let mut rest = &bytes[..];
+    let metadata = rmpv::decode::read_value(&mut rest)
         .map_err(|e| PolicyError::Malformed(format!("server metadata is not msgpack: {e}")))?;
+    // openpi sends one dict; anything else is not an openpi server's handshake.
+    if !rest.is_empty() || !matches!(metadata, Value::Map(_)) {
+        return Err(PolicyError::Malformed(format!(
+            "server metadata is {} with {} bytes after it, expected one msgpack map",
+            ndarray::kind(&metadata),
+            rest.len()
+        )));
+    }
     Ok((ws, metadata))
 }
 

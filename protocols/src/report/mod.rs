@@ -18,13 +18,14 @@
 //! families that have data, which is how the paper's Avg. column is formed.
 
 pub mod chart;
+pub mod composition_chart;
 pub mod tables;
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
-use vifo_cues::Family;
+use vifo_cues::{Family, SetName};
 
 use crate::runner::final_records;
 use crate::spec::{EpisodeRecord, Outcome, Protocol};
@@ -107,6 +108,10 @@ pub struct FamilyCounts {
 /// Both tables.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Report {
+    /// The instance sets of the episodes. With more than one, every row holds one policy's
+    /// episodes of one set and is named `policy [set]`: sets are never pooled.
+    #[serde(default)]
+    pub sets: Vec<SetName>,
     pub table1: Vec<Table1Row>,
     pub table2: Vec<Table2Row>,
     pub family_counts: Vec<FamilyCounts>,
@@ -117,24 +122,27 @@ pub fn family_of(instance_id: &str) -> Option<Family> {
     instance_id.split('/').find_map(|part| Family::ALL.into_iter().find(|f| f.to_string() == part))
 }
 
-/// Builds both tables. `records` may mix policies and hold repeated episodes; `vqa` maps a
-/// policy name to its VQA scores (a policy may have only one of the two).
+/// Builds both tables. `records` may mix policies, instance sets and repeated episodes; `vqa`
+/// maps a policy name to its VQA scores (a policy may have only one of the two). Each row holds
+/// one policy's episodes of one set (see [`Report::sets`]).
 pub fn build(records: &[EpisodeRecord], vqa: &BTreeMap<String, VqaScores>) -> Report {
-    let mut by_policy: BTreeMap<&str, Vec<EpisodeRecord>> = BTreeMap::new();
+    let sets: Vec<SetName> = records.iter().map(|r| r.set).collect::<std::collections::BTreeSet<_>>().into_iter().collect();
+    let name = |policy: &str, set: SetName| if sets.len() > 1 { format!("{policy} [{set}]") } else { policy.to_string() };
+    let mut by_row: BTreeMap<String, (String, Vec<EpisodeRecord>)> = BTreeMap::new();
     for r in records {
-        by_policy.entry(r.policy.as_str()).or_default().push(r.clone());
+        by_row.entry(name(&r.policy, r.set)).or_insert_with(|| (r.policy.clone(), Vec::new())).1.push(r.clone());
     }
-    let mut policies: Vec<String> = by_policy.keys().map(|p| p.to_string()).collect();
-    policies.extend(vqa.keys().filter(|p| !by_policy.contains_key(p.as_str())).cloned());
-    policies.sort();
-    let mut report = Report::default();
-    for policy in policies {
+    let mut rows: Vec<(String, String)> = by_row.iter().map(|(row, (policy, _))| (row.clone(), policy.clone())).collect();
+    rows.extend(vqa.keys().filter(|p| !by_row.values().any(|(policy, _)| policy == *p)).map(|p| (p.clone(), p.clone())));
+    rows.sort();
+    let mut report = Report { sets, ..Report::default() };
+    for (row, policy) in rows {
         let episodes: Vec<EpisodeRecord> =
-            by_policy.remove(policy.as_str()).map(|rs| final_records(rs).into_values().collect()).unwrap_or_default();
+            by_row.remove(&row).map(|(_, rs)| final_records(rs).into_values().collect()).unwrap_or_default();
         let scores = vqa.get(&policy);
-        report.table1.push(table1_row(&policy, &episodes, scores));
-        let (rows, counts) = table2_rows(&policy, &episodes, scores);
-        report.table2.extend(rows);
+        report.table1.push(table1_row(&row, &episodes, scores));
+        let (table2, counts) = table2_rows(&row, &episodes, scores);
+        report.table2.extend(table2);
         report.family_counts.push(counts);
     }
     report

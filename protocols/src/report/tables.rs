@@ -62,10 +62,22 @@ fn frac(a: &Accuracy) -> String {
     format!("{}/{}", a.correct, a.total)
 }
 
+/// The line naming the instance set(s) the episodes come from.
+fn sets_line(report: &Report) -> String {
+    match &report.sets[..] {
+        [] => String::new(),
+        [one] => format!("Instance set: {one}.\n\n"),
+        many => {
+            let names: Vec<String> = many.iter().map(ToString::to_string).collect();
+            format!("Instance sets: {} (one row per policy and set; sets are not pooled).\n\n", names.join(", "))
+        }
+    }
+}
+
 /// Table 1 in Markdown, with the episode counts behind each rate below it.
 pub fn table1_markdown(report: &Report) -> String {
     let rows = &report.table1;
-    let mut out = String::from("### Table 1: overall results (%)\n\n| Model |");
+    let mut out = format!("### Table 1: overall results (%)\n\n{}| Model |", sets_line(report));
     for (header, ..) in COLUMNS {
         out += &format!(" {header} |");
     }
@@ -114,7 +126,7 @@ pub fn table1_csv(report: &Report) -> String {
 
 /// Table 2 in Markdown: per policy the four metric rows and the cue-episode counts.
 pub fn table2_markdown(report: &Report) -> String {
-    let mut out = String::from("### Table 2: results per cue family (%)\n\n| Model | Metric |");
+    let mut out = format!("### Table 2: results per cue family (%)\n\n{}| Model | Metric |", sets_line(report));
     for f in Family::ALL {
         out += &format!(" {f} |");
     }

@@ -20,9 +20,11 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 use thiserror::Error;
 
-use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome};
+use vifo_cues::SetName;
 
-pub use results::{Loaded, ResultsWriter, final_records, read_records};
+use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome, RESULTS_VERSION};
+
+pub use results::{Loaded, ResultsWriter, RunLock, final_records, parse_records, read_records};
 pub use seed::{episode_seed, fnv1a64, seed_for, stable_hash};
 
 /// Why a run could not proceed.
@@ -34,8 +36,17 @@ pub enum RunError {
     BadLine { path: PathBuf, line: usize, message: String },
     #[error("{0} already holds results; pass resume to continue it, or choose another file")]
     Exists(PathBuf),
+    #[error("another run is writing {results} (it holds {lock}); wait for it to finish or choose another output")]
+    Locked { results: PathBuf, lock: PathBuf },
+    #[error(
+        "{path} holds records of results version {found}, this benchmark writes version {expected}: \
+         their episodes were run under other rules; keep that file and write to another output"
+    )]
+    OtherVersion { path: PathBuf, found: u32, expected: u32 },
     #[error("thread pool: {0}")]
     Pool(String),
+    #[error("{path} holds episodes of the {found} instance set, this run is of the {wanted} set; resume it with that set or choose another file")]
+    OtherSet { path: PathBuf, found: SetName, wanted: SetName },
 }
 
 impl RunError {
@@ -93,6 +104,8 @@ pub struct RunOptions {
     pub quiet: bool,
     /// Policy name written into records the runner makes itself (a panicking episode).
     pub policy: String,
+    /// The instance set written into every record; resuming a file of another set is an error.
+    pub set: SetName,
 }
 
 impl RunOptions {
@@ -104,6 +117,7 @@ impl RunOptions {
             shard: None,
             quiet: false,
             policy: String::new(),
+            set: SetName::Paper,
         }
     }
 }
@@ -128,7 +142,8 @@ pub struct RunSummary {
 /// Runs every spec of `specs` (of this shard, not yet done) with `episode` and appends the
 /// records to `options.output`. The runner measures `wall_ms` itself. An episode that panics
 /// or returns a record for another spec is recorded as an error; an I/O error on the results
-/// file stops the run (records written so far stay valid).
+/// file stops the run (records written so far stay valid). A run holds the results file's
+/// lock throughout, and resumes only a file of this [`RESULTS_VERSION`].
 pub fn run<F>(specs: &[EpisodeSpec], episode: F, options: &RunOptions) -> Result<RunSummary, RunError>
 where
     F: Fn(&EpisodeSpec) -> EpisodeRecord + Sync,
@@ -141,11 +156,22 @@ where
         unique.into_iter().filter(|s| options.shard.is_none_or(|sh| sh.contains(&s.key()))).collect();
     summary.in_shard = in_shard.len();
 
+    let _lock = RunLock::take(&options.output)?;
     let loaded = read_records(&options.output)?;
     if !options.resume && (!loaded.records.is_empty() || loaded.truncated_tail > 0) {
         return Err(RunError::Exists(options.output.clone()));
     }
+    if let Some(r) = loaded.records.iter().find(|r| r.version != RESULTS_VERSION) {
+        return Err(RunError::OtherVersion {
+            path: options.output.clone(),
+            found: r.version,
+            expected: RESULTS_VERSION,
+        });
+    }
     summary.truncated_tail = loaded.truncated_tail;
+    if let Some(other) = loaded.records.iter().find(|r| r.set != options.set) {
+        return Err(RunError::OtherSet { path: options.output.clone(), found: other.set, wanted: options.set });
+    }
     let done: BTreeSet<String> =
         loaded.records.iter().filter(|r| results::is_completed(r)).map(|r| r.spec.key()).collect();
     let todo: Vec<&EpisodeSpec> = in_shard.into_iter().filter(|s| !done.contains(&s.key())).collect();
@@ -164,7 +190,7 @@ where
             if lock(&failure).is_some() {
                 return;
             }
-            let record = run_one(spec, &episode, &options.policy);
+            let record = EpisodeRecord { set: options.set, ..run_one(spec, &episode, &options.policy) };
             if !results::is_completed(&record) {
                 let n = errors.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
                 progress.set_message(format!("errors: {n}"));
@@ -193,10 +219,12 @@ where
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| episode(spec)));
     let wall_ms = start.elapsed().as_secs_f64() * 1e3;
     let error = |message: String| EpisodeRecord {
+        version: RESULTS_VERSION,
         spec: spec.clone(),
         policy: policy.to_string(),
         outcome: Outcome::Error { message },
         wall_ms,
+        set: SetName::Full,
     };
     match result {
         Ok(record) if record.spec.key() == spec.key() => EpisodeRecord { wall_ms, ..record },

@@ -4,6 +4,12 @@
 //! so a crash can only leave an unterminated last line. Reading treats such a tail as
 //! "never written" (the episode runs again on resume); any other unreadable line is an error
 //! naming the file and line, because it means something else wrote to the file.
+//!
+//! A write that fails (a full disk) is cut back off the file, and the writer refuses further
+//! records, so the file never holds a partial line followed by whole ones. A run holds an
+//! exclusive lock on `<results>.lock` while it writes ([`RunLock`]): a second run on the same
+//! file stops with an error instead of interleaving lines. The operating system drops the lock
+//! when the process ends, however it ends, so a killed run leaves nothing to clean up.
 
 use std::collections::BTreeMap;
 use std::fs::{File, OpenOptions};
@@ -27,11 +33,22 @@ pub struct Loaded {
 
 /// Reads a results file. A missing file reads as empty.
 pub fn read_records(path: &Path) -> Result<Loaded, RunError> {
+    // A device or a pipe could be read forever; results files are plain files.
+    if let Ok(meta) = std::fs::metadata(path)
+        && !meta.is_file()
+    {
+        return Err(RunError::io(path, std::io::Error::other("not a plain file")));
+    }
     let bytes = match std::fs::read(path) {
         Ok(b) => b,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Loaded::default()),
         Err(e) => return Err(RunError::io(path, e)),
     };
+    parse_records(&bytes, path)
+}
+
+/// Reads the bytes of a results file (`path` names it in errors).
+pub fn parse_records(bytes: &[u8], path: &Path) -> Result<Loaded, RunError> {
     let complete = bytes.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
     let mut loaded = Loaded { truncated_tail: bytes.len() - complete, valid_len: complete as u64, ..Loaded::default() };
     for (i, line) in bytes[..complete].split(|&b| b == b'\n').enumerate() {
@@ -66,10 +83,39 @@ pub(crate) fn is_completed(record: &EpisodeRecord) -> bool {
     matches!(record.outcome, Outcome::Completed { .. })
 }
 
+/// The lock a run holds on its results file (released when dropped or when the process ends).
+#[derive(Debug)]
+pub struct RunLock {
+    _file: File,
+}
+
+impl RunLock {
+    /// Takes the lock on `<results>.lock`, creating the folder if needed; fails at once if
+    /// another run holds it.
+    pub fn take(results: &Path) -> Result<RunLock, RunError> {
+        if let Some(dir) = results.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| RunError::io(dir, e))?;
+        }
+        let mut name = results.as_os_str().to_owned();
+        name.push(".lock");
+        let path = PathBuf::from(name);
+        let file = OpenOptions::new().create(true).truncate(false).write(true).open(&path).map_err(|e| RunError::io(&path, e))?;
+        match file.try_lock() {
+            Ok(()) => Ok(RunLock { _file: file }),
+            Err(std::fs::TryLockError::WouldBlock) => Err(RunError::Locked { results: results.to_path_buf(), lock: path }),
+            Err(std::fs::TryLockError::Error(e)) => Err(RunError::io(&path, e)),
+        }
+    }
+}
+
 /// Appends records, one line per `write_all`.
 pub struct ResultsWriter {
     path: PathBuf,
     file: File,
+    /// File length after the last record written whole.
+    len: u64,
+    /// Set by a failed write: the file was cut back to `len` and takes no more records.
+    failed: bool,
 }
 
 impl ResultsWriter {
@@ -84,13 +130,29 @@ impl ResultsWriter {
         if len > valid_len {
             file.set_len(valid_len).map_err(|e| RunError::io(path, e))?;
         }
-        Ok(ResultsWriter { path: path.to_path_buf(), file })
+        Ok(ResultsWriter { path: path.to_path_buf(), file, len: len.min(valid_len), failed: false })
     }
 
-    /// Writes one record as one line and hands it to the operating system.
+    /// Writes one record as one line and hands it to the operating system. After a failure
+    /// the part written is cut off again and every later call fails.
     pub fn write(&mut self, record: &EpisodeRecord) -> Result<(), RunError> {
+        if self.failed {
+            return Err(RunError::io(&self.path, std::io::Error::other("an earlier write failed; no more records are written")));
+        }
         let mut line = serde_json::to_vec(record).map_err(|e| RunError::io(&self.path, e.into()))?;
         line.push(b'\n');
-        self.file.write_all(&line).and_then(|()| self.file.flush()).map_err(|e| RunError::io(&self.path, e))
+        match self.file.write_all(&line).and_then(|()| self.file.flush()) {
+            Ok(()) => {
+                self.len += line.len() as u64;
+                Ok(())
+            }
+            Err(e) => {
+                self.failed = true;
+                // Best effort: if even this fails, the reader still treats the unterminated
+                // tail as never written.
+                let _ = self.file.set_len(self.len);
+                Err(RunError::io(&self.path, e))
+            }
+        }
     }
 }

@@ -15,7 +15,7 @@ use std::sync::{Arc, Mutex};
 use serde::Serialize;
 use vifo_cues::RgbaImage;
 use vifo_robots::spatial::Pose;
-use vifo_scenes::expert::Expert;
+use vifo_expert::Expert;
 use vifo_scenes::sim::Sim;
 use vifo_scenes::task::Atom;
 

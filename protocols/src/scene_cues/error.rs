@@ -3,7 +3,7 @@
 use vifo_cues::CueError;
 use vifo_cues::instances::InstanceError;
 use vifo_render::RenderError;
-use vifo_scenes::expert::PlanError;
+use vifo_expert::PlanError;
 use vifo_scenes::sim::PredicateError;
 
 #[derive(Debug, thiserror::Error)]

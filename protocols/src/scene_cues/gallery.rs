@@ -26,8 +26,9 @@ const WARN: Rgba = [200, 40, 30, 255];
 /// where an arrow starts and ends, and a short instruction (the sticky note takes ≤ 45
 /// characters). Variants the task cannot carry fall back to [`FALLBACK`].
 pub const SHOWCASE: &str = "libero_goal/1";
-/// Tasks tried in order for a variant the showcase cannot carry.
-const FALLBACK: [&str; 3] = ["libero_goal/1", "libero_goal/8", "libero_object/0"];
+/// Tasks tried in order for a variant the showcase cannot carry (the last two for the signs
+/// of state changes: "open the middle drawer of the cabinet", "turn on the stove").
+const FALLBACK: [&str; 5] = ["libero_goal/1", "libero_goal/8", "libero_object/0", "libero_goal/0", "libero_goal/7"];
 
 /// One contact sheet.
 pub struct Sheet {

@@ -1,10 +1,10 @@
-//! The instance set of the 40 built-in LIBERO tasks, and looking instances up by id.
+//! The instance sets of the 40 built-in LIBERO tasks, and looking instances up by id.
 
 use std::sync::OnceLock;
 
 use vifo_cues::instances::{InstanceError, InstanceSet, TaskDescription};
 use vifo_cues::parse::GoalAtom;
-use vifo_cues::CueSpec;
+use vifo_cues::{CueSpec, SetName};
 use vifo_scenes::Task;
 
 use super::SceneCueError;
@@ -22,7 +22,8 @@ pub fn describe(task: &Task) -> TaskDescription {
     }
 }
 
-/// The instance set of the 40 built-in tasks (built once).
+/// The `full` instance set of the 40 built-in tasks (built once); every instance of either
+/// set is in it.
 pub fn builtin_instances() -> Result<&'static InstanceSet, SceneCueError> {
     static SET: OnceLock<Result<InstanceSet, InstanceError>> = OnceLock::new();
     let set = SET.get_or_init(|| {
@@ -30,6 +31,19 @@ pub fn builtin_instances() -> Result<&'static InstanceSet, SceneCueError> {
         InstanceSet::build(&tasks)
     });
     set.as_ref().map_err(|e| SceneCueError::Instances(e.clone()))
+}
+
+/// One named instance set of the 40 built-in tasks (built once).
+pub fn builtin_set(set: SetName) -> Result<&'static InstanceSet, SceneCueError> {
+    let full = builtin_instances()?;
+    if set == SetName::Full {
+        return Ok(full);
+    }
+    static PAPER: OnceLock<Result<InstanceSet, String>> = OnceLock::new();
+    PAPER
+        .get_or_init(|| full.paper().map_err(|e| e.to_string()))
+        .as_ref()
+        .map_err(|why| SceneCueError::Unsupported { cue: "paper set".into(), why: why.clone() })
 }
 
 /// The built-in instance with this id (`libero_goal/3/F2/curved_arrow_yellow`).
@@ -40,10 +54,12 @@ pub fn instance(id: &str) -> Result<&'static CueSpec, SceneCueError> {
     }
     let unknown = |hint: String| SceneCueError::UnknownInstance { id: id.to_string(), hint };
     let parts: Vec<&str> = id.split('/').collect();
-    let [suite, index, _family, variant] = parts[..] else {
+    let [suite, index, family, shown] = parts[..] else {
         return Err(unknown("expected <suite>/<index>/<family>/<variant>, e.g. libero_goal/3/F2/curved_arrow_yellow".into()));
     };
     let key = format!("{suite}/{index}");
+    // `variant@n` is the instance showing step n.
+    let variant = shown.split_once('@').map_or(shown, |(v, _)| v);
     let of_task: Vec<&str> = set.instances.iter().filter(|s| s.task == key).map(|s| s.variant.as_str()).collect();
     if of_task.is_empty() {
         return Err(unknown(format!("no built-in task {key} (suites: {}; indices 0-9)", vifo_scenes::suite_names().join(", "))));
@@ -51,7 +67,12 @@ pub fn instance(id: &str) -> Result<&'static CueSpec, SceneCueError> {
     let hint = match vifo_cues::variants::find(variant) {
         None => format!("no variant '{variant}' (`vifo cues variants` lists them)"),
         Some(v) if !of_task.contains(&variant) => format!("task {key} cannot carry {variant} (needs: {:?})", v.needs),
-        Some(v) => format!("{variant} belongs to family {}", v.family),
+        Some(v) if v.family.to_string() != family => format!("{variant} belongs to family {}", v.family),
+        Some(_) => {
+            let ids: Vec<String> =
+                set.instances.iter().filter(|s| s.task == key && s.variant == variant).map(|s| s.id()).collect();
+            format!("task {key} has these {variant} instances: {}", ids.join(", "))
+        }
     };
     Err(unknown(hint))
 }

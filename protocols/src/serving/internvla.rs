@@ -177,8 +177,8 @@ pub fn parse(bytes: &[u8]) -> Result<Vec<[f64; 7]>, PolicyError> {
 
 impl Transport for InternVlaTransport {
     fn infer(&mut self, input: &ModelInput) -> Result<Vec<[f64; 7]>, PolicyError> {
-        let reply = self.remote.round_trip(&encode(input)?)?;
-        parse(&reply)
+        let request = encode(input)?;
+        self.remote.round_trip(&request, parse)
     }
 
     fn reset(&mut self) -> Result<(), PolicyError> {

@@ -46,8 +46,8 @@ pub fn encode(input: &ModelInput, session: bool) -> Result<Vec<u8>, PolicyError>
 
 impl Transport for OpenpiTransport {
     fn infer(&mut self, input: &ModelInput) -> Result<Vec<[f64; 7]>, PolicyError> {
-        let reply = self.remote.round_trip(&encode(input, self.session)?)?;
-        Ok(parse_reply(&reply)?.actions)
+        let request = encode(input, self.session)?;
+        Ok(self.remote.round_trip(&request, parse_reply)?.actions)
     }
 
     fn reset(&mut self) -> Result<(), PolicyError> {

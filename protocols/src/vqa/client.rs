@@ -127,7 +127,9 @@ impl ChatClient {
         if let Some(key) = &self.config.api_key {
             request = request.header("Authorization", format!("Bearer {key}"));
         }
-        let body = read_body(request.call(), &url).map_err(|f| VqaError::Client(f.message))?;
+        let text = read_body(request.call(), &url).map_err(|f| VqaError::Client(f.message))?;
+        let body: Value =
+            serde_json::from_str(&text).map_err(|e| VqaError::Client(format!("{url}: reply is not JSON: {e}")))?;
         body.pointer("/data/0/id")
             .and_then(Value::as_str)
             .map(str::to_string)
@@ -156,11 +158,9 @@ impl ChatClient {
                 request = request.header("Authorization", format!("Bearer {key}"));
             }
             let failure = match read_body(request.send_json(&body), &url) {
-                Ok(reply) => match reply.pointer("/choices/0/message/content") {
-                    Some(Value::String(text)) => return Ok(text.clone()),
-                    // A reasoning model that spent all tokens thinking: an empty answer.
-                    Some(Value::Null) => return Ok(String::new()),
-                    _ => Failure { message: format!("{url}: reply without choices[0].message.content"), retry: false },
+                Ok(text) => match chat_answer(&text) {
+                    Ok(answer) => return Ok(answer),
+                    Err(why) => Failure { message: format!("{url}: {why}"), retry: false },
                 },
                 Err(f) => f,
             };
@@ -241,8 +241,20 @@ fn api_base(endpoint: &str) -> Result<String, VqaError> {
     Ok(if e.ends_with("/v1") { e.to_string() } else { format!("{e}/v1") })
 }
 
-/// The JSON body of a 2xx reply; anything else as a failure saying whether to retry.
-fn read_body(result: Result<ureq::http::Response<ureq::Body>, ureq::Error>, url: &str) -> Result<Value, Failure> {
+/// The answer in the body of an OpenAI-compatible chat completion: the text of
+/// `choices[0].message.content`, empty when it is null (a reasoning model that spent every
+/// token thinking); anything else names what is missing.
+pub fn chat_answer(body: &str) -> Result<String, String> {
+    let reply: Value = serde_json::from_str(body).map_err(|e| format!("reply is not JSON: {e}"))?;
+    match reply.pointer("/choices/0/message/content") {
+        Some(Value::String(text)) => Ok(text.clone()),
+        Some(Value::Null) => Ok(String::new()),
+        _ => Err("reply without choices[0].message.content".to_string()),
+    }
+}
+
+/// The body of a 2xx reply; anything else as a failure saying whether to retry.
+fn read_body(result: Result<ureq::http::Response<ureq::Body>, ureq::Error>, url: &str) -> Result<String, Failure> {
     let mut response = result.map_err(|e| Failure {
         retry: !matches!(e, ureq::Error::BadUri(_) | ureq::Error::Json(_) | ureq::Error::TlsRequired),
         message: format!("{url}: {e}"),
@@ -257,7 +269,7 @@ fn read_body(result: Result<ureq::http::Response<ureq::Body>, ureq::Error>, url:
             retry: status == 429 || status >= 500,
         });
     }
-    serde_json::from_str(&text).map_err(|e| Failure { message: format!("{url}: reply is not JSON: {e}"), retry: false })
+    Ok(text)
 }
 
 #[cfg(test)]

@@ -68,6 +68,11 @@ impl Sim {
         &self.world
     }
 
+    /// The world, to perturb it (a push, a forced fault); the controller state is untouched.
+    pub fn world_mut(&mut self) -> &mut World {
+        &mut self.world
+    }
+
 
     /// Control steps since the episode started.
     pub fn steps(&self) -> usize {

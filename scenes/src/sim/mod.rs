@@ -4,13 +4,16 @@
 //!   resolved regions; immutable and shared.
 //! - [`Sim`]: one episode's state (world, controller state, step count), with LIBERO's state
 //!   loading, predicates and success check, and bit-exact snapshots/forks.
+//! - [`Sim::blow_up`]: the physics guard (a NaN or exploding state is no task's).
 
 mod episode;
+mod guard;
 mod model;
 mod placement;
 mod predicates;
 
 pub use episode::{RegionBox, Sim, SimSnapshot, StateError};
+pub use guard::{Extremes, MAX_ANGULAR_SPEED, MAX_DISTANCE, MAX_LINEAR_SPEED, MAX_PENETRATION};
 pub use model::{ARENA_CATEGORIES, BuildError, RegionPlace, SceneEntity, SceneModel, SceneRegion};
 pub use placement::{FixturePlacement, sample_fixtures};
 pub use predicates::{ON_OBJECT_XY, PredicateError};

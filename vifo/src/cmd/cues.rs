@@ -1,16 +1,18 @@
 //! `vifo cues`: the task parser, the variant catalogue, the instance set and a quick renderer.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
 use clap::{Args as ClapArgs, Subcommand};
 use serde::Serialize;
 use vifo_render::imageio::save_png;
-use vifo_cues::instances::{InstanceSet, TaskDescription};
+use vifo_cues::composition;
+use vifo_cues::instances::{InstanceSet, TaskDescription, paper};
 use vifo_cues::parse::{GoalAtom, instruction_from_task_name, parse, parse_with_goals};
-use vifo_cues::{Anchor, Anchors, CueSpec, Family, FrameInputs, Inserter, RgbImage, VARIANTS, variants};
-use vifo_protocols::scene_cues::{builtin_instances, gallery};
+use vifo_cues::{Anchor, Anchors, CueSpec, Family, FrameInputs, Inserter, RgbImage, SetName, VARIANTS, variants};
+use vifo_protocols::report;
+use vifo_protocols::scene_cues::{builtin_set, gallery};
 
 #[derive(ClapArgs)]
 pub struct Args {
@@ -43,11 +45,23 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// The instance set of the 40 built-in tasks: counts per family and per task, the variants.
+    /// An instance set of the 40 built-in tasks: counts per family and per task, the variants.
     List {
-        /// Print JSON (keys total, per_family, tasks_per_family, per_task, variants).
+        /// paper (the paper's 1,347 instances) or full (every instance the library makes).
+        #[arg(long, default_value = "paper", value_parser = super::run::parse_set)]
+        set: SetName,
+        /// Print JSON (keys set, total, per_family, tasks_per_family, per_task, variants).
         #[arg(long)]
         json: bool,
+    },
+    /// Composition statistics of an instance set beside the paper's (appendix A): family shares
+    /// and what the instances encode; draws both panels of the paper's figure as a PNG.
+    Stats {
+        #[arg(long, default_value = "paper", value_parser = super::run::parse_set)]
+        set: SetName,
+        /// The figure's file.
+        #[arg(long, default_value = "cue-statistics.png")]
+        out: PathBuf,
     },
     /// One contact-sheet PNG per family: every variant drawn on a real scene frame.
     Gallery {
@@ -98,7 +112,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Instances { tasks, json } => instances_cmd(&tasks, json),
-        Command::List { json } => list_cmd(json),
+        Command::List { set, json } => list_cmd(set, json),
+        Command::Stats { set, out } => stats_cmd(set, &out),
         Command::Gallery { output, task, family, init, size } => gallery_cmd(&output, &task, family.as_deref(), init, size),
         Command::Render { variant, instruction, out, size, source, target } => {
             render_cmd(&variant, &instruction, &out, size, &source, &target)
@@ -147,6 +162,7 @@ fn instances_cmd(path: &PathBuf, json: bool) -> anyhow::Result<()> {
 /// Counts of the built-in instance set, as `vifo cues list --json` prints them.
 #[derive(Serialize)]
 struct Listing {
+    set: SetName,
     total: usize,
     per_family: BTreeMap<Family, usize>,
     tasks_per_family: BTreeMap<Family, usize>,
@@ -170,8 +186,8 @@ struct VariantCount {
     instances: usize,
 }
 
-fn listing() -> anyhow::Result<Listing> {
-    let set = builtin_instances()?;
+fn listing(name: SetName) -> anyhow::Result<Listing> {
+    let set = builtin_set(name)?;
     let composition = set.composition();
     let mut per_task: Vec<TaskCount> = Vec::new();
     for spec in &set.instances {
@@ -184,12 +200,14 @@ fn listing() -> anyhow::Result<Listing> {
         }
     }
     Ok(Listing {
+        set: name,
         total: set.instances.len(),
         per_family: composition.iter().map(|(f, c)| (*f, c.instances)).collect(),
         tasks_per_family: composition.iter().map(|(f, c)| (*f, c.tasks)).collect(),
         per_task,
         variants: VARIANTS
             .iter()
+            .filter(|v| name == SetName::Full || set.instances.iter().any(|s| s.variant == v.name))
             .map(|v| VariantCount {
                 name: v.name,
                 family: v.family,
@@ -200,13 +218,13 @@ fn listing() -> anyhow::Result<Listing> {
     })
 }
 
-fn list_cmd(json: bool) -> anyhow::Result<()> {
-    let l = listing()?;
+fn list_cmd(set: SetName, json: bool) -> anyhow::Result<()> {
+    let l = listing(set)?;
     if json {
         println!("{}", serde_json::to_string_pretty(&l)?);
         return Ok(());
     }
-    println!("{} instances over {} tasks (paper: 1,347)\n", l.total, l.per_task.len());
+    println!("{set} set: {} instances over {} tasks, {} VQA questions (paper: 1,347, 5,388)\n", l.total, l.per_task.len(), 4 * l.total);
     println!("family                        variants  instances  share  tasks");
     for family in Family::ALL {
         let n = l.per_family[&family];
@@ -225,8 +243,52 @@ fn list_cmd(json: bool) -> anyhow::Result<()> {
     }
     let smallest = Family::ALL.iter().map(|f| l.variants.iter().filter(|v| v.family == *f).count()).min().unwrap_or(0);
     let full = Family::ALL.iter().filter(|f| **f != Family::F3 && l.tasks_per_family[f] == 40).count();
-    println!("\ngates: {} variants (>= 33), smallest family {smallest} (>= 3), total {} within 1,347 ± 10 % [1212, 1482]: {}, {full} of 7 non-ghost families on 40 tasks, ghosts on {} (>= 38)",
-        l.variants.len(), l.total, (1212..=1482).contains(&l.total), l.tasks_per_family[&Family::F3]);
+    println!(
+        "\ngates: {} variants (paper 33), smallest family {smallest} (>= 2), total {} (paper 1,347), {full} of 7 non-ghost families on 40 tasks, ghosts on {} (>= 38)",
+        l.variants.len(),
+        l.total,
+        l.tasks_per_family[&Family::F3]
+    );
+    Ok(())
+}
+
+fn stats_cmd(name: SetName, out: &Path) -> anyhow::Result<()> {
+    let set = builtin_set(name)?;
+    let families = set.composition();
+    let coverage = composition::coverage(&set.instances);
+    let variants: BTreeSet<&str> = set.instances.iter().map(|s| s.variant.as_str()).collect();
+    println!(
+        "{name} set: {} instances, {} variants, {} VQA questions (paper: {}, {}, {})\n",
+        set.instances.len(),
+        variants.len(),
+        4 * set.instances.len(),
+        paper::INSTANCES,
+        paper::VARIANTS,
+        paper::QUESTIONS
+    );
+    let stated: BTreeMap<Family, f64> = paper::STATED_SHARES.into_iter().collect();
+    println!("(a) family                     instances  share  tasks   paper  diff");
+    for (family, c) in &families {
+        let (theirs, diff) = match stated.get(family) {
+            Some(p) => (format!("{:>5.1} %", p * 100.0), format!("{:+5.2}", (c.share - p) * 100.0)),
+            None => ("    –  ".to_string(), String::new()),
+        };
+        println!("{family} {:<24} {:>9} {:>5.1} % {:>5}  {theirs} {diff}", family.name(), c.instances, c.share * 100.0, c.tasks);
+    }
+    println!("\n(b) component                     instances  share   paper  diff");
+    for (component, c) in &coverage {
+        println!(
+            "{:<32} {:>9} {:>5.1} % {:>5.1} % {:+5.1}",
+            component.label(),
+            c.instances,
+            c.percent,
+            c.paper_percent,
+            c.percent - c.paper_percent
+        );
+    }
+    let png = report::composition_chart::composition_figure(name, &families, &coverage).map_err(anyhow::Error::msg)?;
+    std::fs::write(out, png).with_context(|| format!("writing {}", out.display()))?;
+    println!("\nfigure -> {}", out.display());
     Ok(())
 }
 

@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 use vifo::expert::{self, ExpertEpisode};
 use vifo::start::{InitSource, Starts};
-use vifo_scenes::sim::SceneModel;
+use vifo_scenes::sim::{self, Extremes, SceneModel};
 
 #[derive(Args)]
 pub struct ExpertArgs {
@@ -46,11 +46,16 @@ struct TaskResult {
     episodes: usize,
     success_rate: f64,
     mean_steps: f64,
+    /// Each episode's control steps, in initial-state order (what a change meant to keep the
+    /// expert's behaviour is checked against).
+    steps: Vec<usize>,
     budget: u32,
     /// `init:why` of every failed episode.
     failures: Vec<String>,
     /// `init: step: what` of every episode in which an object went below the table or floor.
     below_support: Vec<String>,
+    /// The largest speeds and penetration over the task's episodes.
+    extremes: Extremes,
 }
 
 #[derive(Serialize)]
@@ -62,6 +67,9 @@ struct Summary {
     tasks_below_90: usize,
     /// Episodes in which an object went below the table top or floor.
     episodes_below_support: usize,
+    /// The largest speeds and penetration over the pass (the physics guard's limits sit far
+    /// above them).
+    extremes: Extremes,
     init_source: String,
 }
 
@@ -108,9 +116,11 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
                 episodes: results.len(),
                 success_rate: ok as f64 / results.len().max(1) as f64,
                 mean_steps: results.iter().map(|r| r.steps as f64).sum::<f64>() / results.len().max(1) as f64,
+                steps: results.iter().map(|r| r.steps).collect(),
                 budget: suite.max_steps,
                 failures: results.iter().filter(|r| !r.success).map(|r| format!("{}:{}", r.init, r.failure.as_deref().unwrap_or("budget"))).collect(),
                 below_support: results.iter().filter_map(|r| Some(format!("{}: {}", r.init, r.below_support.as_ref()?))).collect(),
+                extremes: results.iter().fold(Extremes::default(), |m, r| m.max(r.extremes)),
             };
             if !args.json {
                 println!(
@@ -136,6 +146,7 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
         success_rate: successes / episodes.max(1) as f64,
         tasks_below_90: tasks.iter().filter(|t| t.success_rate < 0.9).count(),
         episodes_below_support: tasks.iter().map(|t| t.below_support.len()).sum(),
+        extremes: tasks.iter().fold(Extremes::default(), |m, t| m.max(t.extremes)),
         init_source: match &source {
             InitSource::Shipped => "shipped".to_string(),
             InitSource::Libero(dir) => dir.display().to_string(),
@@ -152,6 +163,19 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
             summary.tasks_below_90,
             summary.tasks.len(),
             summary.episodes_below_support
+        );
+        let e = summary.extremes;
+        println!(
+            "physics maxima: body speed {:.3} m/s, angular speed {:.2} rad/s, penetration {:.4} m, distance from origin {:.2} m \
+             (guard limits {} m/s, {} rad/s, {} m, {} m)",
+            e.linear_speed,
+            e.angular_speed,
+            e.penetration,
+            e.distance,
+            sim::MAX_LINEAR_SPEED,
+            sim::MAX_ANGULAR_SPEED,
+            sim::MAX_PENETRATION,
+            sim::MAX_DISTANCE
         );
         for t in summary.tasks.iter().filter(|t| !t.below_support.is_empty()) {
             println!("  below support in {}/{}: {}", t.suite, t.index, t.below_support.join("; "));

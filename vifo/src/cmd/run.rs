@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use anyhow::{Context, bail};
 use clap::Args as ClapArgs;
-use vifo_cues::Family;
+use vifo_cues::{Family, SetName};
 use vifo_protocols::benchmark::language::conflict;
 use vifo_protocols::benchmark::specs::{self, Selection};
 use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
@@ -29,6 +29,10 @@ mod estimate;
 
 #[derive(ClapArgs)]
 pub struct Args {
+    /// Instance set the cue instances come from: paper (1,347 instances, the paper's Tables 1
+    /// and 2) or full (every instance the cue library makes). Recorded in every result.
+    #[arg(long, default_value = "paper", value_parser = parse_set)]
+    set: SetName,
     /// Suites to run (libero_spatial, libero_object, libero_goal, libero_10, all); repeatable.
     #[arg(long, value_delimiter = ',')]
     suite: Vec<String>,
@@ -106,7 +110,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         && args.family.is_empty()
         && args.per_family.is_none()
         && args.episodes.is_none();
-    let selection = if quick { Selection::quick() } else { selection(&args)? };
+    let selection = Selection { set: args.set, ..if quick { Selection::quick() } else { selection(&args)? } };
     let policies: Vec<String> = match (&args.policy[..], quick) {
         ([], true) => policies::NAMES.iter().map(|s| s.to_string()).collect(),
         ([], false) => bail!("name the policy to run: --policy {} or --policy ws://host:port", policies::NAMES.join("|")),
@@ -128,13 +132,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         None => all_specs.clone(),
     };
     println!(
-        "{} episodes per policy ({}), {} polic{} -> {}",
+        "{} episodes per policy ({}, {} set), {} polic{} -> {}",
         specs.len(),
         match (quick, args.sample) {
             (_, Some(_)) => format!("a sample of the selection's {}", all_specs.len()),
             (true, None) => "quick default: one instance per family".to_string(),
             (false, None) => "selection".to_string(),
         },
+        args.set,
         policies.len(),
         if policies.len() == 1 { "y" } else { "ies" },
         out.display()
@@ -162,6 +167,11 @@ fn selection(args: &Args) -> anyhow::Result<Selection> {
     s.families = args.family.iter().map(|f| parse_family(f)).collect::<anyhow::Result<_>>()?;
     s.per_family = args.per_family;
     Ok(s)
+}
+
+/// `--set paper|full`.
+pub fn parse_set(name: &str) -> Result<SetName, String> {
+    name.parse()
 }
 
 fn parse_protocol(name: &str) -> anyhow::Result<Protocol> {
@@ -222,6 +232,7 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, args: &Args) -> 
         shard: args.shard,
         quiet: args.quiet,
         policy: policy.to_string(),
+        set: args.set,
         ..RunOptions::new(path)
     };
     println!("{policy}{}", if render { "" } else { " (reads the simulator, not the images: rendering skipped)" });

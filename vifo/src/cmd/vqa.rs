@@ -13,6 +13,7 @@ use vifo_protocols::vqa::files::{append_predictions, read_predictions, read_ques
 use vifo_protocols::benchmark;
 use vifo_protocols::env::{Env, EnvConfig};
 use vifo_protocols::vqa::{self, Prediction, score};
+use vifo_cues::SetName;
 use vifo_protocols::Protocol;
 use vifo_scenes::view::CameraName;
 
@@ -33,6 +34,9 @@ enum Command {
         /// Image side in pixels.
         #[arg(long, default_value_t = 256)]
         size: u32,
+        /// Instance set: paper (1,347 instances, 5,388 questions) or full.
+        #[arg(long, default_value = "paper", value_parser = super::run::parse_set)]
+        set: SetName,
     },
     /// Ask an OpenAI-compatible server (vLLM, SGLang) every question; resumable.
     Answer {
@@ -81,9 +85,14 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
     },
-    /// Text-only baselines (no image): letter prior, longest/shortest option, word overlap.
+    /// Text-only baselines (no image): letter prior, longest/shortest option, word overlap
+    /// (how much of the answer leaks through the text; the gate is <= 35 % per stage).
     Blind {
-        dir: PathBuf,
+        /// Export folder; without it, the questions of `--set` are generated here (the
+        /// baselines need no images).
+        dir: Option<PathBuf>,
+        #[arg(long, default_value = "paper", value_parser = super::run::parse_set)]
+        set: SetName,
         /// Also write each strategy's predictions into this folder.
         #[arg(long)]
         out: Option<PathBuf>,
@@ -92,7 +101,7 @@ enum Command {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     match args.command {
-        Command::Export { out, size } => export(&out, size),
+        Command::Export { out, size, set } => export(&out, size, set),
         Command::Answer { dir, endpoint, model, api_key, concurrency, retries, timeout, max_tokens, out, quiet } => {
             anyhow::ensure!(timeout.is_finite() && timeout > 0.0, "--timeout must be a positive number of seconds");
             let questions = read_questions(&dir)?;
@@ -152,8 +161,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             println!("{} answers -> {}", questions.len(), out.display());
             Ok(())
         }
-        Command::Blind { dir, out } => {
-            let questions = read_questions(&dir)?;
+        Command::Blind { dir, set, out } => {
+            let questions = match dir {
+                Some(dir) => read_questions(&dir)?,
+                None => {
+                    let qs = vqa::generate(benchmark::instances::all(set), &benchmark::instances::vqa_scenes())?;
+                    println!("{} questions of the {set} set", qs.len());
+                    qs
+                }
+            };
             print!("{}", answerers::blind(&questions).markdown());
             if let Some(out) = out {
                 std::fs::create_dir_all(&out).with_context(|| out.display().to_string())?;
@@ -169,10 +185,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
 }
 
-/// Questions for every instance, each instance's image from its scene after the settle steps.
-fn export(out: &Path, size: u32) -> anyhow::Result<()> {
+/// Questions for every instance of a set, each instance's image from its scene after the
+/// settle steps. The set's name goes to `set.txt` beside the questions.
+fn export(out: &Path, size: u32, set: SetName) -> anyhow::Result<()> {
     anyhow::ensure!((16..=4096).contains(&size), "--size must be between 16 and 4096 pixels");
-    let instances: Vec<vifo_cues::CueSpec> = benchmark::instances::all().to_vec();
+    let instances: Vec<vifo_cues::CueSpec> = benchmark::instances::all(set).to_vec();
     let questions = vqa::generate(&instances, &benchmark::instances::vqa_scenes())?;
     let mut env = Env::new(EnvConfig { size, cameras: vec![CameraName::AgentView], ..EnvConfig::default() });
     let mut done = 0;
@@ -186,7 +203,8 @@ fn export(out: &Path, size: u32) -> anyhow::Result<()> {
         let spec = benchmark::specs::spec(&task, Protocol::Authorized, Some(id), 0, 0).map_err(|e| e.to_string())?;
         Ok(env.reset(&spec).map_err(|e| e.to_string())?.agentview.clone())
     })?;
-    println!("{} questions, {written} images -> {}", questions.len(), out.display());
+    write(&out.join("set.txt"), &format!("{set}\n"))?;
+    println!("{} questions ({set} set), {written} images -> {}", questions.len(), out.display());
     Ok(())
 }
 

@@ -7,13 +7,19 @@
 //! away from the opening), lifts it just over the cavity's floor and slides it in, the hand
 //! staying outside the opening; passing an open door, it goes round the door's free edge. A
 //! closing door pushes in what still sticks out.
+//!
+//! Recipe: turn to point into the opening while crossing over the grasp, descend, grasp, lift
+//! just over the cavity's floor, carry in (round an open door), set down, release, back out,
+//! rise, turn upright.
 
 use vifo_robots::spatial::{Mat3, Pose, Vec3};
+use vifo_scenes::sim::{RegionPlace, Sim};
 
-use super::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, HAND_HALF_LENGTH, HAND_HALF_WIDTH, MAX_GRASP_WIDTH, Obb};
-use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, OPEN, Step, cruise_height, gripper_toward, surface_height};
-use crate::sim::{RegionPlace, Sim};
+use super::Skill;
+use crate::arm::{self, Arm};
+use crate::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, HAND_HALF_LENGTH, HAND_HALF_WIDTH, MAX_GRASP_WIDTH, Obb, cruise_height, horizontal, surface_height};
+use crate::motion::{self, Servo, Waypoint};
+use crate::stages::{self, CLOSE, Leg, OPEN, Pace, Progress, Stages, Step, Tol, gripper_toward};
 
 /// Room the hand needs over an object put in from above: fingers over the rim and the hand
 /// itself. A cavity with less headroom over the object is entered from the side.
@@ -124,7 +130,7 @@ fn cavity(sim: &Sim, region: &str) -> Option<Cavity> {
     if below == 0.0 || above == 0.0 {
         return None;
     }
-    let base = sim.model().robot.arm().base().pos;
+    let base = arm::of(sim).base();
     let to_robot = Vec3::new(base.x - centre.x, base.y - centre.y, 0.0);
     let inward = (0..4)
         .filter_map(|k| {
@@ -214,7 +220,7 @@ fn turn(sim: &Sim, object: usize, grasp: &Vec3, inward: &Vec3, across: &Vec3) ->
         let rot_for = |c: Vec3| Mat3::from_columns(&[c, approach.cross(&c), approach]);
         let rot = [rot_for(*across), rot_for(-across)]
             .into_iter()
-            .min_by(|a, b| motion::wrist_after(sim, a).abs().total_cmp(&motion::wrist_after(sim, b).abs()))
+            .min_by(|a, b| arm::of(sim).wrist_after(a).abs().total_cmp(&arm::of(sim).wrist_after(b).abs()))
             .expect("two candidates");
         let along = |d: f64| Pose::new(grasp - approach * d, rot);
         let hand = Obb { pose: along(HAND_ABOVE_SITE + HAND_HALF_DEPTH), half: Vec3::new(HAND_HALF_LENGTH, HAND_HALF_WIDTH, HAND_HALF_DEPTH) };
@@ -333,6 +339,7 @@ enum Stage {
     Out,
     Up,
     Upright,
+    Done,
 }
 
 /// Slide an object into a covered cavity through its side opening.
@@ -340,14 +347,14 @@ pub struct Insert {
     object: usize,
     region: String,
     layout: Option<Layout>,
-    stage: Stage,
-    stage_steps: usize,
+    stage: Stages<Stage>,
     cruise_z: f64,
     /// Grip site minus object origin, and origin minus the object's bottom, while carried.
     carry_offset: Vec3,
     carry_height: f64,
     lift_start_z: f64,
-    lowering: Vec<f64>,
+    /// Recent grip-site heights while lowering, to notice a stall.
+    lowering: Progress,
     /// A grip-site waypoint on the way in, around the free edge of a door in the way.
     via: Option<Vec3>,
 }
@@ -358,25 +365,14 @@ impl Insert {
             object,
             region,
             layout: None,
-            stage: Stage::Turn,
-            stage_steps: 0,
+            stage: Stages::new(Stage::Turn, STAGE_LIMIT),
             cruise_z: 0.0,
             carry_offset: Vec3::zeros(),
             carry_height: 0.0,
             lift_start_z: 0.0,
-            lowering: Vec::new(),
+            lowering: Progress::default(),
             via: None,
         }
-    }
-
-    pub fn describe(&self) -> String {
-        let l = self.layout.map(|l| format!("grasp ({:.3} {:.3} {:.3}) target ({:.3} {:.3})", l.grasp.x, l.grasp.y, l.grasp.z, l.target[0], l.target[1])).unwrap_or_default();
-        format!("insert {:?} step {} {l}", self.stage, self.stage_steps)
-    }
-
-    fn next(&mut self, stage: Stage) {
-        self.stage = stage;
-        self.stage_steps = 0;
     }
 
     /// Grip-site position that puts the carried object's origin at the target, its bottom
@@ -384,145 +380,123 @@ impl Insert {
     fn placed(&self, l: &Layout, clearance: f64) -> Vec3 {
         Vec3::new(l.target[0], l.target[1], l.cavity.floor + clearance + self.carry_height) + self.carry_offset
     }
+}
 
-    pub fn step(&mut self, sim: &Sim) -> Step {
-        self.stage_steps += 1;
-        if self.stage_steps > STAGE_LIMIT {
+impl Skill for Insert {
+    fn describe(&self) -> String {
+        let l = self.layout.map(|l| format!("grasp ({:.3} {:.3} {:.3}) target ({:.3} {:.3})", l.grasp.x, l.grasp.y, l.grasp.z, l.target[0], l.target[1])).unwrap_or_default();
+        format!("insert {} {l}", self.stage)
+    }
+
+    fn step(&mut self, sim: &Sim) -> Step {
+        if !self.stage.tick() {
             return Step::Failed("an insertion stage took too long");
         }
         if self.layout.is_none() {
             self.layout = layout(sim, self.object, &self.region);
         }
         let Some(l) = self.layout else { return Step::Failed("no way to slide the object in") };
-        let ee = sim.model().robot.grip_site_pose(sim.world());
+        let ee = arm::of(sim).grip_site();
         let object = sim.entity_pose(self.object).pos;
-        match self.stage {
+        let steps = self.stage.steps;
+        let (leg, then) = match self.stage.now {
+            // Approach at cruise height, turning on the way over the grasp.
             Stage::Turn => {
-                if self.stage_steps == 1 {
+                if steps == 1 {
                     self.cruise_z = cruise_height(sim, &l.grasp, CRUISE_CLEARANCE, (l.grasp.z + CRUISE_CLEARANCE).max(ee.pos.z), None);
                 }
-                let horizontal = ((ee.pos.x - l.grasp.x).powi(2) + (ee.pos.y - l.grasp.y).powi(2)).sqrt();
                 let wp = Waypoint { pos: Vec3::new(l.grasp.x, l.grasp.y, self.cruise_z), rot: l.rot };
                 let (_, r) = motion::error(sim, &wp);
-                if horizontal < 0.005 && r < 0.03 {
-                    self.next(Stage::Down);
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &wp, gripper_toward(sim, l.half_gap)))
+                let m = stages::Move { to: wp, servo: Servo::TRAVEL, grip: gripper_toward(sim, l.half_gap) };
+                (Leg::until(m, horizontal(&ee.pos, &l.grasp) < 0.005 && r < 0.03), Stage::Down)
             }
-            Stage::Down => {
-                // Down no faster than the horizontal error allows, so the fingers arrive centred.
-                let horizontal = ((ee.pos.x - l.grasp.x).powi(2) + (ee.pos.y - l.grasp.y).powi(2)).sqrt();
-                let z = if horizontal > 0.004 { ee.pos.z.max(l.grasp.z) } else { l.grasp.z };
-                let wp = Waypoint { pos: Vec3::new(l.grasp.x, l.grasp.y, z), rot: l.rot };
-                let d = (ee.pos - l.grasp).norm();
-                if d < 0.004 {
-                    self.next(Stage::Close);
-                }
-                Step::Act(Servo::closing_in(d).act(sim, &wp, gripper_toward(sim, l.half_gap)))
-            }
+            Stage::Down => (stages::descend(sim, &l.grasp, l.rot, 0.004, gripper_toward(sim, l.half_gap)), Stage::Close),
             Stage::Close => {
-                if self.stage_steps >= 12 {
+                let leg = stages::grasp(steps, 12, Waypoint { pos: l.grasp, rot: l.rot });
+                if leg.is_last() {
                     self.lift_start_z = object.z;
-                    self.next(Stage::Lift);
                 }
-                Step::Act(Servo::FINE.act(sim, &Waypoint { pos: l.grasp, rot: l.rot }, CLOSE))
+                (leg, Stage::Lift)
             }
             Stage::Lift => {
-                let fingers = sim.model().robot.joints(sim.world()).q;
-                if fingers[7] - fingers[8] < 0.002 {
-                    return Step::Failed("the fingers closed on nothing");
+                if let Some(why) = stages::lift_failure(sim, steps, 10, self.lift_start_z, object.z, 0.005) {
+                    return Step::Failed(why);
                 }
                 let bottom = geometry::bounds(&geometry::corners(sim, self.object, 0)).0.z;
                 let rise = l.cavity.floor + CARRY_CLEARANCE - (self.lift_start_z - (object.z - bottom));
                 let wp = Waypoint { pos: l.grasp + Vec3::new(0.0, 0.0, rise.max(0.0) + 0.005), rot: l.rot };
                 let (d, _) = motion::error(sim, &wp);
-                if self.stage_steps >= 10 && object.z - self.lift_start_z < 0.005 {
-                    return Step::Failed("the object did not come up");
-                }
-                if d < 0.006 && bottom > l.cavity.floor + 0.5 * CARRY_CLEARANCE {
+                let lifted = d < 0.006 && bottom > l.cavity.floor + 0.5 * CARRY_CLEARANCE;
+                if lifted {
                     self.carry_offset = ee.pos - object;
                     self.carry_height = object.z - bottom;
-                    self.next(Stage::Carry);
                 }
-                Step::Act(Servo::closing_in(d).act(sim, &wp, CLOSE))
+                (Leg::until(stages::Move { to: wp, servo: Servo::closing_in(d), grip: CLOSE }, lifted), Stage::Carry)
             }
             Stage::Carry => {
                 if ((ee.pos - object) - self.carry_offset).norm() > 0.03 {
                     return Step::Failed("the object slipped out");
                 }
                 let target = self.placed(&l, CARRY_CLEARANCE);
-                if self.stage_steps == 1 {
+                if steps == 1 {
                     self.via = around_door(sim, &l, &ee.pos, &target);
                 }
-                let goal = self.via.unwrap_or(target);
-                let wp = Waypoint { pos: goal, rot: l.rot };
+                let wp = Waypoint { pos: self.via.unwrap_or(target), rot: l.rot };
                 let (d, _) = motion::error(sim, &wp);
-                if self.via.is_some() && d < 0.01 {
-                    self.via = None;
-                } else if self.via.is_none() && d < 0.005 {
-                    self.next(Stage::Lower);
-                }
-                Step::Act(Servo::closing_in(d).act(sim, &wp, CLOSE))
+                // Past the door's edge, on to the target itself.
+                let there = match self.via {
+                    Some(_) => {
+                        if d < 0.01 {
+                            self.via = None;
+                        }
+                        false
+                    }
+                    None => d < 0.005,
+                };
+                (Leg::until(stages::Move { to: wp, servo: Servo::closing_in(d), grip: CLOSE }, there), Stage::Lower)
             }
             Stage::Lower => {
                 let wp = Waypoint { pos: self.placed(&l, RELEASE_CLEARANCE), rot: l.rot };
-                let (d, _) = motion::error(sim, &wp);
-                self.lowering.push(ee.pos.z);
-                let n = self.lowering.len();
-                let stalled = n > 6 && self.lowering[n - 4] - ee.pos.z < 0.001;
-                if d < 0.004 || stalled {
-                    self.next(Stage::Release);
-                }
-                Step::Act(Servo::FINE.act(sim, &wp, CLOSE))
+                (stages::set_down(sim, &mut self.lowering, wp, Pace::Fine, 0.004, 0.001), Stage::Release)
             }
-            Stage::Release => {
-                if self.stage_steps >= 10 {
-                    self.next(Stage::Out);
-                }
-                Step::Act(Servo::FINE.act(sim, &Waypoint { pos: ee.pos, rot: l.rot }, OPEN))
-            }
+            Stage::Release => (stages::release(steps, 10, Waypoint { pos: ee.pos, rot: l.rot }), Stage::Out),
             Stage::Out => {
                 let wp = Waypoint { pos: self.placed(&l, RELEASE_CLEARANCE) - l.cavity.inward * BACK_OUT, rot: l.rot };
-                let (d, _) = motion::error(sim, &wp);
-                if d < 0.02 {
+                let leg = stages::reach(sim, wp, Pace::Travel, Tol::pos(0.02), OPEN);
+                if leg.is_last() {
                     self.cruise_z = surface_height(sim, [ee.pos.x, ee.pos.y], CLEAR_RADIUS, None) + CLEAR_HEIGHT;
-                    self.next(Stage::Up);
                 }
-                Step::Act(Servo::TRAVEL.act(sim, &wp, OPEN))
+                (leg, Stage::Up)
             }
             // Up clear of the fixture before turning back to pointing down: turning in front of
             // the opening swings the hand into it.
             Stage::Up => {
                 let wp = Waypoint { pos: Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), rot: l.rot };
-                if ee.pos.z > self.cruise_z - 0.02 {
-                    self.next(Stage::Upright);
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &wp, OPEN))
+                (Leg::until(stages::Move { to: wp, servo: Servo::TRAVEL, grip: OPEN }, ee.pos.z > self.cruise_z - 0.02), Stage::Upright)
             }
             Stage::Upright => {
                 let finger: Vec3 = l.rot.column(0).into();
                 let wp = Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), geometry::yaw_of_axis(&finger));
                 let (_, r) = motion::error(sim, &wp);
-                if r < 0.1 {
-                    return Step::Done;
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &wp, OPEN))
+                (Leg::unless(r < 0.1, stages::Move { to: wp, servo: Servo::TRAVEL, grip: OPEN }), Stage::Done)
             }
-        }
+            Stage::Done => return Step::Done,
+        };
+        Step::after(self.stage.play(sim, leg, then), || self.step(sim))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::expert::Expert;
-    use crate::init_states;
-    use crate::sim::SceneModel;
-    use crate::task::Predicate;
+    use crate::Expert;
+    use vifo_scenes::init_states;
+    use vifo_scenes::sim::SceneModel;
+    use vifo_scenes::task::Predicate;
 
     /// Shipped initial state `state` of a task, after LIBERO's wait steps.
     fn start(suite: &str, index: usize, state: usize) -> Sim {
-        let task = crate::task(suite, index).expect("built-in task");
+        let task = vifo_scenes::task(suite, index).expect("built-in task");
         let mut sim = Sim::new(SceneModel::build(task).expect("scene builds"));
         init_states::apply(&mut sim, &init_states::fixed(task).expect("shipped states")[state]).expect("state applies");
         init_states::wait(&mut sim);
@@ -547,7 +521,7 @@ mod tests {
 
     #[test]
     fn only_the_microwave_goal_is_slid_in_from_the_side() {
-        for suite in crate::suites() {
+        for suite in vifo_scenes::suites() {
             for (index, task) in suite.tasks.iter().enumerate() {
                 let sim = start(&suite.name, index, 0);
                 for atom in task.goal.iter().filter(|a| a.predicate == Predicate::In) {

@@ -1,20 +1,32 @@
-//! Task-conditioned instance set: for each task, every (family, variant) whose needs the task
-//! meets, as a ready [`CueSpec`].
+//! Task-conditioned instance sets: for each task, every (family, variant, step) whose needs the
+//! task meets, as a ready [`CueSpec`] (the `full` set), and the paper's 1,347-instance subset
+//! ([`paper`]).
 //!
 //! Compatibility follows [`Needs`]: ghost trajectories and grasping hands need a step that
 //! moves an object, arrows, paths and zone signs need a step with a target, the sticky note
-//! needs a short instruction; everything else fits every task. A variant shows the first step
-//! that meets its needs (so "open the top drawer and put the bowl inside" gets its arrow from
-//! the bowl to the drawer). On LIBERO's 40 evaluation tasks this gives 1,468 instances, close
-//! to the paper's 1,347 (see the README for the per-family comparison).
+//! needs a short instruction, prohibition, maintenance and system-state signs a state change,
+//! hazard and hand-over signs a step handling a hot or fragile thing or a carrier; everything
+//! else fits every task.
+//!
+//! Fixed-region variants (text, pictures, codes) show the whole task: one instance per task,
+//! showing the first step that meets their needs. Scene-anchored and ghost variants show one
+//! step: one instance per step that meets their needs, except a step whose marked things
+//! ([`Marks`]) an earlier instance of the variant already marks (a crosshair on the basket
+//! for "put both the soup and the sauce in the basket" is one instance). An instance showing
+//! the variant's first fitting step has the id `<task>/<family>/<variant>`; one showing a later
+//! step adds `@<step number>` (`libero_10/2/F2/straight_arrow_red@2`).
 
 use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use crate::parse::{self, GoalAtom, ParseError, ParsedTask};
+use crate::parse::{self, GoalAtom, ParseError, ParsedTask, Step};
 use crate::spec::{CueSpec, Family};
-use crate::variants::{Needs, VARIANTS, Variant};
+use crate::variants::{Marks, Needs, VARIANTS, Variant};
+
+pub mod paper;
+
+pub use paper::SetName;
 
 /// What the generator needs to know about a task.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -59,20 +71,50 @@ pub struct InstanceError {
     pub source: ParseError,
 }
 
-/// The step of `parsed` a variant with these needs shows, or `None` if the task cannot
+/// The step of `parsed` a variant with these needs shows first, or `None` if the task cannot
 /// carry the variant.
 pub fn step_for(parsed: &ParsedTask, needs: Needs) -> Option<usize> {
-    match needs {
-        Needs::Nothing => Some(0),
-        Needs::Target => parsed.steps.iter().position(|s| s.target.is_some()),
-        Needs::MovingSource => parsed.steps.iter().position(|s| s.relation.moves_source()),
-        Needs::ShortText(n) => (parsed.instruction.chars().count() <= n).then_some(0),
-    }
+    first_step(&parsed.steps, &parsed.instruction, needs)
 }
 
-/// The variants a task can carry, with the step each shows.
+/// [`step_for`] on a task's steps and instruction.
+pub fn first_step(steps: &[Step], instruction: &str, needs: Needs) -> Option<usize> {
+    if let Needs::ShortText(n) = needs {
+        return (!steps.is_empty() && instruction.chars().count() <= n).then_some(0);
+    }
+    steps.iter().position(|s| needs.met_by(s))
+}
+
+/// The steps of `parsed` a variant shows, one instance each (see the module docs).
+pub fn steps_shown(parsed: &ParsedTask, variant: &Variant) -> Vec<usize> {
+    let Some(first) = step_for(parsed, variant.needs) else { return Vec::new() };
+    if variant.marks == Marks::Region {
+        return vec![first];
+    }
+    let mut shown: Vec<usize> = Vec::new();
+    let mut marked: Vec<(Option<&str>, Option<&str>)> = Vec::new();
+    for (i, step) in parsed.steps.iter().enumerate().skip(first) {
+        if !variant.needs.met_by(step) {
+            continue;
+        }
+        let source = step.source_id.as_deref().or(Some(step.source.as_str()));
+        let target = step.target_id.as_deref().or(step.target.as_deref());
+        let things = match variant.marks {
+            Marks::Source => (source, None),
+            Marks::Target => (target.or(source), None),
+            Marks::Both | Marks::Region => (source, target),
+        };
+        if !marked.contains(&things) {
+            marked.push(things);
+            shown.push(i);
+        }
+    }
+    shown
+}
+
+/// The (variant, step) pairs a task carries, variants in catalogue order.
 pub fn compatible(parsed: &ParsedTask) -> Vec<(&'static Variant, usize)> {
-    VARIANTS.iter().filter_map(|v| step_for(parsed, v.needs).map(|s| (v, s))).collect()
+    VARIANTS.iter().flat_map(|v| steps_shown(parsed, v).into_iter().map(move |s| (v, s))).collect()
 }
 
 /// All task-conditioned cue instances.
@@ -92,7 +134,8 @@ pub struct FamilyCount {
 }
 
 impl InstanceSet {
-    /// Builds the set: tasks in the given order, variants in catalogue order.
+    /// Builds the `full` set: tasks in the given order, variants in catalogue order, steps in
+    /// task order.
     pub fn build(tasks: &[TaskDescription]) -> Result<InstanceSet, InstanceError> {
         let mut instances = Vec::new();
         for task in tasks {
@@ -106,6 +149,11 @@ impl InstanceSet {
             }
         }
         Ok(InstanceSet { instances })
+    }
+
+    /// The `paper` set chosen from this (`full`) set by the rule of [`paper`].
+    pub fn paper(&self) -> Result<InstanceSet, paper::PaperSetError> {
+        paper::select(self)
     }
 
     /// Per-family counts, in family order.

@@ -1,31 +1,36 @@
 //! The scripted expert: a privileged planner that solves LIBERO tasks through the same 7-D
 //! action interface a policy uses (it reads the simulator's state, but acts only by actions —
 //! no teleporting, welding or pose editing), so it can stand in for a policy.
+//!
+//! - [`plan`](crate::plan): from a task's goal atoms to an ordered list of skills.
+//! - `skills`: one recipe per skill (pick-place, push, drawer, door, knob, insert), each a
+//!   short list of stages.
+//! - `stages`: the motion vocabulary the recipes are written in (approach at cruise height,
+//!   descend, grasp, lift, carry, set down, release, retreat, follow a hinge or a slide).
+//! - `arm`: the arm-agnostic interface the stages drive (a grip-site pose target and a gripper
+//!   command); the Panda implements it.
+//! - `motion`: gripper orientations and the servo's gains; `geometry`: the scene's shapes as
+//!   the expert sees them (obstacles, grasp choice, heights to pass over).
 
-mod door;
-mod drawer;
+mod arm;
 mod geometry;
-mod insert;
-mod knob;
-mod lean;
 mod motion;
-mod pick_place;
 mod plan;
-mod push;
-mod skill;
+mod skills;
+mod stages;
 
 pub use plan::PlanError;
 
 use vifo_robots::action::Action;
+use vifo_scenes::sim::Sim;
+use vifo_scenes::task::Atom;
 
-use crate::sim::Sim;
-use crate::task::Atom;
-use plan::Skill;
-use skill::{OPEN, Step};
+use skills::Skill;
+use stages::{OPEN, Step};
 
 /// A running expert for one episode.
 pub struct Expert {
-    skills: Vec<Skill>,
+    skills: Vec<Box<dyn Skill>>,
     current: usize,
     failure: Option<&'static str>,
 }
@@ -55,29 +60,13 @@ impl Expert {
 
     /// Which skill runs now, for traces.
     pub fn describe(&self) -> String {
-        match self.skills.get(self.current) {
-            Some(Skill::PickPlace(s)) => s.describe(),
-            Some(Skill::Drawer(s)) => s.describe(),
-            Some(Skill::Door(s)) => s.describe(),
-            Some(Skill::Knob(s)) => s.describe(),
-            Some(Skill::Push(s)) => s.describe(),
-            Some(Skill::Insert(s)) => s.describe(),
-            None => "done".to_string(),
-        }
+        self.skills.get(self.current).map_or_else(|| "done".to_string(), |s| s.describe())
     }
 
     /// The next action.
     pub fn act(&mut self, sim: &Sim) -> Action {
         while !self.finished() {
-            let step = match &mut self.skills[self.current] {
-                Skill::PickPlace(s) => s.step(sim),
-                Skill::Drawer(s) => s.step(sim),
-                Skill::Door(s) => s.step(sim),
-                Skill::Knob(s) => s.step(sim),
-                Skill::Push(s) => s.step(sim),
-                Skill::Insert(s) => s.step(sim),
-            };
-            match step {
+            match self.skills[self.current].step(sim) {
                 Step::Act(a) => return a,
                 Step::Done => self.current += 1,
                 Step::Failed(why) => self.failure = Some(why),

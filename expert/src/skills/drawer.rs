@@ -1,11 +1,17 @@
 //! Opening and closing drawers by their handle.
+//!
+//! Recipe: rise, cross to a stand-off in front of the handle, lower to it, approach the handle
+//! (or the front wall), grasp it when pulling, follow the slide out or in, release, back off,
+//! and turn upright again.
 
 use vifo_robots::spatial::{Mat3, Vec3, rotation_vector};
+use vifo_scenes::sim::{RegionPlace, Sim};
 
-use super::geometry::{self, Obb};
-use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, OPEN, Step, climb, cruise_height, gripper_toward};
-use crate::sim::{RegionPlace, Sim};
+use super::Skill;
+use crate::arm::{self, Arm};
+use crate::geometry::{self, Obb, cruise_height};
+use crate::motion::{self, Servo, Waypoint};
+use crate::stages::{self, CLOSE, Leg, OPEN, Pace, Progress, Stages, Step, Tol, gripper_toward};
 
 /// What to do with the drawer.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -41,6 +47,7 @@ enum Stage {
     Release,
     Back,
     Upright,
+    Done,
 }
 
 /// The space an opening drawer takes (see [`Drawer::sweep`]); `along`/`across` are coordinates
@@ -103,10 +110,10 @@ pub struct Drawer {
     body: usize,
     joint: String,
     goal: DrawerGoal,
-    stage: Stage,
-    stage_steps: usize,
+    stage: Stages<Stage>,
     cruise_z: f64,
-    last_q: Vec<f64>,
+    /// The joint's position while the drawer moves.
+    travel: Progress,
     /// A close stalled near the end: back off, then shut.
     shut_next: bool,
 }
@@ -131,16 +138,7 @@ const PITCH: f64 = 0.4;
 
 impl Drawer {
     pub fn new(entity: usize, body: usize, joint: String, goal: DrawerGoal) -> Self {
-        Drawer { entity, body, joint, goal, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0, last_q: Vec::new(), shut_next: false }
-    }
-
-    pub fn describe(&self) -> String {
-        format!("drawer {:?} {:?} step {}", self.goal, self.stage, self.stage_steps)
-    }
-
-    fn next(&mut self, stage: Stage) {
-        self.stage = stage;
-        self.stage_steps = 0;
+        Drawer { entity, body, joint, goal, stage: Stages::new(Stage::Rise, STAGE_LIMIT), cruise_z: 0.0, travel: Progress::default(), shut_next: false }
     }
 
     fn q(&self, sim: &Sim) -> f64 {
@@ -187,12 +185,13 @@ impl Drawer {
         let across = if self.goal == DrawerGoal::Shut { into.cross(&up) } else { up * c + into * s };
         // Of the two hands pinching the bar (a half turn apart about the approach axis), the
         // one the wrist reaches, with the smaller turn from where it is first.
-        let current = sim.model().robot.grip_site_pose(sim.world()).rot;
+        let current = arm::of(sim).grip_site().rot;
         let hand = |x: Vec3| Mat3::from_columns(&[x, z.cross(&x), z]);
         let turn = |m: &Mat3| rotation_vector(&(m * current.transpose())).norm();
         let (a, b) = (hand(across), hand(-across));
         let (first, second) = if turn(&a) <= turn(&b) { (a, b) } else { (b, a) };
-        if motion::wrist_reaches(sim, &first) || !motion::wrist_reaches(sim, &second) { first } else { second }
+        let arm = arm::of(sim);
+        if arm.wrist_reaches(&first) || !arm.wrist_reaches(&second) { first } else { second }
     }
 
     /// Direction the gripper comes in along (its approach axis): pitched into the front when
@@ -253,11 +252,17 @@ impl Drawer {
             .expect("drawers have a front wall")
     }
 
-    fn waypoint(&self, sim: &Sim, pos: Vec3) -> Waypoint {
+    /// How the gripper is turned: pitched into the front when it takes or shuts the handle,
+    /// pointing down when it pushes.
+    fn rot(&self, sim: &Sim) -> Mat3 {
         match self.goal {
-            DrawerGoal::Open | DrawerGoal::Shut => Waypoint { pos, rot: self.side_orientation(sim) },
-            DrawerGoal::Widen | DrawerGoal::Close => Waypoint::down(pos, self.push_yaw(sim)),
+            DrawerGoal::Open | DrawerGoal::Shut => self.side_orientation(sim),
+            DrawerGoal::Widen | DrawerGoal::Close => motion::orientation(self.push_yaw(sim)),
         }
+    }
+
+    fn waypoint(&self, sim: &Sim, pos: Vec3) -> Waypoint {
+        Waypoint { pos, rot: self.rot(sim) }
     }
 
     fn done(&self, sim: &Sim) -> bool {
@@ -266,13 +271,18 @@ impl Drawer {
             DrawerGoal::Close | DrawerGoal::Shut => self.q(sim) > CLOSED_PAST,
         }
     }
+}
 
-    pub fn step(&mut self, sim: &Sim) -> Step {
-        self.stage_steps += 1;
-        if self.stage_steps > STAGE_LIMIT {
+impl Skill for Drawer {
+    fn describe(&self) -> String {
+        format!("drawer {:?} {}", self.goal, self.stage)
+    }
+
+    fn step(&mut self, sim: &Sim) -> Step {
+        if !self.stage.tick() {
             return Step::Failed("a drawer stage took too long");
         }
-        let ee = sim.model().robot.grip_site_pose(sim.world());
+        let ee = arm::of(sim).grip_site();
         let dir = self.open_dir(sim);
         let work = self.work_point(sim);
         // Stand-off back along the approach axis: room to come around the handle when taking
@@ -283,77 +293,51 @@ impl Drawer {
             DrawerGoal::Open => gripper_toward(sim, 0.022),
             DrawerGoal::Widen | DrawerGoal::Close | DrawerGoal::Shut => CLOSE,
         };
-        match self.stage {
+        let steps = self.stage.steps;
+        let (leg, then) = match self.stage.now {
             Stage::Rise => {
                 // Cross at the stand-off's own height (already back from the handle) unless
                 // something on the way stands taller.
                 self.cruise_z = cruise_height(sim, &standoff, 0.08, standoff.z, None);
-                let Some(up) = climb(&ee.pos, self.cruise_z) else {
-                    self.next(Stage::Over);
-                    return self.step(sim);
-                };
-                Step::Act(Servo::TRAVEL.act(sim, &self.waypoint(sim, up), grip))
+                (stages::rise(sim, self.cruise_z, self.rot(sim), grip), Stage::Over)
             }
-            Stage::Over => {
-                let wp = self.waypoint(sim, Vec3::new(standoff.x, standoff.y, self.cruise_z));
-                let (d, r) = motion::error(sim, &wp);
-                if d < 0.015 && r < 0.08 {
-                    self.next(Stage::Lower);
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &wp, grip))
-            }
-            Stage::Lower => {
-                let wp = self.waypoint(sim, standoff);
-                let (d, r) = motion::error(sim, &wp);
-                if d < 0.006 && r < 0.04 {
-                    self.next(Stage::Approach);
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &wp, grip))
-            }
+            Stage::Over => (stages::cross(sim, &standoff, self.cruise_z, self.rot(sim), Tol::pose(0.015, 0.08), grip), Stage::Lower),
+            Stage::Lower => (stages::reach(sim, self.waypoint(sim, standoff), Pace::Travel, Tol::pose(0.006, 0.04), grip), Stage::Approach),
             Stage::Approach => {
-                let wp = self.waypoint(sim, work);
-                let (d, _) = motion::error(sim, &wp);
-                if d < 0.004 {
-                    self.last_q.clear();
-                    self.next(if self.goal == DrawerGoal::Open { Stage::Grip } else { Stage::Move });
+                let leg = stages::reach(sim, self.waypoint(sim, work), Pace::ClosingIn, Tol::pos(0.004), grip);
+                if leg.is_last() {
+                    self.travel.clear();
                 }
-                Step::Act(Servo::closing_in(d).act(sim, &wp, grip))
+                (leg, if self.goal == DrawerGoal::Open { Stage::Grip } else { Stage::Move })
             }
-            Stage::Grip => {
-                if self.stage_steps >= 12 {
-                    self.next(Stage::Move);
-                }
-                Step::Act(Servo::FINE.act(sim, &self.waypoint(sim, work), CLOSE))
-            }
+            Stage::Grip => (stages::grasp(steps, 12, self.waypoint(sim, work)), Stage::Move),
+            // Follow the slide, leading the drawer a few centimetres along its travel.
             Stage::Move => {
                 if self.done(sim) {
-                    self.next(Stage::Release);
-                    return self.step(sim);
-                }
-                // Lead the drawer a few centimetres along its travel.
-                let lead = match self.goal {
-                    DrawerGoal::Open | DrawerGoal::Widen => dir * 0.04,
-                    DrawerGoal::Close | DrawerGoal::Shut => -dir * 0.04,
-                };
-                self.last_q.push(self.q(sim));
-                let n = self.last_q.len();
-                if n > 15 && (self.last_q[n - 10] - self.last_q[n - 1]).abs() < 0.001 {
-                    if self.goal == DrawerGoal::Close && self.q(sim) > SHUT_FROM {
-                        self.shut_next = true;
-                        self.next(Stage::Back);
-                        return self.step(sim);
+                    (Leg::Over, Stage::Release)
+                } else {
+                    let lead = match self.goal {
+                        DrawerGoal::Open | DrawerGoal::Widen => 0.04,
+                        DrawerGoal::Close | DrawerGoal::Shut => -0.04,
+                    };
+                    self.travel.record(self.q(sim));
+                    if self.travel.change(9, 15).is_some_and(|c| c.abs() < 0.001) {
+                        if self.goal == DrawerGoal::Close && self.q(sim) > SHUT_FROM {
+                            self.shut_next = true;
+                            (Leg::Over, Stage::Back)
+                        } else {
+                            return Step::Failed("the drawer stopped moving");
+                        }
+                    } else {
+                        // A pulled handle follows the hand at full speed; a push keeps to the fine servo.
+                        let servo = if self.goal == DrawerGoal::Open { Servo::TRAVEL } else { Servo::FINE };
+                        (Leg::Go(stages::Move { to: self.waypoint(sim, work + dir * lead), servo, grip: CLOSE }), Stage::Release)
                     }
-                    return Step::Failed("the drawer stopped moving");
                 }
-                // A pulled handle follows the hand at full speed; a push keeps to the fine servo.
-                let servo = if self.goal == DrawerGoal::Open { Servo::TRAVEL } else { Servo::FINE };
-                Step::Act(servo.act(sim, &self.waypoint(sim, work + lead), CLOSE))
             }
             Stage::Release => {
-                if self.stage_steps >= 8 || matches!(self.goal, DrawerGoal::Widen | DrawerGoal::Close) {
-                    self.next(Stage::Back);
-                }
-                Step::Act(Servo::FINE.act(sim, &self.waypoint(sim, ee.pos), OPEN))
+                let n = if matches!(self.goal, DrawerGoal::Widen | DrawerGoal::Close) { 0 } else { 8 };
+                (stages::release(steps, n, self.waypoint(sim, ee.pos)), Stage::Back)
             }
             Stage::Back => {
                 let away = match self.goal {
@@ -361,20 +345,20 @@ impl Drawer {
                     DrawerGoal::Widen => ee.pos + Vec3::new(0.0, 0.0, 0.08),
                     DrawerGoal::Close => ee.pos + dir * 0.05 + Vec3::new(0.0, 0.0, 0.05),
                 };
-                if self.stage_steps >= 8 {
-                    if self.shut_next {
-                        self.shut_next = false;
-                        self.goal = DrawerGoal::Shut;
-                        self.next(Stage::Rise);
-                        return self.step(sim);
-                    }
-                    if matches!(self.goal, DrawerGoal::Widen | DrawerGoal::Close) {
-                        return Step::Done;
-                    }
-                    self.next(Stage::Upright);
-                    return self.step(sim);
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &self.waypoint(sim, away), OPEN))
+                let leg = stages::retreat(steps, 8, self.waypoint(sim, away), OPEN);
+                let then = if !matches!(leg, Leg::Over) {
+                    Stage::Back
+                } else if self.shut_next {
+                    // A close stalled near the end: shut it, pitched, from the top.
+                    self.shut_next = false;
+                    self.goal = DrawerGoal::Shut;
+                    Stage::Rise
+                } else if matches!(self.goal, DrawerGoal::Widen | DrawerGoal::Close) {
+                    Stage::Done
+                } else {
+                    Stage::Upright
+                };
+                (leg, then)
             }
             Stage::Upright => {
                 // Turn back to pointing down by tipping about the handle's axis, which leaves
@@ -384,11 +368,10 @@ impl Drawer {
                 let axis = if finger.dot(&Vec3::z()) >= 0.0 { into } else { -into };
                 let wp = Waypoint::down(ee.pos + Vec3::new(0.0, 0.0, 0.03), geometry::yaw_of_axis(&axis));
                 let (_, r) = motion::error(sim, &wp);
-                if r < 0.2 || self.stage_steps >= 25 {
-                    return Step::Done;
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &wp, OPEN))
+                (Leg::unless(r < 0.2 || steps >= 25, stages::Move { to: wp, servo: Servo::TRAVEL, grip: OPEN }), Stage::Done)
             }
-        }
+            Stage::Done => return Step::Done,
+        };
+        Step::after(self.stage.play(sim, leg, then), || self.step(sim))
     }
 }

@@ -3,17 +3,12 @@
 use thiserror::Error;
 
 use vifo_robots::spatial::Vec3;
+use vifo_scenes::catalog::JointKind;
+use vifo_scenes::sim::Sim;
+use vifo_scenes::task::{Atom, Predicate};
 
-use super::door::Door;
-use super::drawer::{self, Drawer, DrawerGoal, drawer_of};
-use super::geometry;
-use super::insert::{self, Insert};
-use super::knob::Knob;
-use super::pick_place::{PickPlace, Placement, Spot};
-use super::push::{self, Push};
-use crate::catalog::JointKind;
-use crate::sim::Sim;
-use crate::task::{Atom, Predicate};
+use crate::geometry;
+use crate::skills::{self, Door, Drawer, DrawerGoal, Insert, Knob, PARTLY_OPEN, PickPlace, Placement, Push, Skill, Spot, drawer_of};
 
 /// A goal the expert has no skill for.
 #[derive(Debug, Error, PartialEq)]
@@ -22,16 +17,6 @@ pub enum PlanError {
     Unsupported(String),
     #[error("{atom}: '{name}' is not in the scene")]
     UnknownName { atom: String, name: String },
-}
-
-/// One thing to do.
-pub enum Skill {
-    PickPlace(PickPlace),
-    Drawer(Drawer),
-    Door(Door),
-    Knob(Knob),
-    Push(Push),
-    Insert(Insert),
 }
 
 /// Categories too flat to grasp: LIBERO's tasks push them.
@@ -75,7 +60,7 @@ const DRAWER_CLEARANCE: f64 = 0.025;
 
 /// Queues opening `drawer`, first pushing out of its way each object the plan picks later
 /// that stands where the open drawer will hang (the hand could not reach under it afterwards).
-fn open_drawer(sim: &Sim, ordered: &mut Vec<(u8, Skill)>, drawer: Drawer, picked: &[usize]) {
+fn open_drawer(sim: &Sim, ordered: &mut Vec<(u8, Box<dyn Skill>)>, drawer: Drawer, picked: &[usize]) {
     let sweep = drawer.sweep(sim);
     let across = Vec3::new(-sweep.dir.y, sweep.dir.x, 0.0);
     for &i in picked {
@@ -93,11 +78,11 @@ fn open_drawer(sim: &Sim, ordered: &mut Vec<(u8, Skill)>, drawer: Drawer, picked
             let shift = sweep.along.1 + DRAWER_CLEARANCE - u.0;
             let to = c + sweep.dir * shift;
             // Behind it is the drawer's way: a vessel is pushed from inside.
-            let inside = push::inside_floor(&e.category);
-            ordered.push((0, Skill::Push(Push::new(i, [to.x, to.y], 0.015, inside))));
+            let inside = skills::inside_floor(&e.category);
+            ordered.push((0, Box::new(Push::new(i, [to.x, to.y], 0.015, inside))));
         }
     }
-    ordered.push((0, Skill::Drawer(drawer)));
+    ordered.push((0, Box::new(drawer)));
 }
 
 /// Gap left between objects put on the same region.
@@ -137,8 +122,8 @@ fn shared_offsets(sim: &Sim, goals: &[Atom]) -> Vec<[f64; 2]> {
 
 /// The skills achieving `goals`, in order: opening drawers first, then switches, then moving
 /// objects, and closing last (so things can be put into a drawer before it is shut).
-pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
-    let mut ordered: Vec<(u8, Skill)> = Vec::new();
+pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Box<dyn Skill>>, PlanError> {
+    let mut ordered: Vec<(u8, Box<dyn Skill>)> = Vec::new();
     let picked: Vec<usize> = goals
         .iter()
         .filter(|a| matches!(a.predicate, Predicate::On | Predicate::In))
@@ -162,45 +147,45 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Skill>, PlanError> {
                     entity => entity,
                 };
                 if PUSHED.contains(&e.category.as_str()) && atom.predicate == Predicate::On {
-                    for push in push::pushes(sim, object, spot.xy(sim), 0.015) {
-                        ordered.push((2, Skill::Push(push)));
+                    for push in skills::pushes(sim, object, spot.xy(sim), 0.015) {
+                        ordered.push((2, Box::new(push)));
                     }
                     continue;
                 }
                 if atom.predicate == Predicate::In {
                     if let Some((entity, body, joint)) = drawer_of(sim, arg(1)) {
                         if let Some(q) = sim.joint_position(entity, &joint).filter(|&q| q > DRAWER_OPEN_BELOW) {
-                            let goal = if q < drawer::PARTLY_OPEN { DrawerGoal::Widen } else { DrawerGoal::Open };
+                            let goal = if q < PARTLY_OPEN { DrawerGoal::Widen } else { DrawerGoal::Open };
                             open_drawer(sim, &mut ordered, Drawer::new(entity, body, joint, goal), &picked);
                         }
                     }
                 }
                 if let Spot::Region { name, .. } = &spot {
-                    if atom.predicate == Predicate::In && insert::needed(sim, object, name) {
-                        ordered.push((2, Skill::Insert(Insert::new(object, name.clone()))));
+                    if atom.predicate == Predicate::In && skills::insert_needed(sim, object, name) {
+                        ordered.push((2, Box::new(Insert::new(object, name.clone()))));
                         continue;
                     }
                 }
                 let placement = if atom.predicate == Predicate::In { Placement::Into(spot) } else { Placement::On(spot) };
-                ordered.push((2, Skill::PickPlace(PickPlace::new(object, placement))));
+                ordered.push((2, Box::new(PickPlace::new(object, placement))));
             }
             Predicate::Open | Predicate::Close => {
                 if let (Predicate::Close, Some((entity, body, joint))) = (&atom.predicate, door_of(sim, arg(0))) {
-                    ordered.push((3, Skill::Door(Door::new(entity, body, joint))));
+                    ordered.push((3, Box::new(Door::new(entity, body, joint))));
                     continue;
                 }
                 let (entity, body, joint) = drawer_of(sim, arg(0)).ok_or_else(unsupported)?;
                 if atom.predicate == Predicate::Open {
                     open_drawer(sim, &mut ordered, Drawer::new(entity, body, joint, DrawerGoal::Open), &picked);
                 } else {
-                    ordered.push((3, Skill::Drawer(Drawer::new(entity, body, joint, DrawerGoal::Close))));
+                    ordered.push((3, Box::new(Drawer::new(entity, body, joint, DrawerGoal::Close))));
                 }
             }
             // A knob already on is left alone.
             Predicate::TurnOn if sim.holds(atom) == Ok(true) => {}
             Predicate::TurnOn => {
                 let (entity, body, joint) = knob_of(sim, arg(0)).ok_or_else(unsupported)?;
-                ordered.push((1, Skill::Knob(Knob::new(entity, body, joint, KNOB_ON))));
+                ordered.push((1, Box::new(Knob::new(entity, body, joint, KNOB_ON))));
             }
             _ => return Err(unsupported()),
         }

@@ -1,11 +1,16 @@
 //! Pushing a flat object (a plate) across the table to a target.
+//!
+//! Recipe: rise, cross to behind the object, lower the closed fingers there, push it along the
+//! way to its target (following a slide), retreat upward.
 
 use vifo_robots::spatial::{Mat3, Pose, Vec3};
+use vifo_scenes::sim::Sim;
 
-use super::geometry;
-use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, Step, climb, cruise_height, surface_height};
-use crate::sim::Sim;
+use super::Skill;
+use crate::arm::{self, Arm};
+use crate::geometry::{self, cruise_height, support_under, surface_height};
+use crate::motion::{self, Servo, Waypoint};
+use crate::stages::{self, CLOSE, Leg, Pace, Stages, Step, Tol};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Stage {
@@ -14,6 +19,7 @@ enum Stage {
     Lower,
     Push,
     Retreat,
+    Done,
 }
 
 /// Push `object` until its origin is within `tolerance` of `target` (xy). An open vessel (a
@@ -24,8 +30,7 @@ pub struct Push {
     inside: Option<f64>,
     target: [f64; 2],
     tolerance: f64,
-    stage: Stage,
-    stage_steps: usize,
+    stage: Stages<Stage>,
     cruise_z: f64,
     /// The finger yaw, and how far along the push the closed fingers come down: fixed at the
     /// start (see [`Push::start`]).
@@ -113,12 +118,6 @@ pub fn inside_floor(category: &str) -> Option<f64> {
     HOLLOW.iter().find(|(c, _)| *c == category).map(|(_, floor)| *floor)
 }
 
-/// What `object` stands on: the highest point of the scene right under its centre.
-fn support_under(sim: &Sim, object: usize) -> f64 {
-    let c = sim.entity_pose(object).pos;
-    surface_height(sim, [c.x, c.y], 0.02, Some(object))
-}
-
 /// Push targets, straight or in two legs along the world axes, if any are fit: pushed from
 /// behind, the hand must be clear of everything, and a way along which the object itself
 /// slides without running into anything (a bowl beside the way stops a plate) is preferred;
@@ -173,16 +172,7 @@ fn legs(sim: &Sim, object: usize, target: [f64; 2], pusher: Pusher) -> Option<Ve
 
 impl Push {
     pub fn new(object: usize, target: [f64; 2], tolerance: f64, inside: Option<f64>) -> Self {
-        Push { object, inside, target, tolerance, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0, start: None }
-    }
-
-    pub fn describe(&self) -> String {
-        format!("push {:?} step {}", self.stage, self.stage_steps)
-    }
-
-    fn next(&mut self, stage: Stage) {
-        self.stage = stage;
-        self.stage_steps = 0;
+        Push { object, inside, target, tolerance, stage: Stages::new(Stage::Rise, STAGE_LIMIT), cruise_z: 0.0, start: None }
     }
 
     /// Object centre, push direction, and the object's radius in that direction.
@@ -211,13 +201,14 @@ impl Push {
         self.start = Some((yaw, ahead));
         (yaw, ahead)
     }
+}
 
-    pub fn step(&mut self, sim: &Sim) -> Step {
-        self.stage_steps += 1;
-        if self.stage_steps > STAGE_LIMIT {
+impl Skill for Push {
+    fn step(&mut self, sim: &Sim) -> Step {
+        if !self.stage.tick() {
             return Step::Failed("a push stage took too long");
         }
-        let ee = sim.model().robot.grip_site_pose(sim.world());
+        let ee = arm::of(sim).grip_site();
         let (c, dir, radius) = self.geometry(sim);
         let support = support_under(sim, self.object);
         let (behind, height) = match self.inside {
@@ -229,49 +220,28 @@ impl Push {
         let (yaw, ahead) = self.start(sim, &dir, &behind, &c);
         let down = behind + dir * ahead;
         let remaining = ((self.target[0] - c.x).powi(2) + (self.target[1] - c.y).powi(2)).sqrt();
-        match self.stage {
+        let (leg, then) = match self.stage.now {
             Stage::Rise => {
                 self.cruise_z = cruise_height(sim, &down, 0.06, down.z + 0.08, None);
-                let Some(up) = climb(&ee.pos, self.cruise_z) else {
-                    self.next(Stage::Behind);
-                    return self.step(sim);
-                };
-                Step::Act(Servo::TRAVEL.act(sim, &Waypoint::down(up, yaw), CLOSE))
+                (stages::rise(sim, self.cruise_z, motion::orientation(yaw), CLOSE), Stage::Behind)
             }
-            Stage::Behind => {
-                let wp = Waypoint::down(Vec3::new(down.x, down.y, self.cruise_z), yaw);
-                let (d, r) = motion::error(sim, &wp);
-                if d < 0.01 && r < 0.05 {
-                    self.next(Stage::Lower);
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &wp, CLOSE))
-            }
-            Stage::Lower => {
-                let wp = Waypoint::down(down, yaw);
-                let (d, _) = motion::error(sim, &wp);
-                if d < 0.006 {
-                    self.next(Stage::Push);
-                }
-                Step::Act(Servo::closing_in(d).act(sim, &wp, CLOSE))
-            }
+            Stage::Behind => (stages::cross(sim, &down, self.cruise_z, motion::orientation(yaw), Tol::pose(0.01, 0.05), CLOSE), Stage::Lower),
+            Stage::Lower => (stages::reach(sim, Waypoint::down(down, yaw), Pace::ClosingIn, Tol::pos(0.006), CLOSE), Stage::Push),
+            // Follow the slide: keep the fingers at the object's back edge and lead it toward
+            // the target. (From inside a bowl the fingers first cross to its far wall.)
             Stage::Push => {
-                if remaining < self.tolerance {
-                    self.next(Stage::Retreat);
-                    return self.step(sim);
-                }
-                // Keep the fingers at the object's back edge and lead it toward the target.
-                // (From inside a bowl the fingers first cross to its far wall.)
                 let lead = (remaining).min(0.03);
                 let reach = if self.inside.is_some() { 0.035 } else { 0.02 };
-                let wp = Waypoint::down(behind + dir * (reach + lead), yaw);
-                Step::Act(Servo::FINE.act(sim, &wp, CLOSE))
+                let m = stages::Move { to: Waypoint::down(behind + dir * (reach + lead), yaw), servo: Servo::FINE, grip: CLOSE };
+                (Leg::unless(remaining < self.tolerance, m), Stage::Retreat)
             }
-            Stage::Retreat => {
-                if self.stage_steps >= 8 {
-                    return Step::Done;
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &Waypoint::down(ee.pos + Vec3::new(0.0, 0.0, 0.08), yaw), CLOSE))
-            }
-        }
+            Stage::Retreat => (stages::retreat(self.stage.steps, 8, Waypoint::down(ee.pos + Vec3::new(0.0, 0.0, 0.08), yaw), CLOSE), Stage::Done),
+            Stage::Done => return Step::Done,
+        };
+        Step::after(self.stage.play(sim, leg, then), || self.step(sim))
+    }
+
+    fn describe(&self) -> String {
+        format!("push {}", self.stage)
     }
 }

@@ -1,11 +1,27 @@
 //! Closing a hinged door (the microwave's) by pushing its outer face shut.
+//!
+//! Recipe: rise, cross over the push point, lower beside the door, push it round its hinge,
+//! back off.
 
 use vifo_robots::spatial::{Vec3, axis_angle};
+use vifo_scenes::sim::Sim;
 
-use super::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, Obb};
-use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, Step, climb, cruise_height};
-use crate::sim::Sim;
+use super::Skill;
+use crate::arm::{self, Arm};
+use crate::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, Obb, cruise_height};
+use crate::motion::{self, Servo, Waypoint};
+use crate::stages::{self, CLOSE, Leg, Pace, Progress, Stages, Step, Tol};
+
+/// Where along the door (fraction of the hinge-to-free-edge distance) the fingers push.
+const PUSH_AT: f64 = 0.65;
+/// Gap between the fingers and the door face while coming down beside it.
+const STANDOFF: f64 = 0.03;
+/// Pushed until this close to the closed end (LIBERO counts the microwave closed within
+/// 0.005 rad).
+const CLOSED_WITHIN: f64 = 0.002;
+/// The hand's underside ([`HAND_ABOVE_SITE`] over the grip site) stays this much above the
+/// door's top edge; the fingers' faces are [`FINGER_HALF_WIDTH`] off the grip site.
+const HAND_CLEARANCE: f64 = 0.006;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Stage {
@@ -14,6 +30,7 @@ enum Stage {
     Lower,
     Push,
     Back,
+    Done,
 }
 
 /// Push the door of `entity` (body `body`, hinge `joint`) to its closed end.
@@ -26,25 +43,11 @@ pub struct Door {
     entity: usize,
     body: usize,
     joint: String,
-    stage: Stage,
-    stage_steps: usize,
+    stage: Stages<Stage>,
     cruise_z: f64,
-    history: Vec<f64>,
+    /// The angle still to go, while pushing.
+    to_go: Progress,
 }
-
-const STAGE_LIMIT: usize = 120;
-/// Where along the door (fraction of the hinge-to-free-edge distance) the fingers push.
-const PUSH_AT: f64 = 0.65;
-/// Gap between the fingers and the door face while coming down beside it.
-const STANDOFF: f64 = 0.03;
-/// The target leads the door by this angle while pushing (radians).
-const LEAD: f64 = 0.25;
-/// Pushed until this close to the closed end (LIBERO counts the microwave closed within
-/// 0.005 rad).
-const CLOSED_WITHIN: f64 = 0.002;
-/// The hand's underside ([`HAND_ABOVE_SITE`] over the grip site) stays this much above the
-/// door's top edge; the fingers' faces are [`FINGER_HALF_WIDTH`] off the grip site.
-const HAND_CLEARANCE: f64 = 0.006;
 
 /// The door's shape at the current angle, in the world.
 struct Leaf {
@@ -61,18 +64,12 @@ struct Leaf {
     top: f64,
 }
 
+/// How long a stage may last before the skill gives up (control steps).
+const STAGE_LIMIT: usize = 120;
+
 impl Door {
     pub fn new(entity: usize, body: usize, joint: String) -> Self {
-        Door { entity, body, joint, stage: Stage::Rise, stage_steps: 0, cruise_z: 0.0, history: Vec::new() }
-    }
-
-    pub fn describe(&self) -> String {
-        format!("door close {:?} step {}", self.stage, self.stage_steps)
-    }
-
-    fn next(&mut self, stage: Stage) {
-        self.stage = stage;
-        self.stage_steps = 0;
+        Door { entity, body, joint, stage: Stages::new(Stage::Rise, STAGE_LIMIT), cruise_z: 0.0, to_go: Progress::default() }
     }
 
     fn q(&self, sim: &Sim) -> f64 {
@@ -121,70 +118,63 @@ impl Door {
     /// Grip-site target `gap` off the outer face once the door has turned by `turn` from where
     /// it is, and the finger yaw lying along the door there.
     fn target(&self, leaf: &Leaf, turn: f64, gap: f64) -> (Vec3, f64) {
-        let rot = axis_angle(&leaf.axis, turn);
         let offset = leaf.out * (PUSH_AT * leaf.length) + leaf.normal * (leaf.face + FINGER_HALF_WIDTH + gap);
-        let mut p = leaf.hinge + rot * offset;
+        let mut p = stages::swing(&leaf.hinge, &leaf.axis, turn, &offset);
         p.z = leaf.top + HAND_CLEARANCE - HAND_ABOVE_SITE;
-        (p, geometry::yaw_of_axis(&(rot * leaf.out)))
+        (p, geometry::yaw_of_axis(&(axis_angle(&leaf.axis, turn) * leaf.out)))
     }
+}
 
-    pub fn step(&mut self, sim: &Sim) -> Step {
-        self.stage_steps += 1;
-        if self.stage_steps > STAGE_LIMIT {
+/// The target leads the door by this angle while pushing (radians).
+const LEAD: f64 = 0.25;
+
+impl Skill for Door {
+    fn step(&mut self, sim: &Sim) -> Step {
+        if !self.stage.tick() {
             return Step::Failed("a door stage took too long");
         }
-        let ee = sim.model().robot.grip_site_pose(sim.world());
+        let ee = arm::of(sim).grip_site();
         let leaf = self.leaf(sim);
         let to_go = self.closed_q(sim) - self.q(sim);
         let (start, yaw) = self.target(&leaf, 0.0, STANDOFF);
         let yaw = motion::reachable_yaw(sim, yaw);
-        match self.stage {
+        let (leg, then) = match self.stage.now {
             Stage::Rise => {
                 self.cruise_z = cruise_height(sim, &start, 0.08, start.z + 0.08, None);
-                let Some(up) = climb(&ee.pos, self.cruise_z) else {
-                    self.next(Stage::Over);
-                    return self.step(sim);
-                };
-                Step::Act(Servo::TRAVEL.act(sim, &Waypoint::down(up, yaw), CLOSE))
+                (stages::rise(sim, self.cruise_z, motion::orientation(yaw), CLOSE), Stage::Over)
             }
-            Stage::Over => {
-                let wp = Waypoint::down(Vec3::new(start.x, start.y, self.cruise_z), yaw);
-                let (d, r) = motion::error(sim, &wp);
-                if d < 0.01 && r < 0.05 {
-                    self.next(Stage::Lower);
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &wp, CLOSE))
-            }
+            Stage::Over => (stages::cross(sim, &start, self.cruise_z, motion::orientation(yaw), Tol::pose(0.01, 0.05), CLOSE), Stage::Lower),
             Stage::Lower => {
-                let wp = Waypoint::down(start, yaw);
-                let (d, r) = motion::error(sim, &wp);
-                if d < 0.006 && r < 0.05 {
-                    self.history.clear();
-                    self.next(Stage::Push);
+                let leg = stages::reach(sim, Waypoint::down(start, yaw), Pace::ClosingIn, Tol::pose(0.006, 0.05), CLOSE);
+                if leg.is_last() {
+                    self.to_go.clear();
                 }
-                Step::Act(Servo::closing_in(d).act(sim, &wp, CLOSE))
+                (leg, Stage::Push)
             }
+            // Follow the hinge, the fingers leading the door round its arc.
             Stage::Push => {
                 if to_go.abs() < CLOSED_WITHIN {
-                    self.next(Stage::Back);
-                    return self.step(sim);
+                    (Leg::Over, Stage::Back)
+                } else {
+                    self.to_go.record(to_go);
+                    if self.to_go.change(14, 20).is_some_and(|c| c.abs() < 0.005) {
+                        return Step::Failed("the door stopped moving");
+                    }
+                    let (p, yaw) = self.target(&leaf, to_go.signum() * LEAD.min(to_go.abs() + 0.05), -0.004);
+                    let wp = Waypoint::down(p, motion::nearest_yaw(yaw, motion::current_yaw(&ee)));
+                    (Leg::Go(stages::Move { to: wp, servo: Servo::TRAVEL, grip: CLOSE }), Stage::Back)
                 }
-                self.history.push(to_go);
-                let n = self.history.len();
-                if n > 20 && (self.history[n - 15] - to_go).abs() < 0.005 {
-                    return Step::Failed("the door stopped moving");
-                }
-                let (p, yaw) = self.target(&leaf, to_go.signum() * LEAD.min(to_go.abs() + 0.05), -0.004);
-                let wp = Waypoint::down(p, motion::nearest_yaw(yaw, motion::current_yaw(&ee)));
-                Step::Act(Servo::TRAVEL.act(sim, &wp, CLOSE))
             }
             Stage::Back => {
-                if self.stage_steps >= 10 {
-                    return Step::Done;
-                }
                 let away = ee.pos + leaf.normal * 0.04 + Vec3::new(0.0, 0.0, 0.06);
-                Step::Act(Servo::TRAVEL.act(sim, &Waypoint::down(away, motion::current_yaw(&ee)), CLOSE))
+                (stages::retreat(self.stage.steps, 10, Waypoint::down(away, motion::current_yaw(&ee)), CLOSE), Stage::Done)
             }
-        }
+            Stage::Done => return Step::Done,
+        };
+        Step::after(self.stage.play(sim, leg, then), || self.step(sim))
+    }
+
+    fn describe(&self) -> String {
+        format!("door close {}", self.stage)
     }
 }

@@ -4,9 +4,11 @@
 
 use vifo_robots::spatial::{Mat3, Pose, Vec3, axis_angle};
 
-use super::geometry::{self, Obb, Obstacles};
-use super::motion::Waypoint;
-use crate::sim::{RegionBox, Sim};
+use vifo_scenes::sim::{RegionBox, Sim};
+
+use crate::arm::{self, Arm};
+use crate::geometry::{self, Obb, Obstacles};
+use crate::motion::Waypoint;
 
 /// Regions whose z axis leans further than this from the vertical are leaned on, not stood on.
 const TILTED: f64 = 0.35;
@@ -77,8 +79,7 @@ pub fn plan(sim: &Sim, object: usize, region: &str, grip: &Pose) -> Option<LeanP
     let obstacles = Obstacles::around(sim, object).near(&r.pose.pos, NEAR);
     let parts = geometry::body_boxes(sim, object, 0);
     let held = now.inverse().mul(grip);
-    let q = sim.model().robot.joints(sim.world()).q;
-    let fitting = Fitting { region: &r, parts: &parts, now: &now, held: &held, holding: 0.5 * (q[7] - q[8]), obstacles: &obstacles };
+    let fitting = Fitting { region: &r, parts: &parts, now: &now, held: &held, holding: 0.5 * arm::of(sim).finger_gap(), obstacles: &obstacles };
     let along = |up: &Vec3| rotation_between(&(now.rot * Vec3::z()), up) * now.rot;
     let (first, y) = fitting.fit(&along(&ez))?;
     // The face below: the box the object meets first moving toward the region's plane, its

@@ -1,14 +1,19 @@
 //! Pick an object and put it on or into something.
+//!
+//! Recipe: rise, come over the grasp, descend, grasp, lift, carry over the target, (for a
+//! tilted region: turn the object and approach along the surface's normal), set down,
+//! release, retreat.
 
 use vifo_robots::action::Action;
 use vifo_robots::spatial::Vec3;
+use vifo_scenes::sim::Sim;
 
-use super::drawer;
-use super::geometry::{self, Grasp};
 use super::lean::{self, LeanPlan};
-use super::motion::{self, Servo, Waypoint};
-use super::skill::{CLOSE, OPEN, Step, climb, cruise_height, gripper_toward, path_height, surface_height};
-use crate::sim::Sim;
+use super::{Skill, drawer};
+use crate::arm::{self, Arm};
+use crate::geometry::{self, Grasp, cruise_height, path_height, surface_height};
+use crate::motion::{self, Servo, Waypoint};
+use crate::stages::{self, CLOSE, Leg, OPEN, Pace, Progress, Stages, Step, Tol, gripper_toward};
 
 /// Where a picked object must go.
 #[derive(Clone, Debug, PartialEq)]
@@ -48,8 +53,7 @@ impl Spot {
 pub struct PickPlace {
     pub object: usize,
     pub placement: Placement,
-    stage: Stage,
-    stage_steps: usize,
+    stage: Stages<Stage>,
     grasp: Option<Grasp>,
     /// Grip site minus object origin while carried (world frame).
     carry_offset: Option<Vec3>,
@@ -62,7 +66,7 @@ pub struct PickPlace {
     /// Where the placement's spot was when the carry started.
     target: [f64; 2],
     /// Recent grip-site heights while lowering, to notice a stall.
-    lowering: Vec<f64>,
+    lowering: Progress,
     /// Where the object lies on a tilted region, planned when the carry starts.
     lean: Option<LeanPlan>,
 }
@@ -82,6 +86,7 @@ enum Stage {
     Lower,
     Release,
     Retreat,
+    Done,
 }
 
 /// The object comes up this far at the fine servo's speed before the lift speeds up.
@@ -103,8 +108,7 @@ impl PickPlace {
         PickPlace {
             object,
             placement,
-            stage: Stage::Rise,
-            stage_steps: 0,
+            stage: Stages::new(Stage::Rise, STAGE_LIMIT),
             grasp: None,
             carry_offset: None,
             carry_depth: 0.0,
@@ -112,19 +116,9 @@ impl PickPlace {
             lift_start_z: 0.0,
             cruise_z: 0.0,
             target: [0.0; 2],
-            lowering: Vec::new(),
+            lowering: Progress::default(),
             lean: None,
         }
-    }
-
-    pub fn describe(&self) -> String {
-        let g = self.grasp.map(|g| format!("grasp ({:.3} {:.3} {:.3}) yaw {:.2} width {:.3} gap {:.3}", g.pos.x, g.pos.y, g.pos.z, g.yaw, g.width, g.half_gap)).unwrap_or_default();
-        format!("pick-place {:?} step {} attempt {} {g}", self.stage, self.stage_steps, self.attempts)
-    }
-
-    fn next(&mut self, stage: Stage) {
-        self.stage = stage;
-        self.stage_steps = 0;
     }
 
     /// The tilted region's z axis, when the object is to lie on one.
@@ -159,7 +153,7 @@ impl PickPlace {
         let (lo, hi) = geometry::bounds(&points);
         let centre = Vec3::new(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), origin.z);
         // Grip the rim on the side facing the robot's base, where the arm comes from.
-        let base = sim.model().robot.arm().base().pos;
+        let base = arm::of(sim).base();
         let g = geometry::rim_grasp(&points, &centre, &base, &obstacles);
         Grasp { yaw: motion::reachable_yaw(sim, g.yaw), ..g }
     }
@@ -167,7 +161,7 @@ impl PickPlace {
     /// Height at which to travel: clear of everything between here and there (the carried
     /// object hanging `carry_depth` below the grip site).
     fn travel_height(&self, sim: &Sim, to: [f64; 2]) -> f64 {
-        let ee = sim.model().robot.grip_site_pose(sim.world());
+        let ee = arm::of(sim).grip_site();
         path_height(sim, [ee.pos.x, ee.pos.y], to, 0.1, Some(self.object)) + self.carry_depth + 0.06
     }
 
@@ -185,89 +179,67 @@ impl PickPlace {
         let (lo, hi) = geometry::bounds(&geometry::corners(sim, self.object, 0));
         0.5 * (hi.x - lo.x).max(hi.y - lo.y)
     }
+}
 
-    pub fn step(&mut self, sim: &Sim) -> Step {
-        self.stage_steps += 1;
-        if self.stage_steps > STAGE_LIMIT {
+impl Skill for PickPlace {
+    fn describe(&self) -> String {
+        let g = self.grasp.map(|g| format!("grasp ({:.3} {:.3} {:.3}) yaw {:.2} width {:.3} gap {:.3}", g.pos.x, g.pos.y, g.pos.z, g.yaw, g.width, g.half_gap)).unwrap_or_default();
+        format!("pick-place {} attempt {} {g}", self.stage, self.attempts)
+    }
+
+    fn step(&mut self, sim: &Sim) -> Step {
+        if !self.stage.tick() {
             return Step::Failed("a stage took too long");
         }
-        let ee = sim.model().robot.grip_site_pose(sim.world());
+        let ee = arm::of(sim).grip_site();
         let object = sim.entity_pose(self.object);
-        match self.stage {
+        if self.grasp.is_none() {
+            self.grasp = Some(self.plan_grasp(sim));
+        }
+        let g = self.grasp.expect("planned");
+        let steps = self.stage.steps;
+        let (leg, then) = match self.stage.now {
             Stage::Rise => {
-                if self.grasp.is_none() {
-                    self.grasp = Some(self.plan_grasp(sim));
-                }
-                let g = self.grasp.expect("planned");
                 // Fly over everything between here and the grasp, fingertips clear.
                 self.cruise_z = cruise_height(sim, &g.pos, 0.06, g.pos.z + 0.08, Some(self.object));
-                let Some(up) = climb(&ee.pos, self.cruise_z) else {
-                    self.next(Stage::Above);
-                    return self.step(sim);
-                };
-                Step::Act(Servo::TRAVEL.act(sim, &Waypoint::down(up, g.yaw), gripper_toward(sim, g.half_gap)))
+                (stages::rise(sim, self.cruise_z, motion::orientation(g.yaw), gripper_toward(sim, g.half_gap)), Stage::Above)
             }
             Stage::Above => {
-                let g = self.grasp.expect("planned");
-                let horizontal = ((ee.pos.x - g.pos.x).powi(2) + (ee.pos.y - g.pos.y).powi(2)).sqrt();
                 // While the hand still turns, it stays over everything its length sweeps.
                 let (_, turn) = motion::error(sim, &Waypoint::down(ee.pos, g.yaw));
                 let low = if turn > TURNING { self.sweep_floor(sim, &g).max(g.pos.z + 0.08) } else { g.pos.z + 0.08 };
-                let z = if horizontal > 0.03 { self.cruise_z } else { low };
-                let wp = Waypoint::down(Vec3::new(g.pos.x, g.pos.y, z), g.yaw);
+                let wp = Waypoint::down(stages::over(&ee.pos, &g.pos, self.cruise_z, low), g.yaw);
                 let (d, r) = motion::error(sim, &wp);
                 let servo = if d < 0.03 { Servo::FINE } else { Servo::TRAVEL };
-                if d < 0.003 && r < 0.03 {
-                    self.next(Stage::Descend);
-                }
-                Step::Act(servo.act(sim, &wp, gripper_toward(sim, g.half_gap)))
+                (Leg::until(stages::Move { to: wp, servo, grip: gripper_toward(sim, g.half_gap) }, d < 0.003 && r < 0.03), Stage::Descend)
             }
-            Stage::Descend => {
-                let g = self.grasp.expect("planned");
-                // Go down no faster than the horizontal error allows, so the fingers arrive
-                // centred on the object.
-                let horizontal = ((ee.pos.x - g.pos.x).powi(2) + (ee.pos.y - g.pos.y).powi(2)).sqrt();
-                let z = if horizontal > 0.005 { ee.pos.z.max(g.pos.z) } else { g.pos.z };
-                let wp = Waypoint::down(Vec3::new(g.pos.x, g.pos.y, z), g.yaw);
-                let d = (ee.pos - g.pos).norm();
-                if d < 0.005 {
-                    self.next(Stage::Close);
-                }
-                Step::Act(Servo::closing_in(d).act(sim, &wp, gripper_toward(sim, g.half_gap)))
-            }
+            Stage::Descend => (stages::descend(sim, &g.pos, motion::orientation(g.yaw), 0.005, gripper_toward(sim, g.half_gap)), Stage::Close),
             Stage::Close => {
-                let g = self.grasp.expect("planned");
-                if self.stage_steps >= 12 {
+                let leg = stages::grasp(steps, 12, Waypoint::down(g.pos, g.yaw));
+                if leg.is_last() {
                     self.lift_start_z = object.pos.z;
-                    self.next(Stage::Lift);
                 }
-                Step::Act(Servo::FINE.act(sim, &Waypoint::down(g.pos, g.yaw), CLOSE))
+                (leg, Stage::Lift)
             }
             Stage::Lift => {
-                let g = self.grasp.expect("planned");
-                let fingers = sim.model().robot.joints(sim.world()).q;
-                if fingers[7] - fingers[8] < 0.002 {
-                    return self.retry("the fingers closed on nothing");
+                if let Some(why) = stages::lift_failure(sim, steps, 12, self.lift_start_z, object.pos.z, 0.01) {
+                    return self.retry(why);
                 }
                 let up = Waypoint::down(Vec3::new(g.pos.x, g.pos.y, g.pos.z + 0.12), g.yaw);
-                // (The gentle start takes a few more steps to bring it up a centimetre.)
-                if self.stage_steps >= 12 && object.pos.z - self.lift_start_z < 0.01 {
-                    return self.retry("the object did not come up");
-                }
                 let (d, _) = motion::error(sim, &up);
-                if d < 0.02 && object.pos.z - self.lift_start_z > 0.05 {
+                let lifted = d < 0.02 && object.pos.z - self.lift_start_z > 0.05;
+                if lifted {
                     self.carry_offset = Some(ee.pos - object.pos);
                     let (lo, _) = geometry::bounds(&geometry::corners(sim, self.object, 0));
                     self.carry_depth = ee.pos.z - lo.z;
-                    self.next(Stage::Travel);
                 }
                 // Lift off gently: a rim pinched at full speed swings the vessel out of the fingers.
                 let servo = if object.pos.z - self.lift_start_z < GENTLE_LIFT { Servo::FINE } else { Servo::TRAVEL };
-                Step::Act(servo.act(sim, &up, CLOSE))
+                (Leg::until(stages::Move { to: up, servo, grip: CLOSE }, lifted), Stage::Travel)
             }
             Stage::Travel => {
                 let offset = self.carry_offset.expect("measured");
-                if self.stage_steps == 1 {
+                if steps == 1 {
                     self.target = self.target_xy(sim);
                     if let (Some(_), Placement::On(Spot::Region { name, .. })) = (self.tilted_up(sim), &self.placement) {
                         self.lean = lean::plan(sim, self.object, name, &ee);
@@ -280,79 +252,43 @@ impl PickPlace {
                 if self.lost(sim) {
                     return self.retry("the object slipped out");
                 }
-                let xy = self.target;
-                let yaw = self.grasp.expect("planned").yaw;
-                let over = Vec3::new(xy[0] + offset.x, xy[1] + offset.y, self.cruise_z);
-                // Climb first, then cross: the cruise altitude keeps 6 cm over everything on the
-                // way, so crossing may start in the last 4.
-                let wp = if ee.pos.z < self.cruise_z - 0.04 {
-                    Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z), yaw)
-                } else {
-                    Waypoint::down(over, yaw)
-                };
-                let horizontal = ((ee.pos.x - over.x).powi(2) + (ee.pos.y - over.y).powi(2)).sqrt();
-                if horizontal < 0.01 && (ee.pos.z - over.z).abs() < 0.03 {
-                    self.next(if self.lean.is_some() { Stage::Tilt } else { Stage::Lower });
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &wp, CLOSE))
+                let over = Vec3::new(self.target[0] + offset.x, self.target[1] + offset.y, self.cruise_z);
+                (stages::carry(sim, &over, motion::orientation(g.yaw)), if self.lean.is_some() { Stage::Tilt } else { Stage::Lower })
             }
             Stage::Tilt => {
-                let plan = self.lean.expect("planned");
-                let wp = plan.hand(LEAN_APPROACH, TILT_HEIGHT);
-                let (d, r) = motion::error(sim, &wp);
-                if d < 0.01 && r < 0.03 {
-                    self.next(Stage::Approach);
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &wp, CLOSE))
+                let wp = self.lean.expect("planned").hand(LEAN_APPROACH, TILT_HEIGHT);
+                (stages::reach(sim, wp, Pace::Travel, Tol::pose(0.01, 0.03), CLOSE), Stage::Approach)
             }
             Stage::Approach => {
                 let wp = self.lean.expect("planned").hand(LEAN_APPROACH, 0.0);
-                let (d, r) = motion::error(sim, &wp);
-                if d < 0.005 && r < 0.03 {
-                    self.next(Stage::Lower);
-                }
-                Step::Act(Servo::FINE.act(sim, &wp, CLOSE))
+                (stages::reach(sim, wp, Pace::Fine, Tol::pose(0.005, 0.03), CLOSE), Stage::Lower)
             }
             Stage::Lower => {
-                let wp = match self.lean {
-                    Some(plan) => plan.hand(0.0, 0.0),
-                    None => self.lower_waypoint(sim),
+                let (wp, pace) = match self.lean {
+                    Some(plan) => (plan.hand(0.0, 0.0), Pace::Fine),
+                    None => (self.lower_waypoint(sim), Pace::ClosingIn),
                 };
-                let (d, _) = motion::error(sim, &wp);
-                // Let go once there, or once the way down is blocked (the object already rests
-                // on something, or the hand meets a container's rim with the object inside).
-                self.lowering.push(ee.pos.z);
-                let n = self.lowering.len();
-                let stalled = n > 6 && self.lowering[n - 4] - ee.pos.z < 0.002;
-                if d < 0.008 || stalled {
-                    self.lowering.clear();
-                    self.next(Stage::Release);
-                }
-                let servo = if self.lean.is_some() { Servo::FINE } else { Servo::closing_in(d) };
-                Step::Act(servo.act(sim, &wp, CLOSE))
+                (stages::set_down(sim, &mut self.lowering, wp, pace, 0.008, 0.002), Stage::Release)
             }
             Stage::Release => {
-                if self.stage_steps >= 10 {
-                    self.next(Stage::Retreat);
-                }
-                let rot = if self.lean.is_some() { ee.rot } else { motion::orientation(self.grasp.expect("planned").yaw) };
-                Step::Act(Servo::FINE.act(sim, &Waypoint { pos: ee.pos, rot }, OPEN))
+                let rot = if self.lean.is_some() { ee.rot } else { motion::orientation(g.yaw) };
+                (stages::release(steps, 10, Waypoint { pos: ee.pos, rot }), Stage::Retreat)
             }
             Stage::Retreat => {
-                let yaw = self.grasp.expect("planned").yaw;
                 let up = match self.lean {
                     // Back out along the object first: the fingers slide off its end.
                     Some(_) => Waypoint { pos: ee.pos - ee.rot.column(2) * 0.06 + Vec3::z() * 0.02, rot: ee.rot },
-                    None => Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, ee.pos.z.max(object.pos.z + self.carry_depth) + 0.06), yaw),
+                    None => Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, ee.pos.z.max(object.pos.z + self.carry_depth) + 0.06), g.yaw),
                 };
-                if self.stage_steps >= 6 {
-                    return Step::Done;
-                }
-                Step::Act(Servo::TRAVEL.act(sim, &up, OPEN))
+                (stages::retreat(steps, 6, up, OPEN), Stage::Done)
             }
-        }
+            Stage::Done => return Step::Done,
+        };
+        Step::after(self.stage.play(sim, leg, then), || self.step(sim))
     }
+}
 
+impl PickPlace {
     /// The lowest grip-site height at which the hand, turning over the grasp, clears
     /// everything within its half length of it (a bottle beside a bowl).
     fn sweep_floor(&self, sim: &Sim, g: &Grasp) -> f64 {
@@ -376,7 +312,7 @@ impl PickPlace {
     /// Whether the carried object no longer moves with the gripper.
     fn lost(&self, sim: &Sim) -> bool {
         let Some(offset) = self.carry_offset else { return false };
-        let ee = sim.model().robot.grip_site_pose(sim.world()).pos;
+        let ee = arm::of(sim).grip_site().pos;
         let object = sim.entity_pose(self.object).pos;
         ((ee - object) - offset).norm() > 0.03
     }
@@ -388,7 +324,7 @@ impl PickPlace {
         }
         self.grasp = None;
         self.carry_offset = None;
-        self.next(Stage::Rise);
+        self.stage.next(Stage::Rise);
         Step::Act(Action::hold(OPEN))
     }
 }

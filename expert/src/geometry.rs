@@ -1,9 +1,12 @@
-//! Grasp geometry from the (privileged) collision shapes of the scene.
+//! What the expert knows of the scene's shapes, from its (privileged) collision boxes: the
+//! hand's own dimensions, obstacle sets, grasp choice (solid, rim and part grasps) and the
+//! heights the hand must pass over.
 
 use vifo_robots::spatial::{Pose, Vec3};
+use vifo_scenes::catalog::ColliderShape;
+use vifo_scenes::sim::Sim;
 
-use crate::catalog::ColliderShape;
-use crate::sim::Sim;
+use crate::arm::{self, Arm};
 
 /// Widest object the Panda's fingers can straddle (open gap 0.079 m) with some margin.
 pub const MAX_GRASP_WIDTH: f64 = 0.068;
@@ -15,15 +18,15 @@ const APPROACH_CLEARANCE: f64 = 0.011;
 const RIM_HALF_GAP: f64 = 0.013;
 /// Finger size: thickness along the closing axis, half-width across it, length below the hand.
 const FINGER_THICKNESS: f64 = 0.026;
-pub(super) const FINGER_HALF_WIDTH: f64 = 0.011;
+pub(crate) const FINGER_HALF_WIDTH: f64 = 0.011;
 /// The fingertips reach this far below the grip site, the hand starts this far above it.
 const TIP_BELOW_SITE: f64 = 0.009;
-pub(super) const HAND_ABOVE_SITE: f64 = 0.031;
+pub(crate) const HAND_ABOVE_SITE: f64 = 0.031;
 /// The hand's half-extents along the finger axis and across it, and the height of the column
 /// it sweeps coming straight down to the grasp (the hand itself is 9 cm tall; the column also
 /// keeps the wrist clear of overhangs such as an open drawer).
-pub(super) const HAND_HALF_LENGTH: f64 = 0.102;
-pub(super) const HAND_HALF_WIDTH: f64 = 0.032;
+pub(crate) const HAND_HALF_LENGTH: f64 = 0.102;
+pub(crate) const HAND_HALF_WIDTH: f64 = 0.032;
 const HAND_HEIGHT: f64 = 0.25;
 /// The grip site stays at least this far above the surface an object rests on, so the
 /// fingertips do not dig into it.
@@ -167,7 +170,7 @@ impl Obstacles {
 pub struct Grasp {
     /// Grip-site position at the grasp.
     pub pos: Vec3,
-    /// Yaw of the finger axis (see [`super::motion::Waypoint`]).
+    /// Yaw of the finger axis (see [`crate::motion::Waypoint`]).
     pub yaw: f64,
     /// Object width between the fingers.
     pub width: f64,
@@ -188,7 +191,7 @@ fn gripper_volumes(site: &Vec3, axis: &Vec3, half_gap: f64) -> [Obb; 3] {
 }
 
 /// The volumes of the two open fingers and of the hand for the grip site at `grip` (orientation
-/// as a [`super::motion::Waypoint`]'s: first column the finger axis, third the approach).
+/// as a [`crate::motion::Waypoint`]'s: first column the finger axis, third the approach).
 fn gripper_volumes_at(grip: &Pose, half_gap: f64) -> [Obb; 3] {
     let axis: Vec3 = grip.rot.column(0).into();
     let up: Vec3 = -Vec3::from(grip.rot.column(2));
@@ -389,6 +392,55 @@ pub fn part_grasp(parts: &[Obb], obstacles: &Obstacles, origin: &Vec3) -> Option
         }
     }
     best.map(|(_, _, g)| g)
+}
+
+/// Horizontal distance from `a` to `b`.
+pub fn horizontal(a: &Vec3, b: &Vec3) -> f64 {
+    ((a.x - b.x).powi(2) + (a.y - b.y).powi(2)).sqrt()
+}
+
+/// Highest point of the scene (objects, fixtures, arena) over a horizontal disc, excluding one
+/// entity (the one being carried): what the hand or a carried object must pass over.
+pub fn surface_height(sim: &Sim, centre: [f64; 2], radius: f64, exclude: Option<usize>) -> f64 {
+    let mut z = sim.model().class.support_z();
+    for (i, e) in sim.model().entities.iter().enumerate() {
+        if Some(i) == exclude {
+            continue;
+        }
+        for b in 0..e.model.bodies.len() {
+            for p in corners(sim, i, b) {
+                let d = ((p.x - centre[0]).powi(2) + (p.y - centre[1]).powi(2)).sqrt();
+                if d < radius {
+                    z = z.max(p.z);
+                }
+            }
+        }
+    }
+    z
+}
+
+/// Highest point of the scene along a straight horizontal path (within `radius` of it).
+pub fn path_height(sim: &Sim, from: [f64; 2], to: [f64; 2], radius: f64, exclude: Option<usize>) -> f64 {
+    (0..=10)
+        .map(|k| {
+            let t = k as f64 / 10.0;
+            surface_height(sim, [from[0] + t * (to[0] - from[0]), from[1] + t * (to[1] - from[1])], radius, exclude)
+        })
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// Height at which the hand crosses from where it is to `to`: `clearance` over everything
+/// within the hand's half length of the straight way there (but `exclude`), and no lower than
+/// `floor`.
+pub fn cruise_height(sim: &Sim, to: &Vec3, clearance: f64, floor: f64, exclude: Option<usize>) -> f64 {
+    let ee = arm::of(sim).grip_site().pos;
+    (path_height(sim, [ee.x, ee.y], [to.x, to.y], 0.1, exclude) + clearance).max(floor)
+}
+
+/// What `object` stands on: the highest point of the scene right under its centre.
+pub fn support_under(sim: &Sim, object: usize) -> f64 {
+    let c = sim.entity_pose(object).pos;
+    surface_height(sim, [c.x, c.y], 0.02, Some(object))
 }
 
 #[cfg(test)]

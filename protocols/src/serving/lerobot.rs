@@ -14,7 +14,9 @@
 //! The raw observation is what a LeRobot robot reports: one float per state name (LIBERO's
 //! 8-D state, named below), the cameras `image` (agentview) and `image2` (wrist) as uint8
 //! H×W×3 arrays, as LeRobot's LIBERO env names them, and `task`. `lerobot_features`
-//! describes them as `hw_to_dataset_features` would.
+//! describes them as `hw_to_dataset_features` would. The async server runs only the policy's
+//! processors, so frames and state arrive already as lerobot-eval's `LiberoProcessorStep`
+//! makes them (the profile's job).
 //!
 //! Hand-written prost messages (the proto has five one-field messages), no protoc, no TLS.
 

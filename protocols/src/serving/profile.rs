@@ -159,14 +159,16 @@ pub const PROFILES: [Profile; 7] = [
         gripper: Gripper::AsIs,
         session: false,
     },
-    // MolmoAct2 through LeRobot's async inference: LeRobot's LIBERO env gives un-rotated frames
-    // (the libero processor flips them policy-side), chunk 10 (`action_horizon=10` for the
-    // LIBERO mixture), actions in LIBERO's convention.
+    // MolmoAct2 through LeRobot's async inference. lerobot-eval's `LiberoProcessorStep` (an env
+    // processor, which the async server does not run) flips frames in H and W and builds the 8-D
+    // state, so the client does both; chunk 10 (`action_horizon=10` for the LIBERO mixture),
+    // actions in LIBERO's convention. The render size is the eval config's (LeRobot's default
+    // differs between versions); we send frames as rendered (`--size`).
     Profile {
         name: "molmoact2",
         source: "MolmoAct2, allenai/molmoact2 vendored LeRobot (async inference)",
         format: Format::LeRobot,
-        orientation: Orientation::Robosuite,
+        orientation: Orientation::Rotated180,
         image_size: None,
         state: StateLayout::Eef8,
         instruction: Instruction::Verbatim,

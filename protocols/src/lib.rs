@@ -5,6 +5,8 @@
 //! - [`policy`]: the observation a policy sees and the [`Policy`] trait every policy implements
 //!   (built-in reference policies, remote VLA servers).
 //! - [`remote`]: the openpi websocket client, a [`Policy`] served by a VLA server.
+//! - [`serving`]: every VLA serving path (openpi, InternVLA, OpenVLA-OFT, Xiaomi, LeRobot) with
+//!   one observation/action profile per model.
 //! - [`report`]: the paper's Tables 1 and 2 (Markdown, CSV, JSON) and per-family bar charts.
 //! - [`runner`]: parallel, resumable, shardable runs writing one JSON line per episode.
 //! - [`scene_cues`]: cue instances drawn on simulated scenes (anchors, ghosts, goal pictures).
@@ -18,6 +20,7 @@ pub mod remote;
 pub mod report;
 pub mod runner;
 pub mod scene_cues;
+pub mod serving;
 pub mod spec;
 pub mod vqa;
 

@@ -31,3 +31,84 @@ pub fn shared(relative: &str, test: &str) -> Option<PathBuf> {
         None
     }
 }
+
+pub mod python {
+    //! Python helper processes for the policy client tests: an import check that prints a skip
+    //! notice, and a server process that reports its port and is killed when dropped.
+
+    use std::io::{BufRead, BufReader, Read};
+    use std::path::Path;
+    use std::process::{Child, Command, Stdio};
+    use std::sync::{Arc, Mutex};
+    use std::time::Duration;
+
+    /// True when python3 can import `modules` (comma-separated); otherwise prints a skip notice.
+    pub fn ready(test: &str, modules: &str) -> bool {
+        let ok = Command::new("python3")
+            .args(["-c", &format!("import {modules}")])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success());
+        if !ok {
+            println!(
+                "SKIPPED {test}: python3 cannot import {modules} (.ci/run installs the test \
+                 requirements: openpi-client, websockets, json-numpy, grpcio)"
+            );
+        }
+        ok
+    }
+
+    /// A Python server started as `python3 SCRIPT ARGS... --port 0`, which prints `PORT <n>`
+    /// once listening. Its stderr is collected for failure messages.
+    pub struct Server {
+        child: Child,
+        pub port: u16,
+        stderr: Arc<Mutex<String>>,
+    }
+
+    impl Server {
+        pub fn start(script: &Path, args: &[&str]) -> Server {
+            let mut child = Command::new("python3")
+                .arg(script)
+                .args(args)
+                .args(["--port", "0"])
+                .stdout(Stdio::piped())
+                .stderr(Stdio::piped())
+                .spawn()
+                .expect("start python3");
+            let stderr = Arc::new(Mutex::new(String::new()));
+            let mut pipe = child.stderr.take().expect("piped stderr");
+            let sink = stderr.clone();
+            std::thread::spawn(move || {
+                let mut buf = [0u8; 4096];
+                while let Ok(n) = pipe.read(&mut buf) {
+                    if n == 0 {
+                        break;
+                    }
+                    sink.lock().unwrap().push_str(&String::from_utf8_lossy(&buf[..n]));
+                }
+            });
+            let mut line = String::new();
+            BufReader::new(child.stdout.take().expect("piped stdout")).read_line(&mut line).unwrap();
+            let Some(port) = line.trim().strip_prefix("PORT ").and_then(|p| p.parse().ok()) else {
+                let _ = child.kill();
+                std::thread::sleep(Duration::from_millis(200));
+                panic!("{} did not report its port: {line:?}; stderr: {}", script.display(), stderr.lock().unwrap());
+            };
+            Server { child, port, stderr }
+        }
+
+        /// What the server printed on stderr so far.
+        pub fn log(&self) -> String {
+            self.stderr.lock().unwrap().clone()
+        }
+    }
+
+    impl Drop for Server {
+        fn drop(&mut self) {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
+    }
+}

@@ -130,21 +130,31 @@ impl RemotePolicy {
     /// Sends one observation and returns the whole reply, bypassing the action queue.
     pub fn infer(&mut self, obs: &Observation) -> Result<Reply, PolicyError> {
         let request = encode_request(obs, self.config.image_size)?;
+        self.round_trip(&request, parse_reply)
+    }
+
+    /// Sends one encoded request and reads the reply with `parse`: the transport for other
+    /// request layouts over openpi's protocol (`crate::serving`).
+    pub fn round_trip<T>(
+        &mut self,
+        request: &[u8],
+        parse: impl FnOnce(&[u8]) -> Result<T, PolicyError>,
+    ) -> Result<T, PolicyError> {
         if self.conn.is_none() {
             self.reconnect()?;
         }
-        let result = match self.exchange(&request) {
+        let result = match self.exchange(request) {
             // A connection idle since the last episode may have been closed by the server's
             // keep-alive; one fresh attempt is safe because inference has no server state.
             Err(PolicyError::Connection(_)) if self.idle => {
                 self.reconnect()?;
-                self.exchange(&request)
+                self.exchange(request)
             }
             other => other,
         };
         self.idle = false;
         // A server that sent something unreadable may be in any state: start afresh.
-        let reply = result.and_then(|bytes| parse_reply(&bytes));
+        let reply = result.and_then(|bytes| parse(&bytes));
         if reply.is_err() {
             self.conn = None;
         }

@@ -71,6 +71,14 @@ pub const TARGETS: &[Target] = &[
     Target { name: "msgpack", kind: Kind::Parser, seeds: msgpack_seeds, generate: msgpack_generate, dictionary: MSGPACK_TOKENS, run: msgpack_run },
     Target { name: "results", kind: Kind::File, seeds: results_seeds, generate: results_generate, dictionary: JSON_TOKENS, run: results_run },
     Target { name: "vqa", kind: Kind::Parser, seeds: vqa_seeds, generate: vqa_generate, dictionary: VQA_WORDS, run: vqa_run },
+    Target {
+        name: "served-replies",
+        kind: Kind::Parser,
+        seeds: served_seeds,
+        generate: served_generate,
+        dictionary: PICKLE_OPS,
+        run: served_run,
+    },
 ];
 
 fn text(bytes: &[u8]) -> std::borrow::Cow<'_, str> {
@@ -585,4 +593,75 @@ fn vqa_run(bytes: &[u8]) -> bool {
     let Ok(answer) = chat_answer(&body) else { return false };
     let _ = extract(&answer, &options);
     true
+}
+
+// ---------------------------------------------------------------- replies of served models
+
+/// A random pickle built from the objects the serving clients meet: arrays, dicts, lists,
+/// objects, strings, numbers (with shapes and sizes that do not fit).
+fn served_pickle(rng: &mut dyn Rng) -> Vec<u8> {
+    use vifo_protocols::serving::pickle::Writer;
+    fn value(rng: &mut dyn Rng, w: &mut Writer, depth: usize) {
+        match rng.random_range(0..if depth == 0 { 5 } else { 8 }) {
+            0 => w.int(rng.random_range(-3i64..1 << 40)),
+            1 => w.float(pick(rng, &[0.0, f64::NAN, f64::INFINITY, 0.5])),
+            2 => w.str(pick(rng, &["action", "timestep", "actions", "<f4", ""])),
+            3 => w.none(),
+            4 => {
+                let dims: Vec<usize> = (0..rng.random_range(0..4)).map(|_| pick(rng, &[0, 1, 7, 8, 10])).collect();
+                let n = rng.random_range(0..400);
+                let data: Vec<u8> = (0..n).map(|_| rng.random_range(0..=255u8)).collect();
+                w.ndarray(pick(rng, &["<f4", "<f8", "|u1", ">f8", "<f2"]), &dims, &data);
+            }
+            5 => {
+                w.begin_list();
+                for _ in 0..rng.random_range(0..4) {
+                    value(rng, w, depth - 1);
+                }
+                w.end_list();
+            }
+            6 => {
+                w.begin_dict();
+                for _ in 0..rng.random_range(0..4) {
+                    w.str(pick(rng, &["action", "timestep", "timestamp", "x"]));
+                    value(rng, w, depth - 1);
+                }
+                w.end_dict();
+            }
+            _ => {
+                w.global(pick(rng, &["lerobot.async_inference.helpers", "torch._utils"]), "TimedAction");
+                w.empty_tuple();
+                w.newobj();
+                value(rng, w, depth - 1);
+                w.build();
+            }
+        }
+    }
+    let mut w = Writer::default();
+    value(rng, &mut w, 3);
+    w.finish()
+}
+
+fn served_seeds() -> Vec<Vec<u8>> {
+    let mut rng = rand_pcg::Pcg64::new(3, 3);
+    let mut seeds: Vec<Vec<u8>> = (0..8).map(|_| served_pickle(&mut rng)).collect();
+    seeds.push(br#"[{"__numpy__": "AAAAAAAAAAA=", "dtype": "<f4", "shape": [2]}]"#.to_vec());
+    seeds.push(b"\"error\"".to_vec());
+    seeds
+}
+
+fn served_generate(rng: &mut dyn Rng) -> Vec<u8> {
+    served_pickle(rng)
+}
+
+/// The reply parsers of every served format, and the pickle reader under them.
+fn served_run(bytes: &[u8]) {
+    use vifo_protocols::serving::{internvla, lerobot, openvla_oft, pickle, xiaomi};
+    if let Ok(v) = pickle::read_all(bytes) {
+        let _ = pickle::tensor(&v);
+    }
+    let _ = xiaomi::parse(bytes);
+    let _ = lerobot::parse(bytes, 0);
+    let _ = internvla::parse(bytes);
+    let _ = openvla_oft::parse(&text(bytes));
 }

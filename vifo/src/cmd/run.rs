@@ -20,6 +20,7 @@ use vifo_protocols::env::EnvConfig;
 use vifo_protocols::policies::{self, builtin};
 use vifo_protocols::remote::RemotePolicy;
 use vifo_protocols::runner::{RunOptions, Shard, read_records};
+use vifo_protocols::serving::{Format, Profile, ServedPolicy, ServingConfig};
 use vifo_protocols::spec::EpisodeSpec;
 use vifo_protocols::{Policy, Protocol, report};
 use vifo::look::LookArgs;
@@ -49,10 +50,21 @@ pub struct Args {
     /// starts from initial state e mod 50.
     #[arg(long)]
     episodes: Option<usize>,
-    /// A built-in policy (expert-cue, expert-language, expert-authorized, random, zero) or an
-    /// openpi server (ws://host:port); repeatable. Default in the quick run: every built-in.
+    /// A built-in policy (expert-cue, expert-language, expert-authorized, random, zero) or a
+    /// policy server: ws://host:port (openpi; InternVLA with --policy-format internvla),
+    /// http://host:port/act (OpenVLA-OFT), tcp://host:port (Xiaomi-Robotics-0),
+    /// grpc://host:port?policy_type=..&pretrained=.. (LeRobot async inference); repeatable.
+    /// Default in the quick run: every built-in.
     #[arg(long)]
     policy: Vec<String>,
+    /// The served model's observation and action conventions (pi05, openvla-oft, internvla,
+    /// xiaomi, molmoact2, instructvla, action-sketcher; see the README's table). Default: the
+    /// profile of the URL's format (plain ws:// keeps openpi's pi0.5 client).
+    #[arg(long)]
+    model_profile: Option<String>,
+    /// Wire format where the URL scheme is ambiguous (ws://: openpi or internvla).
+    #[arg(long)]
+    policy_format: Option<String>,
     /// Worker threads (0: one per core).
     #[arg(long, default_value_t = 0)]
     threads: usize,
@@ -108,8 +120,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         (given, _) => given.to_vec(),
     };
     for p in &policies {
-        if !p.starts_with("ws://") && builtin(p).is_none() {
-            bail!("unknown policy {p:?}: expected one of {} or ws://host:port", policies::NAMES.join(", "));
+        if builtin(p).is_none() {
+            if !p.contains("://") {
+                bail!("unknown policy {p:?}: expected one of {} or a server URL", policies::NAMES.join(", "));
+            }
+            serving_config(p, &args)?;
         }
     }
     anyhow::ensure!((16..=4096).contains(&args.size), "--size must be between 16 and 4096 pixels");
@@ -190,10 +205,32 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, args: &Args) -> 
         ..EnvConfig::default()
     };
     let rollout_options = RolloutOptions { fast_forward: !args.no_fast_forward };
+    let served = match builtin(policy) {
+        Some(_) => None,
+        None => serving_config(policy, args)?,
+    };
+    if let Some(c) = &served {
+        let p = &c.profile;
+        println!("{policy}: {} format, profile {} ({})", c.format, p.name, p.source);
+        if p.image_size.is_none() && args.size != 256 {
+            println!(
+                "  note: profile {} sends frames as rendered and its model expects 256x256: use --size 256",
+                p.name
+            );
+        }
+        if c.format == Format::Xiaomi && args.threads != 1 {
+            println!("  note: the Xiaomi-Robotics-0 server serves one connection at a time: use --threads 1");
+        }
+    }
     let make = || -> Result<Box<dyn Policy>, String> {
-        match builtin(policy) {
-            Some(p) => Ok(p),
-            None => RemotePolicy::connect(policy).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string()),
+        match (builtin(policy), &served) {
+            (Some(p), _) => Ok(p),
+            (None, Some(config)) => {
+                ServedPolicy::connect(config).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string())
+            }
+            (None, None) => {
+                RemotePolicy::connect(policy).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string())
+            }
         }
     };
     let options = RunOptions {
@@ -219,6 +256,28 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, args: &Args) -> 
         path.display()
     );
     Ok(())
+}
+
+/// How to serve `url`: `None` for a plain ws:// openpi server without profile or format
+/// (openpi's own pi0.5 client, `remote::RemotePolicy`), else the format and profile.
+fn serving_config(url: &str, args: &Args) -> anyhow::Result<Option<ServingConfig>> {
+    let profile = match &args.model_profile {
+        Some(name) => Some(Profile::named(name).with_context(|| {
+            format!("unknown --model-profile {name:?}: expected one of {}", Profile::names().join(", "))
+        })?),
+        None => None,
+    };
+    let format = match &args.policy_format {
+        Some(name) => Some(Format::named(name).with_context(|| {
+            let names: Vec<&str> = Format::ALL.iter().map(|f| f.name()).collect();
+            format!("unknown --policy-format {name:?}: expected one of {}", names.join(", "))
+        })?),
+        None => None,
+    };
+    if url.starts_with("ws://") && profile.is_none() && format.is_none() {
+        return Ok(None);
+    }
+    Ok(Some(ServingConfig::new(url, format, profile)?))
 }
 
 /// Tables and charts of every results file in the folder.

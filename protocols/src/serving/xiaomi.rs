@@ -1,0 +1,223 @@
+//! Xiaomi-Robotics-0's TCP server (`deploy/server.py`, client `deploy/client.py`, LIBERO loop
+//! `eval_libero/main.py`): every message is a 4-byte big-endian length and a pickle.
+//!
+//! Request (a dict, keys in the script's order): `task_id` `"libero_all"`, `state` (numpy
+//! `<f8` (32,): the 8-D LIBERO state and 24 zeros), `base` and `wrist_left` (`PIL.Image` RGB
+//! 256×256 of the rotated frames), `language` (`task.capitalize() + "."`) and `seed`: the
+//! script's `hash_data_to_seed` of the other entries (before the period is added): SHA-256 of
+//! their canonical JSON (sorted keys, no spaces; arrays as dtype, shape and hex data, images
+//! as mode, size and the MD5 of their bytes), modulo 2³².
+//! Reply: `pickle.dumps(action.cpu())`, a torch tensor (1, T, D); the client keeps
+//! `[0, :, :-1]` and of each row the first 7 values.
+//!
+//! The server accepts one connection at a time: run `vifo run` with `--threads 1` (or one
+//! server per thread).
+
+use std::io::{Read, Write};
+use std::net::{TcpStream, ToSocketAddrs};
+use std::time::Duration;
+
+use md5::{Digest, Md5};
+use sha2::Sha256;
+
+use super::pickle::{self, Writer};
+use super::{ModelInput, ServingConfig, Transport, rows7};
+use crate::policy::PolicyError;
+
+/// Replies above this size are refused (a LIBERO chunk is a few kB).
+const MAX_REPLY: usize = 64 << 20;
+
+pub struct XiaomiTransport {
+    addr: String,
+    connect_timeout: Duration,
+    request_timeout: Duration,
+    conn: Option<TcpStream>,
+}
+
+impl XiaomiTransport {
+    pub fn connect(config: &ServingConfig) -> Result<XiaomiTransport, PolicyError> {
+        let addr = config
+            .url
+            .strip_prefix("tcp://")
+            .ok_or_else(|| PolicyError::Connection(format!("{}: expected tcp://host:port", config.url)))?
+            .trim_end_matches('/')
+            .to_string();
+        let mut t = XiaomiTransport {
+            addr,
+            connect_timeout: config.connect_timeout,
+            request_timeout: config.request_timeout,
+            conn: None,
+        };
+        t.open()?;
+        Ok(t)
+    }
+
+    fn open(&mut self) -> Result<(), PolicyError> {
+        let addrs: Vec<_> = self
+            .addr
+            .to_socket_addrs()
+            .map_err(|e| PolicyError::Connection(format!("cannot resolve {}: {e}", self.addr)))?
+            .collect();
+        let mut last = None;
+        for a in &addrs {
+            match TcpStream::connect_timeout(a, self.connect_timeout) {
+                Ok(s) => {
+                    s.set_nodelay(true).ok();
+                    self.conn = Some(s);
+                    return Ok(());
+                }
+                Err(e) => last = Some(e),
+            }
+        }
+        Err(PolicyError::Connection(format!(
+            "cannot connect to tcp://{}: {}",
+            self.addr,
+            last.map_or("no address".to_string(), |e| e.to_string())
+        )))
+    }
+
+    fn exchange(&mut self, request: &[u8]) -> Result<Vec<u8>, PolicyError> {
+        let timeout = self.request_timeout;
+        let conn = self.conn.as_mut().ok_or_else(|| PolicyError::Connection("not connected".into()))?;
+        let io = |e: std::io::Error, what: &str| match e.kind() {
+            std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut => {
+                PolicyError::Timeout(timeout.as_secs_f64())
+            }
+            _ => PolicyError::Connection(format!("{what}: {e}")),
+        };
+        conn.set_read_timeout(Some(timeout))
+            .and_then(|()| conn.set_write_timeout(Some(timeout)))
+            .map_err(|e| io(e, "socket"))?;
+        let len = u32::try_from(request.len()).map_err(|_| PolicyError::Other("request over 4 GiB".into()))?;
+        conn.write_all(&len.to_be_bytes())
+            .and_then(|()| conn.write_all(request))
+            .map_err(|e| io(e, "sending the observation"))?;
+        let mut prefix = [0u8; 4];
+        conn.read_exact(&mut prefix)
+            .map_err(|e| io(e, "waiting for the reply (the server closes the connection when the model raises)"))?;
+        let n = u32::from_be_bytes(prefix) as usize;
+        if n > MAX_REPLY {
+            return Err(PolicyError::Malformed(format!("reply length prefix says {n} bytes, more than {MAX_REPLY}")));
+        }
+        let mut body = vec![0u8; n];
+        conn.read_exact(&mut body).map_err(|e| io(e, "reading the reply"))?;
+        Ok(body)
+    }
+}
+
+/// The canonical JSON the script hashes into the seed.
+pub fn seed_json(input: &ModelInput, task_id: &str, language: &str) -> String {
+    let image = |img: &vifo_cues::RgbImage| {
+        let hash: String = Md5::digest(&img.data).iter().map(|b| format!("{b:02x}")).collect();
+        format!(
+            r#"{{"__type__":"PIL.Image","content_hash":"{hash}","mode":"RGB","size":[{},{}]}}"#,
+            img.width, img.height
+        )
+    };
+    let data: String = input.state.iter().flat_map(|v| v.to_le_bytes()).map(|b| format!("{b:02x}")).collect();
+    let state = format!(r#"{{"__type__":"numpy","data":"{data}","dtype":"float64","shape":[{}]}}"#, input.state.len());
+    let text = |s: &str| serde_json::to_string(s).expect("strings serialise");
+    format!(
+        r#"{{"base":{},"language":{},"state":{state},"task_id":{},"wrist_left":{}}}"#,
+        image(&input.image),
+        text(language),
+        text(task_id),
+        image(&input.wrist)
+    )
+}
+
+/// `hash_data_to_seed`: SHA-256 of [`seed_json`] modulo 2³².
+pub fn seed(json: &str) -> u32 {
+    let d = Sha256::digest(json.as_bytes());
+    u32::from_be_bytes([d[28], d[29], d[30], d[31]])
+}
+
+/// The pickled request.
+pub fn encode(input: &ModelInput) -> Vec<u8> {
+    const TASK_ID: &str = "libero_all";
+    // The profile's instruction ends with the period the script adds after hashing.
+    let language = input.instruction.strip_suffix('.').unwrap_or(&input.instruction);
+    let seed = seed(&seed_json(input, TASK_ID, language));
+    let mut w = Writer::default();
+    w.begin_dict();
+    w.str("task_id");
+    w.str(TASK_ID);
+    w.str("state");
+    let state: Vec<u8> = input.state.iter().flat_map(|v| v.to_le_bytes()).collect();
+    w.ndarray("<f8", &[input.state.len()], &state);
+    for (key, img) in [("base", &input.image), ("wrist_left", &input.wrist)] {
+        w.str(key);
+        w.pil_rgb(img.width, img.height, &img.data);
+    }
+    w.str("language");
+    w.str(&input.instruction);
+    w.str("seed");
+    w.int(i64::from(seed));
+    w.end_dict();
+    w.finish()
+}
+
+/// Checks and decodes one reply: `tensor[0, :, :-1]`, first 7 columns.
+pub fn parse(body: &[u8]) -> Result<Vec<[f64; 7]>, PolicyError> {
+    let bad = |m: String| PolicyError::Malformed(m);
+    let v = pickle::read_all(body).map_err(|e| bad(format!("reply is not a pickle: {e}")))?;
+    let t = pickle::tensor(&v).map_err(|e| bad(format!("reply `action`: {e}")))?;
+    let [b, rows, d] = t.shape[..] else {
+        return Err(bad(format!("reply `action` has shape {:?}, expected (1, T, D)", t.shape)));
+    };
+    if b == 0 || rows == 0 || d < 8 {
+        return Err(bad(format!("reply `action` has shape {:?}, expected (1, T >= 1, D >= 8)", t.shape)));
+    }
+    // [0, :, :-1]: the first batch entry, without the last column.
+    let first: Vec<f64> = t.values[..rows * d].chunks_exact(d).flat_map(|r| r[..d - 1].to_vec()).collect();
+    rows7(&first, rows, d - 1, "action[0]")
+}
+
+impl Transport for XiaomiTransport {
+    fn infer(&mut self, input: &ModelInput) -> Result<Vec<[f64; 7]>, PolicyError> {
+        if self.conn.is_none() {
+            self.open()?;
+        }
+        let result = self.exchange(&encode(input));
+        if result.is_err() {
+            // The stream may be mid-message: never reuse it.
+            self.conn = None;
+        }
+        parse(&result?)
+    }
+
+    fn reset(&mut self) -> Result<(), PolicyError> {
+        if self.conn.is_none() { self.open() } else { Ok(()) }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use vifo_cues::RgbImage;
+
+    #[test]
+    fn the_seed_json_is_canonical() {
+        let input = ModelInput {
+            image: RgbImage::filled(2, 1, [1, 2, 3]).unwrap(),
+            wrist: RgbImage::filled(2, 1, [0, 0, 0]).unwrap(),
+            state: vec![1.0, 0.0],
+            instruction: "Pick \"it\" up.".into(),
+            episode_start: true,
+            step: 0,
+        };
+        let j = seed_json(&input, "libero_all", "Pick \"it\" up");
+        assert_eq!(
+            j,
+            concat!(
+                r#"{"base":{"__type__":"PIL.Image","content_hash":"e634c05f3435d8abe31f8e2d46173ad5","mode":"RGB","size":[2,1]},"#,
+                r#""language":"Pick \"it\" up","#,
+                r#""state":{"__type__":"numpy","data":"000000000000f03f0000000000000000","dtype":"float64","shape":[2]},"#,
+                r#""task_id":"libero_all","#,
+                r#""wrist_left":{"__type__":"PIL.Image","content_hash":"7319468847d7b1aee40dbf5dd963c999","mode":"RGB","size":[2,1]}}"#
+            )
+        );
+        // hash_data_to_seed of the same dict, computed by Python.
+        assert_eq!(seed(&j), 3_165_390_640);
+    }
+}

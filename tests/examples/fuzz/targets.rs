@@ -655,13 +655,12 @@ fn served_generate(rng: &mut dyn Rng) -> Vec<u8> {
 }
 
 /// The reply parsers of every served format, and the pickle reader under them.
-fn served_run(bytes: &[u8]) {
+fn served_run(bytes: &[u8]) -> bool {
     use vifo_protocols::serving::{internvla, lerobot, openvla_oft, pickle, xiaomi};
-    if let Ok(v) = pickle::read_all(bytes) {
-        let _ = pickle::tensor(&v);
-    }
-    let _ = xiaomi::parse(bytes);
-    let _ = lerobot::parse(bytes, 0);
-    let _ = internvla::parse(bytes);
-    let _ = openvla_oft::parse(&text(bytes));
+    let pickled = pickle::read_all(bytes).is_ok_and(|v| pickle::tensor(&v).is_ok());
+    let xiaomi = xiaomi::parse(bytes).is_ok();
+    let lerobot = lerobot::parse(bytes, 0).is_ok();
+    let internvla = internvla::parse(bytes).is_ok();
+    let oft = openvla_oft::parse(&text(bytes)).is_ok();
+    pickled || xiaomi || lerobot || internvla || oft
 }

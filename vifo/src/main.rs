@@ -15,7 +15,7 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Measure speed (physics, render).
+    /// Measure speed (physics, render, replay, cues).
     Bench(cmd::bench::BenchArgs),
     /// Run the scripted expert on LIBERO tasks and print success rates.
     Expert(cmd::expert::ExpertArgs),

@@ -6,8 +6,8 @@
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 root="$(dirname "$here")"
-venv="${1:-${HOME}/.cache/libero-vifo/orig-venv}"
-[ "$#" -gt 0 ] && shift
+venv="${HOME}/.cache/libero-vifo/orig-venv"
+if [ "$#" -gt 0 ] && [ "${1#-}" = "$1" ]; then venv="$1"; shift; fi
 [ "${1:-}" = "--" ] && shift
 py="${PYTHON:-python3.11}"
 
@@ -20,10 +20,14 @@ command -v "$py" >/dev/null || die "needs $py (mujoco 2.3.7 ships wheels for CPy
 if [ ! -f "$venv/.complete" ]; then
   echo "== creating $venv (original stack from PyPI; one-off, several minutes)"
   "$py" -m venv "$venv" || die "could not create a virtualenv at $venv (python venv module missing?)"
-  pip=("$venv/bin/python" -m pip install --disable-pip-version-check -q)
+  # About 1.6 GB installed (robosuite's own assets are 0.6 GB, LIBERO's 0.55 GB); pip stages each wheel too.
+  mkdir -p "$(dirname "$venv")"
+  free_mb=$(df -Pm "$(dirname "$venv")" | awk 'NR==2 {print $4}')
+  [ "${free_mb:-0}" -ge 2500 ] || die "needs about 2.5 GB free at $(dirname "$venv") for the original stack; ${free_mb} MB free"
+  pip=("$venv/bin/python" -m pip install --disable-pip-version-check --no-cache-dir -q)
   # LIBERO's versions (research/libero_anchor.md). numpy stays <2 for mujoco 2.3.7 and robosuite 1.4.0.
   "${pip[@]}" "numpy==1.26.4" "mujoco==2.3.7" "robosuite==1.4.0" "bddl==1.0.1" \
-      pyyaml easydict cloudpickle "gymnasium>=0.29" matplotlib termcolor "numpy==1.26.4" \
+      pyyaml easydict cloudpickle "gymnasium>=0.29" matplotlib termcolor future \
     || die "pip could not install mujoco 2.3.7 / robosuite 1.4.0 / bddl 1.0.1 with numpy 1.26.4 (see pip's message above)"
   # hf-libero pins mujoco>=3 and pulls torch, wandb, transformers for its training code; the environments need
   # none of them, so it goes in without its dependencies and keeps LIBERO's own mujoco 2.3.7.

@@ -179,7 +179,7 @@ def main():
                     json.dump(rec, f)
     ours = {r["suite"]: r for r in vifo_json(args.vifo, "bench", "replay", out, "--repeats", str(args.repeats))}
     xval = {t["suite"]: t for t in vifo_json(args.vifo, "xval", out)["tasks"]}
-    print(f"\nside by side, one thread each, wall clock; original: {versions}")
+    print(f"\nside by side, wall clock; ours one thread, the original one process (Mesa llvmpipe renders in threads of its own); original: {versions}")
     print(f"{'task 0, init 0':<16} {'cameras':<8} {'original st/s':>13} {'vifo st/s':>10} {'ratio':>8} {'eef max mm':>11}")
     ratios = {True: [], False: []}
     for suite in suites:

@@ -80,3 +80,20 @@ pub fn run(dir: &Path, repeats: usize) -> Result<Vec<ReplayBench>> {
     }
     Ok(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_missing_or_empty_directory_is_an_error_naming_it() {
+        let missing = Path::new("no/such/recordings");
+        let err = run(missing, 1).unwrap_err().to_string();
+        assert!(err.contains("no/such/recordings"), "{err}");
+        let empty = std::env::temp_dir().join(format!("vifo-bench-replay-empty-{}", std::process::id()));
+        std::fs::create_dir_all(&empty).unwrap();
+        let err = format!("{:#}", run(&empty, 1).unwrap_err());
+        std::fs::remove_dir_all(&empty).unwrap();
+        assert!(err.contains("no *_init0.json recordings"), "{err}");
+    }
+}

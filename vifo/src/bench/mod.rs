@@ -3,4 +3,5 @@
 pub mod cues;
 pub mod physics;
 pub mod render;
+pub mod replay;
 pub mod timing;

@@ -1,4 +1,4 @@
-//! `vifo bench physics|render|cues`: speed figures.
+//! `vifo bench physics|render|replay|cues`: speed figures.
 
 use std::path::PathBuf;
 
@@ -36,6 +36,15 @@ pub enum BenchWhat {
         batches: usize,
         #[command(flatten)]
         look: LookArgs,
+    },
+    /// Control steps per second replaying recorded LIBERO episodes (`*_init0.json`, as for
+    /// `vifo xval`) in the full scene, without cameras and with both 256² cameras, one thread.
+    Replay {
+        /// Directory of recordings, e.g. ../shared/xval/libero_reference.
+        dir: PathBuf,
+        /// Timed episodes per recording and configuration (the median is reported).
+        #[arg(long, default_value_t = 5)]
+        repeats: usize,
     },
     /// Cost of drawing a cue instance into a 256² frame, per family, on real frames.
     Cues {
@@ -78,6 +87,18 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                     Some(mb) => println!("peak memory, all 40 tasks' scenes built: {mb:.0} MB"),
                     None => println!("peak memory: not reported by this system"),
                 }
+            }
+        }
+        BenchWhat::Replay { dir, repeats } => {
+            let results = bench::replay::run(dir, *repeats)?;
+            if args.json {
+                println!("{}", serde_json::to_string_pretty(&results)?);
+            } else {
+                println!("{:<34} {:>6} {:>16} {:>20}", "recording", "steps", "physics steps/s", "2 cameras steps/s");
+                for r in &results {
+                    println!("{:<34} {:>6} {:>16.1} {:>20.1}", r.file, r.control_steps, r.steps_per_second_physics, r.steps_per_second_two_cameras_256);
+                }
+                println!("(wall clock, median of {} episodes each; 256² cameras rendered after every step)", results.first().map_or(0, |r| r.repeats));
             }
         }
         BenchWhat::Cues { tasks, batches } => {

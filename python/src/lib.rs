@@ -171,8 +171,9 @@ fn tasks(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
 
 /// The same episode through the Rust API as `vifo` runs it (reset with the settle steps, then
 /// `actions`), for comparison with a Python loop: `[(obs, reward, done), ...]`, the reset's
-/// observation first.
+/// observation first. `upright` renders row 0 at the top instead of robosuite's order.
 #[pyfunction]
+#[pyo3(signature = (suite, index, init, size, actions, upright = false))]
 fn reference_episode<'py>(
     py: Python<'py>,
     suite: &str,
@@ -180,10 +181,12 @@ fn reference_episode<'py>(
     init: usize,
     size: u32,
     actions: Vec<Vec<f64>>,
+    upright: bool,
 ) -> PyResult<Vec<(Bound<'py, PyDict>, f64, bool)>> {
     let task = TaskRef { suite: suite.to_string(), index };
     let spec = specs::spec(&task, Protocol::Original, None, init, 0).map_err(|e| PyValueError::new_err(e.to_string()))?;
-    let mut env = Env::new(EnvConfig { size, order: ImageOrder::BottomUp, cameras: CameraName::ALL.to_vec() });
+    let order = if upright { ImageOrder::Upright } else { ImageOrder::BottomUp };
+    let mut env = Env::new(EnvConfig { size, order, cameras: CameraName::ALL.to_vec() });
     py.detach(|| env.reset(&spec).map(|_| ())).map_err(py_err)?;
     let mut out = vec![(observation(py, &env)?, 0.0, false)];
     for action in &actions {

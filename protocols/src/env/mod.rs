@@ -91,6 +91,8 @@ pub enum EnvError {
     Render(String),
     #[error("cue: {0}")]
     Cue(String),
+    #[error("protocol {protocol} shows a cue prepared from the settled scene; start it with reset, not reset_unsettled")]
+    Unsettled { protocol: String },
     #[error("no episode: call reset first")]
     NotStarted,
     #[error("the episode is over ({steps} steps); call reset")]
@@ -171,6 +173,22 @@ impl Env {
 
     /// Starts the episode `spec` describes and returns its first observation.
     pub fn reset(&mut self, spec: &EpisodeSpec) -> Result<&Observation, EnvError> {
+        self.start(spec, true)
+    }
+
+    /// Starts the episode as LIBERO's `set_init_state` does: the initial state loaded, no
+    /// settle steps. The caller runs them as [`SETTLE_STEPS`] ordinary steps of LIBERO's dummy
+    /// action (as openpi's client loop does); after them the episode is, bit for bit, the one
+    /// [`Env::reset`] starts, with a budget [`SETTLE_STEPS`] longer. Only the original protocol:
+    /// a cue is prepared from the settled scene.
+    pub fn reset_unsettled(&mut self, spec: &EpisodeSpec) -> Result<&Observation, EnvError> {
+        if spec.protocol.uses_cue() {
+            return Err(EnvError::Unsettled { protocol: spec.protocol.name().to_string() });
+        }
+        self.start(spec, false)
+    }
+
+    fn start(&mut self, spec: &EpisodeSpec, settle: bool) -> Result<&Observation, EnvError> {
         self.episode = None;
         let task = builtin_task(&spec.task)?;
         let expected = language::instruction(spec.protocol, task)?;
@@ -190,7 +208,9 @@ impl Env {
         })?;
         let mut sim = Sim::new(assets.model.clone());
         init_states::apply(&mut sim, start).map_err(|e| EnvError::Scene(format!("{}: initial state {}: {e}", spec.task, spec.init)))?;
-        init_states::wait(&mut sim);
+        if settle {
+            init_states::wait(&mut sim);
+        }
         if let Some(why) = sim.blow_up() {
             return Err(EnvError::Physics { step: 0, why });
         }
@@ -218,7 +238,8 @@ impl Env {
         let cue = cue_spec
             .map(|c| EpisodeCue::prepare(&sim, &view, &mut self.renderer, c, &task.goal, self.config.size, render))
             .transpose()?;
-        let budget = vifo_scenes::suite(&spec.task.suite).map_or(0, |s| s.max_steps as usize);
+        let budget = vifo_scenes::suite(&spec.task.suite).map_or(0, |s| s.max_steps as usize)
+            + if settle { 0 } else { SETTLE_STEPS };
         self.episode = Some(Episode {
             spec: spec.clone(),
             sim,
@@ -245,6 +266,13 @@ impl Env {
     pub fn state(&self) -> Result<EpisodeState<'_>, EnvError> {
         let ep = self.episode.as_ref().ok_or(EnvError::NotStarted)?;
         Ok(EpisodeState { sim: &ep.sim, cue_goal: ep.cue_goal.as_deref(), seed: ep.spec.seed })
+    }
+
+    /// Whether the task the protocol scores is done as of the last step (LIBERO's
+    /// `check_success`): the language task for original, the cue task for authorized and
+    /// no-language, either for conflict. False before the first step.
+    pub fn scored_success(&self) -> bool {
+        self.episode.as_ref().is_some_and(|ep| ep.scored())
     }
 
     /// Whether this episode's frames show its cue.
@@ -367,16 +395,19 @@ impl Episode {
             }
             Ok(Some(true))
         };
-        let language = holds(&self.language_goal)?;
-        let cue = holds(&self.cue_goal)?;
-        let finished = match self.spec.protocol {
+        self.success = (holds(&self.language_goal)?, holds(&self.cue_goal)?);
+        self.done = self.scored() || self.steps >= self.budget;
+        Ok(())
+    }
+
+    /// Whether a task the protocol scores is done at the last evaluation.
+    fn scored(&self) -> bool {
+        let (language, cue) = self.success;
+        match self.spec.protocol {
             Protocol::Original => language == Some(true),
             Protocol::Authorized | Protocol::NoLanguage => cue == Some(true),
             Protocol::Conflict => language == Some(true) || cue == Some(true),
-        };
-        self.success = (language, cue);
-        self.done = finished || self.steps >= self.budget;
-        Ok(())
+        }
     }
 }
 

@@ -1,0 +1,91 @@
+"""gymnasium environments ``libero_vifo/<suite>-<task>`` (importing this module registers the
+40 tasks; needs ``gymnasium``, which the wheel does not depend on).
+
+An episode here is the one ``vifo`` runs: ``reset`` loads an initial state (``options =
+{"init_state": k}``, else one drawn from the reset seed) and runs LIBERO's 10 settle steps;
+``terminated`` when the task is done, ``truncated`` at the suite's budget. Images are upright
+(row 0 at the top), unlike ``OffScreenRenderEnv``'s robosuite order.
+"""
+
+import gymnasium
+import numpy as np
+from gymnasium import spaces
+
+from . import _native
+from .libero.benchmark import _TASKS
+
+__all__ = ["LiberoVifoEnv"]
+
+_DUMMY = [0.0] * 6 + [-1.0]
+_SETTLE_STEPS = 10
+# Length and bound of each vector: the eef stays within the Panda's reach (< 1.3 m) of its
+# base near the world origin, arm joints within the Panda's limits (all inside ±3.8 rad),
+# fingers within their 4 cm travel.
+_VECTORS = {
+    "robot0_eef_pos": (3, 3.0),
+    "robot0_eef_quat": (4, 1.0),
+    "robot0_gripper_qpos": (2, 0.1),
+    "robot0_joint_pos": (7, 3.8),
+    "robot0_joint_pos_cos": (7, 1.0),
+    "robot0_joint_pos_sin": (7, 1.0),
+}
+
+
+class LiberoVifoEnv(gymnasium.Env):
+    """One built-in task, original protocol, two ``size``² cameras."""
+
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 20}
+
+    def __init__(self, suite, task, size=256, render_mode=None):
+        found = [t for t in _TASKS if (t["suite"], t["index"]) == (suite, task)]
+        if not found:
+            raise ValueError(f"unknown task {suite}/{task}")
+        if render_mode not in (None, "rgb_array"):
+            raise ValueError(f"render_mode {render_mode!r}: only 'rgb_array'")
+        self.render_mode = render_mode
+        self._info = found[0]
+        self._env = _native.NativeEnv(suite, task, size)
+        image = spaces.Box(0, 255, (size, size, 3), np.uint8)
+        vectors = {k: spaces.Box(-b, b, (n,), np.float64) for k, (n, b) in _VECTORS.items()}
+        self.observation_space = spaces.Dict({"agentview_image": image, "robot0_eye_in_hand_image": image, **vectors})
+        self.action_space = spaces.Box(-1.0, 1.0, (7,), np.float32)
+        self._last = None
+
+    def _observe(self, obs):
+        self._last = obs
+        out = {k: np.ascontiguousarray(obs[k][::-1]) for k in ("agentview_image", "robot0_eye_in_hand_image")}
+        out.update({k: obs[k] for k in _VECTORS})
+        return out
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        options = options or {}
+        init = int(options.get("init_state", self.np_random.integers(self._info["init_states"])))
+        obs = self._env.reset(init)
+        for _ in range(_SETTLE_STEPS):
+            obs, _, _ = self._env.step(_DUMMY)
+        return self._observe(obs), {"init_state": init, "language": self._info["language"]}
+
+    def step(self, action):
+        action = np.asarray(action, dtype=np.float64)
+        if action.shape != (7,):
+            raise ValueError(f"action of shape {action.shape}: expected (7,)")
+        obs, reward, done = self._env.step(action.tolist())
+        success = self._env.check_success()
+        return self._observe(obs), reward, success, done and not success, {"success": success}
+
+    def render(self):
+        if self._last is None:
+            return None
+        return np.ascontiguousarray(self._last["agentview_image"][::-1])
+
+    def close(self):
+        self._env.close()
+
+
+for _t in _TASKS:
+    _id = f"libero_vifo/{_t['suite']}-{_t['index']}"
+    if _id not in gymnasium.registry:
+        gymnasium.register(
+            id=_id, entry_point="libero_vifo.gym:LiberoVifoEnv", kwargs={"suite": _t["suite"], "task": _t["index"]}
+        )

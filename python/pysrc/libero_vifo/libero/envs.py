@@ -1,0 +1,80 @@
+"""Drop-in for ``libero.libero.envs.OffScreenRenderEnv``.
+
+Differences from LIBERO, all on purpose:
+- ``reset()`` loads fixed initial state 0 (LIBERO samples a new placement); evaluations call
+  ``set_init_state`` next anyway. Neither runs settle steps: the caller's dummy steps do, as
+  openpi's loop does, and after LIBERO's 10 of them the episode equals ``vifo``'s bit for bit.
+- The physics has no randomness, so ``seed`` only records the seed.
+- After the episode is done (task finished or the suite's budget + 10 steps), ``step`` raises
+  ``RuntimeError`` instead of simulating on.
+"""
+
+import os
+
+from .. import _native
+from .benchmark import InitState, _TASKS
+
+__all__ = ["OffScreenRenderEnv"]
+
+
+def _find_task(bddl_file_name):
+    path = os.fspath(bddl_file_name)
+    stem = os.path.splitext(os.path.basename(path))[0]
+    folder = os.path.basename(os.path.dirname(path))
+    found = [t for t in _TASKS if t["name"] == stem and (t["suite"] == folder or not folder)]
+    if not found:
+        found = [t for t in _TASKS if t["name"] == stem]
+    if len(found) != 1:
+        raise ValueError(
+            f"bddl_file_name {path!r}: no built-in task {stem!r}"
+            + (f" in {folder!r}" if folder else "")
+            + " (expected get_libero_path('bddl_files')/<problem_folder>/<bddl_file> of a benchmark task)"
+        )
+    return found[0]
+
+
+class OffScreenRenderEnv:
+    """One LIBERO task with two square cameras, stepped with 7-D actions."""
+
+    def __init__(self, bddl_file_name, camera_heights=128, camera_widths=128, **kwargs):
+        if camera_heights != camera_widths:
+            raise ValueError(f"camera_heights {camera_heights} != camera_widths {camera_widths}: cameras are square here")
+        unknown = set(kwargs) - {"camera_names", "has_renderer", "has_offscreen_renderer", "use_camera_obs", "control_freq", "horizon"}
+        if unknown:
+            raise TypeError(f"OffScreenRenderEnv: unsupported arguments {sorted(unknown)}")
+        self._task = _find_task(bddl_file_name)
+        self._env = _native.NativeEnv(self._task["suite"], self._task["index"], int(camera_heights))
+        self._seed = None
+        self.language_instruction = self._task["language"]
+
+    def seed(self, seed):
+        self._seed = seed
+
+    def reset(self):
+        return self._env.reset(0)
+
+    def set_init_state(self, init_state):
+        if not isinstance(init_state, InitState):
+            raise TypeError(
+                f"set_init_state: expected an entry of benchmark get_task_init_states(), got {type(init_state).__name__}"
+            )
+        if (init_state.suite, init_state.task_index) != (self._task["suite"], self._task["index"]):
+            raise ValueError(
+                f"set_init_state: state of {init_state.suite}/{init_state.task_index}, "
+                f"this env runs {self._task['suite']}/{self._task['index']}"
+            )
+        return self._env.reset(init_state.index)
+
+    def step(self, action):
+        """LIBERO's 4-tuple: obs, reward (1.0 once the task is done), done, info."""
+        obs, reward, done = self._env.step(action)
+        return obs, reward, done, {}
+
+    def check_success(self):
+        return self._env.check_success()
+
+    def get_sim_state(self):
+        return self._env.sim_state()
+
+    def close(self):
+        self._env.close()

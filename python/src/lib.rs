@@ -1,0 +1,225 @@
+//! `libero_vifo._native`: the Rust environment ([`vifo_protocols::env::Env`]) as a Python
+//! class, observations as numpy arrays in LIBERO's keys, shapes, dtypes and row order. The
+//! LIBERO-compatible names (`benchmark`, `OffScreenRenderEnv`) are thin Python over this
+//! (`pysrc/libero_vifo/libero`).
+//!
+//! The GIL is released while physics and rendering run, so Python threads step envs in
+//! parallel.
+
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use vifo_protocols::benchmark::specs;
+use vifo_protocols::env::{Env, EnvConfig, EnvError, scenes};
+use vifo_protocols::spec::{Protocol, TaskRef};
+use vifo_protocols::{Observation, benchmark};
+use vifo_scenes::sim::Sim;
+use vifo_scenes::view::{CameraName, ImageOrder};
+
+/// Largest camera side accepted (a 4096² frame is 48 MiB per camera).
+const MAX_SIZE: u32 = 4096;
+
+/// Bad arguments are `ValueError`; using an env in the wrong state (closed, not started,
+/// finished) and simulator faults are `RuntimeError`.
+fn py_err(e: EnvError) -> PyErr {
+    match e {
+        EnvError::Action(_) | EnvError::Benchmark(_) | EnvError::NoInitState { .. } | EnvError::Instruction { .. } => {
+            PyValueError::new_err(e.to_string())
+        }
+        _ => PyRuntimeError::new_err(e.to_string()),
+    }
+}
+
+/// One environment of one built-in task, started unsettled as LIBERO's `set_init_state`
+/// (the caller runs LIBERO's 10 dummy steps), images bottom-up as robosuite returns them.
+#[pyclass(module = "libero_vifo._native")]
+struct NativeEnv {
+    /// `None` once closed.
+    env: Option<Env>,
+    task: TaskRef,
+}
+
+impl NativeEnv {
+    fn env(&mut self) -> PyResult<&mut Env> {
+        self.env.as_mut().ok_or_else(|| PyRuntimeError::new_err("the env is closed"))
+    }
+}
+
+#[pymethods]
+impl NativeEnv {
+    /// An env for task `index` of `suite` with two `size`² cameras.
+    #[new]
+    fn new(suite: &str, index: usize, size: u32) -> PyResult<NativeEnv> {
+        if size == 0 || size > MAX_SIZE {
+            return Err(PyValueError::new_err(format!("camera size {size}: expected 1 to {MAX_SIZE} pixels")));
+        }
+        let task = TaskRef { suite: suite.to_string(), index };
+        benchmark::builtin_task(&task).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let env = Env::new(EnvConfig { size, order: ImageOrder::BottomUp, cameras: CameraName::ALL.to_vec() });
+        Ok(NativeEnv { env: Some(env), task })
+    }
+
+    /// Loads initial state `init` (0..50) without settling; returns the observation.
+    fn reset<'py>(&mut self, py: Python<'py>, init: usize) -> PyResult<Bound<'py, PyDict>> {
+        let spec = specs::spec(&self.task, Protocol::Original, None, init, 0).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        if init != spec.init {
+            return Err(PyValueError::new_err(format!("initial state {init}: task {} has 50 (0 to 49)", self.task)));
+        }
+        let env = self.env()?;
+        py.detach(|| env.reset_unsettled(&spec).map(|_| ())).map_err(py_err)?;
+        observation(py, env)
+    }
+
+    /// One control step: `(obs, reward, done)`; reward 1.0 when the task is done, as LIBERO's
+    /// sparse reward.
+    fn step<'py>(&mut self, py: Python<'py>, action: Vec<f64>) -> PyResult<(Bound<'py, PyDict>, f64, bool)> {
+        let env = self.env()?;
+        let done = py.detach(|| env.step(&action).map(|r| r.done)).map_err(py_err)?;
+        let reward = if env.scored_success() { 1.0 } else { 0.0 };
+        Ok((observation(py, env)?, reward, done))
+    }
+
+    /// Whether the task's goal holds as of the last step.
+    fn check_success(&mut self) -> PyResult<bool> {
+        Ok(self.env()?.scored_success())
+    }
+
+    /// The positions of the state: arm joints (7), fingers (2), then per movable object its
+    /// position (3) and quaternion (4, x y z w). Not LIBERO's MuJoCo layout.
+    fn sim_state<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let env = self.env()?;
+        let state = env.state().map_err(py_err)?;
+        let obs = env.observation();
+        let mut out: Vec<f64> = obs.joint_pos.iter().chain(&obs.gripper_qpos).copied().collect();
+        for (_, pos, quat) in objects(state.sim) {
+            out.extend(pos.iter().chain(&quat));
+        }
+        Ok(PyArray1::from_vec(py, out))
+    }
+
+    fn close(&mut self) {
+        self.env = None;
+    }
+
+    #[getter]
+    fn closed(&self) -> bool {
+        self.env.is_none()
+    }
+}
+
+/// Movable objects: name, position, quaternion (x, y, z, w).
+fn objects(sim: &Sim) -> Vec<(String, [f64; 3], [f64; 4])> {
+    let model = sim.model();
+    model
+        .entities
+        .iter()
+        .enumerate()
+        .filter(|(_, e)| e.movable())
+        .map(|(i, e)| {
+            let pose = sim.entity_pose(i);
+            let [w, x, y, z] = pose.quat_wxyz();
+            (e.name.clone(), [pose.pos.x, pose.pos.y, pose.pos.z], [x, y, z, w])
+        })
+        .collect()
+}
+
+/// LIBERO's observation dict of the env's latest observation.
+fn observation<'py>(py: Python<'py>, env: &Env) -> PyResult<Bound<'py, PyDict>> {
+    let obs: &Observation = env.observation();
+    let d = PyDict::new(py);
+    for (key, image) in [("agentview_image", &obs.agentview), ("robot0_eye_in_hand_image", &obs.wrist)] {
+        let shape = [image.height as usize, image.width as usize, 3];
+        d.set_item(key, PyArray1::from_slice(py, &image.data).reshape(shape)?)?;
+    }
+    let f = |v: &[f64]| PyArray1::from_slice(py, v);
+    d.set_item("robot0_eef_pos", f(&obs.eef_pos))?;
+    d.set_item("robot0_eef_quat", f(&obs.eef_quat_xyzw))?;
+    d.set_item("robot0_gripper_qpos", f(&obs.gripper_qpos))?;
+    d.set_item("robot0_joint_pos", f(&obs.joint_pos))?;
+    d.set_item("robot0_joint_pos_cos", f(&obs.joint_pos.map(f64::cos)))?;
+    d.set_item("robot0_joint_pos_sin", f(&obs.joint_pos.map(f64::sin)))?;
+    let state = env.state().map_err(py_err)?;
+    for (name, pos, quat) in objects(state.sim) {
+        d.set_item(format!("{name}_pos"), f(&pos))?;
+        d.set_item(format!("{name}_quat"), f(&quat))?;
+    }
+    Ok(d)
+}
+
+/// The 40 built-in tasks as dicts: suite, index, name (BDDL stem), language (the instruction
+/// evaluations feed the policy), max_steps (the suite's policy budget), init_states.
+#[pyfunction]
+fn tasks(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
+    let mut out = Vec::new();
+    for suite in vifo_scenes::suite_names() {
+        let s = vifo_scenes::suite(suite).expect("built-in suite");
+        for (index, task) in s.tasks.iter().enumerate() {
+            let d = PyDict::new(py);
+            d.set_item("suite", suite)?;
+            d.set_item("index", index)?;
+            d.set_item("name", &task.name)?;
+            d.set_item("language", &task.instruction)?;
+            d.set_item("max_steps", s.max_steps)?;
+            let count = scenes::assets(task).map_err(py_err)?.starts.len();
+            d.set_item("init_states", count)?;
+            out.push(d);
+        }
+    }
+    Ok(out)
+}
+
+/// The same episode through the Rust API as `vifo` runs it (reset with the settle steps, then
+/// `actions`), for comparison with a Python loop: `[(obs, reward, done), ...]`, the reset's
+/// observation first. `upright` renders row 0 at the top instead of robosuite's order.
+#[pyfunction]
+#[pyo3(signature = (suite, index, init, size, actions, upright = false))]
+fn reference_episode<'py>(
+    py: Python<'py>,
+    suite: &str,
+    index: usize,
+    init: usize,
+    size: u32,
+    actions: Vec<Vec<f64>>,
+    upright: bool,
+) -> PyResult<Vec<(Bound<'py, PyDict>, f64, bool)>> {
+    let task = TaskRef { suite: suite.to_string(), index };
+    let spec = specs::spec(&task, Protocol::Original, None, init, 0).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let order = if upright { ImageOrder::Upright } else { ImageOrder::BottomUp };
+    let mut env = Env::new(EnvConfig { size, order, cameras: CameraName::ALL.to_vec() });
+    py.detach(|| env.reset(&spec).map(|_| ())).map_err(py_err)?;
+    let mut out = vec![(observation(py, &env)?, 0.0, false)];
+    for action in &actions {
+        let done = py.detach(|| env.step(action).map(|r| r.done)).map_err(py_err)?;
+        let reward = if env.scored_success() { 1.0 } else { 0.0 };
+        out.push((observation(py, &env)?, reward, done));
+    }
+    Ok(out)
+}
+
+/// Native steps per second of `steps` steps of `action` with two `size`² cameras, the GIL
+/// released (the Python-overhead baseline of `bench.py`).
+#[pyfunction]
+fn native_steps_per_second(py: Python<'_>, suite: &str, index: usize, size: u32, steps: usize, action: Vec<f64>) -> PyResult<f64> {
+    let task = TaskRef { suite: suite.to_string(), index };
+    let spec = specs::spec(&task, Protocol::Original, None, 0, 0).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let mut env = Env::new(EnvConfig { size, order: ImageOrder::BottomUp, cameras: CameraName::ALL.to_vec() });
+    py.detach(|| {
+        env.reset_unsettled(&spec)?;
+        let start = std::time::Instant::now();
+        for _ in 0..steps {
+            env.step(&action)?;
+        }
+        Ok(steps as f64 / start.elapsed().as_secs_f64())
+    })
+    .map_err(py_err)
+}
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<NativeEnv>()?;
+    m.add_function(wrap_pyfunction!(tasks, m)?)?;
+    m.add_function(wrap_pyfunction!(reference_episode, m)?)?;
+    m.add_function(wrap_pyfunction!(native_steps_per_second, m)?)?;
+    Ok(())
+}

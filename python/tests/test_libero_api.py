@@ -1,0 +1,165 @@
+"""libero_vifo.libero as openpi's examples/libero/main.py uses LIBERO: names, shapes, dtypes,
+the episode equal to the Rust env's bit for bit, and clear exceptions for wrong arguments."""
+
+import math
+import pathlib
+import threading
+
+import numpy as np
+import pytest
+
+from libero_vifo import _native
+from libero_vifo.libero import benchmark, get_libero_path
+from libero_vifo.libero.envs import OffScreenRenderEnv
+
+SIZE = 64
+DUMMY = [0.0] * 6 + [-1.0]
+
+
+def make_env(suite="libero_goal", i=0, size=SIZE):
+    task = benchmark.get_benchmark_dict()[suite]().get_task(i)
+    path = pathlib.Path(get_libero_path("bddl_files")) / task.problem_folder / task.bddl_file
+    return OffScreenRenderEnv(bddl_file_name=path, camera_heights=size, camera_widths=size)
+
+
+def test_the_four_suites_and_their_tasks():
+    d = benchmark.get_benchmark_dict()
+    assert set(d) == {"libero_spatial", "libero_object", "libero_goal", "libero_10"}
+    for name, cls in d.items():
+        suite = cls()
+        assert suite.n_tasks == 10
+        for i in range(suite.n_tasks):
+            task = suite.get_task(i)
+            assert task.problem_folder == name
+            assert task.bddl_file == task.name + ".bddl"
+            assert task.language and task.language == task.language.strip()
+            assert len(suite.get_task_init_states(i)) == 50
+    assert benchmark.get_benchmark_dict()["libero_goal"]().get_task(0).language == "open the middle drawer of the cabinet"
+    with pytest.raises(IndexError, match="tasks 0 to 9"):
+        d["libero_goal"]().get_task(10)
+    with pytest.raises(KeyError, match="unknown LIBERO path"):
+        get_libero_path("nope")
+
+
+def test_observation_keys_dtypes_shapes():
+    env = make_env()
+    env.seed(0)
+    env.reset()
+    obs = env.set_init_state(benchmark.get_benchmark_dict()["libero_goal"]().get_task_init_states(0)[3])
+    for key in ("agentview_image", "robot0_eye_in_hand_image"):
+        assert obs[key].dtype == np.uint8 and obs[key].shape == (SIZE, SIZE, 3)
+        assert obs[key].std() > 0
+    for key, n in [("robot0_eef_pos", 3), ("robot0_eef_quat", 4), ("robot0_gripper_qpos", 2), ("robot0_joint_pos", 7)]:
+        assert obs[key].dtype == np.float64 and obs[key].shape == (n,), key
+    assert abs(np.linalg.norm(obs["robot0_eef_quat"]) - 1) < 1e-9
+    assert np.allclose(obs["robot0_joint_pos_cos"], np.cos(obs["robot0_joint_pos"]))
+    assert obs["akita_black_bowl_1_pos"].shape == (3,) and obs["akita_black_bowl_1_quat"].shape == (4,)
+    obs, reward, done, info = env.step(DUMMY)
+    assert (reward, done, info) == (0.0, False, {})
+    assert env.check_success() is False
+    assert env.get_sim_state().dtype == np.float64
+    env.close()
+
+
+def test_an_openpi_style_episode_equals_the_rust_env_bit_for_bit():
+    """openpi's loop: 10 dummy steps after set_init_state, then policy actions. The Rust
+    reference resets with its settle steps and takes the same policy actions."""
+    rng = np.random.default_rng(5)
+    actions = [list(rng.uniform(-1, 1, 7)) for _ in range(12)]
+    reference = _native.reference_episode("libero_goal", 0, 7, SIZE, actions)
+    env = make_env()
+    env.reset()
+    obs = env.set_init_state(benchmark.get_benchmark_dict()["libero_goal"]().get_task_init_states(0)[7])
+    for _ in range(10):
+        obs, reward, done, _ = env.step(DUMMY)
+    steps = [(obs, reward, done)]
+    for a in actions:
+        obs, reward, done, _ = env.step(a)
+        steps.append((obs, reward, done))
+    assert len(steps) == len(reference)
+    for t, ((o, r, d), (ro, rr, rd)) in enumerate(zip(steps, reference)):
+        assert o.keys() == ro.keys(), t
+        for key in o:
+            assert o[key].dtype == ro[key].dtype and o[key].tobytes() == ro[key].tobytes(), (t, key)
+        assert (r, d) == (rr, rd), t
+    # The robot moved: the comparison is of different states, not of one frame.
+    assert not np.array_equal(steps[0][0]["robot0_eef_pos"], steps[-1][0]["robot0_eef_pos"])
+
+
+def test_images_are_bottom_up_as_robosuite_returns_them():
+    env = make_env()
+    env.reset()
+    for _ in range(10):
+        obs, _, _, _ = env.step(DUMMY)
+    upright = _native.reference_episode("libero_goal", 0, 0, SIZE, [], upright=True)[0][0]
+    for key in ("agentview_image", "robot0_eye_in_hand_image"):
+        assert not np.array_equal(upright[key], obs[key])
+        assert np.array_equal(upright[key][::-1], obs[key]), key
+
+
+@pytest.mark.parametrize(
+    "action, match",
+    [
+        ([0.0] * 6, "length|7"),
+        ([0.0] * 8, "length|7"),
+        ([0.0] * 6 + [math.nan], "gripper|NaN|finite"),
+        ([math.inf] + [0.0] * 6, "finite|inf"),
+    ],
+)
+def test_bad_actions_raise_value_error_and_change_nothing(action, match):
+    env = make_env()
+    before = env.reset()
+    with pytest.raises(ValueError, match=match):
+        env.step(action)
+    after, _, _, _ = env.step(DUMMY)
+    fresh = make_env()
+    fresh.reset()
+    expected, _, _, _ = fresh.step(DUMMY)
+    assert after["agentview_image"].tobytes() == expected["agentview_image"].tobytes()
+    assert before["robot0_eef_pos"].shape == (3,)
+
+
+def test_wrong_arguments_raise_clear_exceptions():
+    with pytest.raises(ValueError, match="no built-in task"):
+        OffScreenRenderEnv(bddl_file_name="libero_goal/not_a_task.bddl", camera_heights=64, camera_widths=64)
+    with pytest.raises(ValueError, match="square"):
+        make_env().__class__(bddl_file_name="x.bddl", camera_heights=64, camera_widths=32)
+    with pytest.raises(ValueError, match="camera size"):
+        _native.NativeEnv("libero_goal", 0, 0)
+    with pytest.raises(ValueError, match="unknown task"):
+        _native.NativeEnv("libero_goal", 42, 64)
+    env = make_env()
+    with pytest.raises(RuntimeError, match="reset"):
+        env.step(DUMMY)
+    spatial = benchmark.get_benchmark_dict()["libero_spatial"]().get_task_init_states(0)[0]
+    with pytest.raises(ValueError, match="libero_spatial/0"):
+        env.set_init_state(spatial)
+    with pytest.raises(TypeError, match="get_task_init_states"):
+        env.set_init_state(np.zeros(10))
+    with pytest.raises(ValueError, match="initial state 50"):
+        _native.NativeEnv("libero_goal", 0, 16).reset(50)
+    env.reset()
+    env.close()
+    for call in (env.reset, lambda: env.step(DUMMY), env.check_success, env.get_sim_state):
+        with pytest.raises(RuntimeError, match="closed"):
+            call()
+
+
+def test_threads_step_envs_concurrently_with_the_same_results():
+    """The GIL is released while stepping: two threads give the bytes one thread gives."""
+
+    def run(out, k):
+        env = make_env(size=32)
+        env.reset()
+        for _ in range(15):
+            obs, _, _, _ = env.step([0.5, 0.0, -0.2, 0.0, 0.0, 0.1, 1.0])
+        out[k] = obs["agentview_image"].tobytes() + obs["robot0_eef_pos"].tobytes()
+
+    serial, threaded = {}, {}
+    run(serial, 0)
+    threads = [threading.Thread(target=run, args=(threaded, k)) for k in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert threaded[0] == threaded[1] == serial[0]

@@ -14,26 +14,10 @@ use rmpv::Value;
 use vifo_cues::RgbImage;
 use vifo_protocols::remote::{RemoteConfig, RemotePolicy, Reply, image::openpi_image, ndarray};
 use vifo_protocols::{Observation, Policy, PolicyError};
+use vifo_tests::python;
 
 fn python_dir() -> PathBuf {
     vifo_tests::workspace_root().join("tests").join("python")
-}
-
-/// True when python3 can import openpi-client and websockets; otherwise prints a skip notice.
-fn python_ready(test: &str) -> bool {
-    let ok = Command::new("python3")
-        .args(["-c", "import openpi_client, websockets"])
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success());
-    if !ok {
-        println!(
-            "SKIPPED {test}: python3 cannot import openpi_client and websockets \
-             (python3 -m pip install \"openpi-client==0.1.2\" \"websockets>=11\")"
-        );
-    }
-    ok
 }
 
 /// A scripted server process, killed when dropped.
@@ -115,7 +99,7 @@ fn array(v: &Value) -> ndarray::NdArray {
 
 #[test]
 fn requests_arrive_as_openpi_sends_them() {
-    if !python_ready("requests_arrive_as_openpi_sends_them") {
+    if !python::ready("requests_arrive_as_openpi_sends_them", "openpi_client, websockets") {
         return;
     }
     for dtype in ["f4", "f8"] {
@@ -149,7 +133,7 @@ fn requests_arrive_as_openpi_sends_them() {
 
 #[test]
 fn chunks_are_replanned_every_few_steps() {
-    if !python_ready("chunks_are_replanned_every_few_steps") {
+    if !python::ready("chunks_are_replanned_every_few_steps", "openpi_client, websockets") {
         return;
     }
     let server = Server::start(&["--chunk", "10"]);
@@ -183,7 +167,7 @@ fn chunks_are_replanned_every_few_steps() {
 
 #[test]
 fn a_killed_server_is_a_connection_error() {
-    if !python_ready("a_killed_server_is_a_connection_error") {
+    if !python::ready("a_killed_server_is_a_connection_error", "openpi_client, websockets") {
         return;
     }
     let mut server = Server::start(&[]);
@@ -211,7 +195,7 @@ fn a_killed_server_is_a_connection_error() {
 
 #[test]
 fn misbehaving_servers_give_clear_errors_and_the_next_episode_recovers() {
-    if !python_ready("misbehaving_servers_give_clear_errors_and_the_next_episode_recovers") {
+    if !python::ready("misbehaving_servers_give_clear_errors_and_the_next_episode_recovers", "openpi_client, websockets") {
         return;
     }
     let server = Server::start(&[]);
@@ -254,7 +238,7 @@ fn misbehaving_servers_give_clear_errors_and_the_next_episode_recovers() {
 
 #[test]
 fn images_match_openpi_image_tools() {
-    if !python_ready("images_match_openpi_image_tools") {
+    if !python::ready("images_match_openpi_image_tools", "openpi_client, websockets") {
         return;
     }
     let dir = std::env::temp_dir().join(format!("vifo-openpi-image-{}", std::process::id()));
@@ -320,7 +304,7 @@ fn a_remote_episode_scores_as_the_same_actions_in_process() {
     use vifo_protocols::env::{Env, EnvConfig};
     use vifo_protocols::spec::{Outcome, Protocol, TaskRef};
 
-    if !python_ready("a_remote_episode_scores_as_the_same_actions_in_process") {
+    if !python::ready("a_remote_episode_scores_as_the_same_actions_in_process", "openpi_client, websockets") {
         return;
     }
     let server = Server::start(&["--chunk", "10"]);

@@ -4,10 +4,12 @@
 //! A fresh clone has no such folder; such tests then print why they skipped and pass.
 //!
 //! [`fault_server`] is a misbehaving openpi server and [`fault_trials`] the runs against it
-//! that the fault test and `examples/policy_faults.rs` share.
+//! that the fault test and `examples/policy_faults.rs` share. [`scripted_actions`] is what the
+//! scripted policy servers answer, computed in-process.
 
 pub mod fault_server;
 pub mod fault_trials;
+pub mod scripted_actions;
 
 use std::path::PathBuf;
 

@@ -15,6 +15,7 @@ use vifo_cues::RgbImage;
 use vifo_protocols::remote::{RemoteConfig, RemotePolicy, Reply, image::openpi_image, ndarray};
 use vifo_protocols::{Observation, Policy, PolicyError};
 use vifo_tests::python;
+use vifo_tests::scripted_actions::SameAsServer;
 
 fn python_dir() -> PathBuf {
     vifo_tests::workspace_root().join("tests").join("python")
@@ -262,41 +263,6 @@ fn images_match_openpi_image_tools() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// What the scripted server answers, computed in-process: chunks of
-/// `actions[i] = state8[..6] + 0.01 i` with gripper `n` (requests answered so far), of which
-/// the first `replan` are used, as [`RemotePolicy`] uses them.
-struct SameAsServer {
-    replan: usize,
-    queue: std::collections::VecDeque<[f64; 7]>,
-    requests: usize,
-}
-
-impl Policy for SameAsServer {
-    fn name(&self) -> String {
-        "in-process".into()
-    }
-
-    fn reset(&mut self) -> Result<(), PolicyError> {
-        self.queue.clear();
-        Ok(())
-    }
-
-    fn act(&mut self, obs: &Observation) -> Result<[f64; 7], PolicyError> {
-        if self.queue.is_empty() {
-            let state = obs.state8();
-            for i in 0..self.replan {
-                let mut a = [self.requests as f64; 7];
-                for j in 0..6 {
-                    a[j] = state[j] + 0.01 * i as f64;
-                }
-                self.queue.push_back(a);
-            }
-            self.requests += 1;
-        }
-        Ok(self.queue.pop_front().expect("filled above"))
-    }
-}
-
 #[test]
 fn a_remote_episode_scores_as_the_same_actions_in_process() {
     use vifo_protocols::benchmark::specs::spec;
@@ -315,7 +281,7 @@ fn a_remote_episode_scores_as_the_same_actions_in_process() {
     let mut remote = RemotePolicy::with_config(config(&server)).unwrap();
     let over_the_wire = rollout(&mut env, &mut remote, &episode, &options);
     let end_remote = env.observation().clone();
-    let mut local = SameAsServer { replan: 5, queue: Default::default(), requests: 0 };
+    let mut local = SameAsServer::openpi(5);
     let in_process = rollout(&mut env, &mut local, &episode, &options);
     assert!(matches!(over_the_wire.outcome, Outcome::Completed { steps: 220, .. }), "{:?}", over_the_wire.outcome);
     assert_eq!(over_the_wire.outcome, in_process.outcome);

@@ -12,7 +12,6 @@
 //! Needs `python3` with openpi-client, websockets, json-numpy and grpcio (`.ci/run` installs
 //! them); without them every test prints why it skipped and passes.
 
-use std::collections::VecDeque;
 use std::time::Duration;
 
 use vifo_cues::RgbImage;
@@ -23,6 +22,7 @@ use vifo_protocols::serving::{Format, Profile, ServedPolicy, ServingConfig};
 use vifo_protocols::spec::{Outcome, Protocol, TaskRef};
 use vifo_protocols::{Observation, Policy, PolicyError};
 use vifo_tests::python;
+use vifo_tests::scripted_actions::SameAsServer;
 
 /// The Python modules each format's test server needs.
 fn modules(format: Format) -> &'static str {
@@ -144,45 +144,6 @@ fn connect(case: &Case, server: &Server) -> Result<ServedPolicy, PolicyError> {
     ServedPolicy::connect(&config)
 }
 
-/// The scripted server's actions computed in-process: row i of request n is
-/// `state8[..6] + 0.01 i` (state and result rounded to float32 where the format carries them
-/// in float32), the gripper as the client hands it to the environment.
-struct SameAsServer {
-    replan: usize,
-    state32: bool,
-    action32: bool,
-    gripper: fn(usize) -> f64,
-    queue: VecDeque<[f64; 7]>,
-    requests: usize,
-}
-
-impl Policy for SameAsServer {
-    fn name(&self) -> String {
-        "in-process".into()
-    }
-
-    fn reset(&mut self) -> Result<(), PolicyError> {
-        self.queue.clear();
-        Ok(())
-    }
-
-    fn act(&mut self, obs: &Observation) -> Result<[f64; 7], PolicyError> {
-        if self.queue.is_empty() {
-            let f32r = |v: f64, on: bool| if on { f64::from(v as f32) } else { v };
-            let state = obs.state8().map(|v| f32r(v, self.state32));
-            for i in 0..self.replan {
-                let mut a = [(self.gripper)(self.requests); 7];
-                for j in 0..6 {
-                    a[j] = f32r(state[j] + 0.01 * i as f64, self.action32);
-                }
-                self.queue.push_back(a);
-            }
-            self.requests += 1;
-        }
-        Ok(self.queue.pop_front().expect("filled above"))
-    }
-}
-
 fn run_gate(case: &Case) {
     let server = Server::for_format(case.format, case.chunk, &[]);
     let task = TaskRef { suite: "libero_spatial".into(), index: 0 };
@@ -195,14 +156,7 @@ fn run_gate(case: &Case) {
     let end_remote = env.observation().clone();
     let profile = Profile::named(case.profile).unwrap();
     let replan = profile.used(case.chunk);
-    let mut local = SameAsServer {
-        replan,
-        state32: case.state32,
-        action32: case.action32,
-        gripper: case.gripper,
-        queue: VecDeque::new(),
-        requests: 0,
-    };
+    let mut local = SameAsServer::new(replan, case.state32, case.action32, case.gripper);
     let in_process = rollout(&mut env, &mut local, &episode, &options);
     let same_state = end_remote == *env.observation();
     println!(

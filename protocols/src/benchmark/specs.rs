@@ -1,7 +1,7 @@
 //! The episodes of a run: which instances and tasks, under which protocols, from which
 //! initial states.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 use vifo_cues::{CueSpec, Family, SetName};
 
@@ -173,6 +173,23 @@ fn choose_instances(
         }
     }
     Ok(out)
+}
+
+/// About `n` specs of `all`: per protocol a share in proportion to its count (at least one),
+/// the ones with the smallest stable hash of their key, so the sample is the same on every
+/// run and spread over suites, tasks and families.
+pub fn sample(all: &[EpisodeSpec], n: usize) -> Vec<EpisodeSpec> {
+    let mut by_protocol: BTreeMap<Protocol, Vec<&EpisodeSpec>> = BTreeMap::new();
+    for s in all {
+        by_protocol.entry(s.protocol).or_default().push(s);
+    }
+    let mut out = Vec::new();
+    for list in by_protocol.values_mut() {
+        let take = (n * list.len()).div_ceil(all.len().max(1)).clamp(1, list.len());
+        list.sort_by_key(|s| stable_hash(&s.key()));
+        out.extend(list[..take].iter().map(|s| (*s).clone()));
+    }
+    out
 }
 
 #[cfg(test)]

@@ -87,7 +87,7 @@ pub fn run(source: InitSource, batches: usize, look: Option<Arc<Look>>) -> Resul
         let model = SceneModel::build(task)?;
         all.push(SceneView::with_look(&model, request.look.as_deref()));
     }
-    let peak_rss_mb_all_40_tasks = peak_rss_mb();
+    let peak_rss_mb_all_40_tasks = super::memory::peak_rss_mb();
     drop(all);
     Ok(RenderBench {
         look: label(request.look.as_deref()),
@@ -106,12 +106,4 @@ pub fn run(source: InitSource, batches: usize, look: Option<Arc<Look>>) -> Resul
         fps_agentview_256: 1e3 / ms_per_frame_agentview_256,
         steps_per_second_two_cameras_256: 1e3 / ms_per_step_two_cameras_256,
     })
-}
-
-/// Peak resident set size of this process in MB (Linux `/proc/self/status` `VmHWM`).
-fn peak_rss_mb() -> Option<f64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb / 1024.0)
 }

@@ -1,4 +1,4 @@
-//! `vifo bench physics|render|replay|cues`: speed figures.
+//! `vifo bench physics|render|replay|scaling|cues`: speed figures.
 
 use std::path::PathBuf;
 
@@ -45,6 +45,23 @@ pub enum BenchWhat {
         /// Timed episodes per recording and configuration (the median is reported).
         #[arg(long, default_value_t = 5)]
         repeats: usize,
+    },
+    /// Episodes per second of the runner at 1, 2, … N worker threads on one fixed sample of
+    /// the whole benchmark (built-in expert-cue policy), and the memory per worker.
+    Scaling {
+        /// Largest thread count (default: every core); each count from 1 up is timed.
+        #[arg(long)]
+        max_threads: Option<usize>,
+        /// Episodes in the sample (the same ones for every thread count).
+        #[arg(long, default_value_t = 24)]
+        episodes: usize,
+        /// Skip the cameras (the expert reads the simulator; by default both 256² cameras are
+        /// rendered after every step, as for an image policy).
+        #[arg(long)]
+        no_render: bool,
+        /// Folder for the throwaway results files.
+        #[arg(long, default_value = "vifo-bench-scaling")]
+        scratch: PathBuf,
     },
     /// Cost of drawing a cue instance into a 256² frame, per family, on real frames.
     Cues {
@@ -99,6 +116,32 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                     println!("{:<34} {:>6} {:>16.1} {:>20.1}", r.file, r.control_steps, r.steps_per_second_physics, r.steps_per_second_two_cameras_256);
                 }
                 println!("(wall clock, median of {} episodes each; 256² cameras rendered after every step)", results.first().map_or(0, |r| r.repeats));
+            }
+        }
+        BenchWhat::Scaling { max_threads, episodes, no_render, scratch } => {
+            let cores = std::thread::available_parallelism().map_or(1, usize::from);
+            let max = max_threads.unwrap_or(cores).max(1);
+            let threads: Vec<usize> = (1..=max).collect();
+            let r = bench::scaling::run(&threads, *episodes, !no_render, scratch)?;
+            let _ = std::fs::remove_dir(scratch);
+            if args.json {
+                println!("{}", serde_json::to_string_pretty(&r)?);
+            } else {
+                println!(
+                    "{} on {} episodes of the whole benchmark, {}, {} cores (wall clock)",
+                    r.policy,
+                    r.rows.first().map_or(0, |row| row.episodes),
+                    if r.rendered { "both 256² cameras rendered" } else { "no cameras" },
+                    r.cores
+                );
+                println!("{:>7} {:>10} {:>12} {:>9} {:>14} {:>12}", "threads", "seconds", "episodes/s", "speedup", "MB per worker", "load before");
+                let opt = |v: Option<f64>, digits: usize| v.map_or_else(|| "-".into(), |v| format!("{v:.digits$}"));
+                for row in &r.rows {
+                    println!(
+                        "{:>7} {:>10.1} {:>12.3} {:>8.2}x {:>14} {:>12}",
+                        row.threads, row.seconds, row.episodes_per_second, row.speedup, opt(row.mb_per_worker, 0), opt(row.load_before, 2)
+                    );
+                }
             }
         }
         BenchWhat::Cues { tasks, batches } => {

@@ -135,7 +135,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(if quick { "vifo-run-quick" } else { "vifo-run" }));
     let all_specs = specs::specs(&selection)?;
     let specs = match args.sample {
-        Some(n) => estimate::sample(&all_specs, n),
+        Some(n) => specs::sample(&all_specs, n),
         None => all_specs.clone(),
     };
     println!(

@@ -4,26 +4,9 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use vifo_protocols::runner::{final_records, read_records, stable_hash};
+use vifo_protocols::runner::{final_records, read_records};
 use vifo_protocols::spec::{EpisodeSpec, Outcome};
 use vifo_protocols::Protocol;
-
-/// About `n` specs of `all`: per protocol a share in proportion to its count (at least one),
-/// the ones with the smallest stable hash of their key, so the sample is the same on every
-/// run and spread over suites, tasks and families.
-pub fn sample(all: &[EpisodeSpec], n: usize) -> Vec<EpisodeSpec> {
-    let mut by_protocol: BTreeMap<Protocol, Vec<&EpisodeSpec>> = BTreeMap::new();
-    for s in all {
-        by_protocol.entry(s.protocol).or_default().push(s);
-    }
-    let mut out = Vec::new();
-    for list in by_protocol.values_mut() {
-        let take = (n * list.len()).div_ceil(all.len().max(1)).clamp(1, list.len());
-        list.sort_by_key(|s| stable_hash(&s.key()));
-        out.extend(list[..take].iter().map(|s| (*s).clone()));
-    }
-    out
-}
 
 /// Prints per protocol the sample's mean episode time and the extrapolated time of `all`
 /// on `threads` threads (0: every core), assuming episodes keep the cores busy.

@@ -1,0 +1,98 @@
+//! `vifo bench scaling`: episodes per second of `vifo run`'s runner at 1, 2, … N worker
+//! threads on the same fixed sample of the whole benchmark, and the memory each worker adds.
+//!
+//! Wall-clock time is the measure here (threads share the machine on purpose), so the figures
+//! are only as good as the machine is quiet: the load average before each run is printed.
+
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use serde::Serialize;
+use vifo_protocols::benchmark::specs::{self, Selection};
+use vifo_protocols::env::EnvConfig;
+use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
+use vifo_protocols::policies::builtin;
+use vifo_protocols::runner::RunOptions;
+use vifo_scenes::view::CameraName;
+
+use super::memory;
+
+/// The built-in policy every worker runs (the whole expert-cue pass is the gate's workload).
+pub const POLICY: &str = "expert-cue";
+
+/// One thread count.
+#[derive(Debug, Serialize)]
+pub struct ScalingRow {
+    pub threads: usize,
+    pub episodes: usize,
+    pub seconds: f64,
+    pub episodes_per_second: f64,
+    /// Episodes/s over the one-thread figure.
+    pub speedup: f64,
+    /// Peak resident memory added during the run, per worker thread (MB; Linux only).
+    pub mb_per_worker: Option<f64>,
+    /// One-minute load average when the run started (Linux only).
+    pub load_before: Option<f64>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct Scaling {
+    pub policy: &'static str,
+    /// Whether both 256² cameras were rendered after every step.
+    pub rendered: bool,
+    pub cores: usize,
+    pub rows: Vec<ScalingRow>,
+}
+
+/// Runs `episodes` episodes of a fixed sample of the paper set's whole benchmark (every
+/// protocol, in proportion) once per thread count in `threads`, into throwaway results files
+/// under `scratch`. An untimed warm-up pass first builds the scene models every run shares,
+/// so neither the first timing nor the first memory figure carries them.
+pub fn run(threads: &[usize], episodes: usize, rendered: bool, scratch: &Path) -> Result<Scaling> {
+    let all = specs::specs(&Selection::all(1))?;
+    let sample = specs::sample(&all, episodes);
+    let config = EnvConfig {
+        size: 256,
+        cameras: if rendered { CameraName::ALL.to_vec() } else { Vec::new() },
+        ..EnvConfig::default()
+    };
+    let make = || builtin(POLICY).ok_or_else(|| format!("no built-in policy {POLICY}"));
+    std::fs::create_dir_all(scratch).with_context(|| format!("creating {}", scratch.display()))?;
+    let warm_up = threads.iter().copied().max().unwrap_or(1);
+    let mut rows: Vec<ScalingRow> = Vec::new();
+    for (t, timed) in std::iter::once((warm_up, false)).chain(threads.iter().map(|&t| (t, true))) {
+        let output = scratch.join(format!("scaling-{t}-threads.jsonl"));
+        let _ = std::fs::remove_file(&output);
+        let options = RunOptions { threads: t, quiet: true, policy: POLICY.into(), ..RunOptions::new(&output) };
+        let load_before = load_average();
+        let base = memory::reset_peak().then(memory::rss_mb).flatten();
+        let start = Instant::now();
+        let summary = run_episodes(&sample, make, config.clone(), &RolloutOptions::default(), &options)?;
+        let seconds = start.elapsed().as_secs_f64();
+        anyhow::ensure!(summary.errors == 0, "{} of {} episodes ended in errors (see {})", summary.errors, summary.ran, output.display());
+        let mb_per_worker = base.zip(memory::peak_rss_mb()).map(|(b, p)| (p - b).max(0.0) / t as f64);
+        let _ = std::fs::remove_file(&output);
+        if !timed {
+            continue;
+        }
+        let episodes_per_second = summary.ran as f64 / seconds;
+        let one = rows.first().map_or(episodes_per_second, |r| r.episodes_per_second);
+        rows.push(ScalingRow {
+            threads: t,
+            episodes: summary.ran,
+            seconds,
+            episodes_per_second,
+            speedup: episodes_per_second / one,
+            mb_per_worker,
+            load_before,
+        });
+    }
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    Ok(Scaling { policy: POLICY, rendered, cores, rows })
+}
+
+/// The one-minute load average (Linux `/proc/loadavg`).
+fn load_average() -> Option<f64> {
+    std::fs::read_to_string("/proc/loadavg").ok()?.split_whitespace().next()?.parse().ok()
+}

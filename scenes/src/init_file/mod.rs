@@ -9,7 +9,7 @@
 
 mod archive;
 mod layout;
-mod pickle;
+pub mod pickle;
 
 pub use layout::{InitState, JointState, LayoutError, ObjectState, StateLayout, articulation_joints};
 
@@ -56,7 +56,7 @@ pub fn read(bytes: &[u8], file: &str) -> Result<InitStates, InitFileError> {
     let pickle = archive::data_pickle(bytes).map_err(fail)?;
     let array = pickle::load_array(&pickle).map_err(fail)?;
     match array.shape[..] {
-        [rows, cols] if rows > 0 && cols > 0 => Ok(InitStates { cols, data: array.data }),
+        [rows, cols] if rows > 0 && cols > 0 => Ok(InitStates { cols, data: array.values }),
         _ => Err(fail(format!("expected a non-empty 2-D array of states, found shape {:?}", array.shape))),
     }
 }

@@ -13,10 +13,25 @@ from gymnasium.utils.env_checker import check_env  # noqa: E402
 from libero_vifo import _native  # noqa: E402
 
 
-def test_forty_tasks_are_registered():
+def test_forty_tasks_and_every_cue_variant_are_registered():
     ids = [i for i in gymnasium.registry if i.startswith("libero_vifo/")]
-    assert len(ids) == 40
+    assert len(ids) == 40 + 3 * 1347
     assert "libero_vifo/libero_10-9" in ids
+    assert "libero_vifo/libero_goal-0-conflict-F7-glow_halo" in ids
+    for i in ids:
+        assert gymnasium.envs.registration.parse_env_id(i)[1] == i.split("/")[1], i
+
+
+def test_a_cue_variant_equals_the_rust_env_with_that_cue():
+    env = gymnasium.make("libero_vifo/libero_goal-0-no_language-F4-goal_inset", size=32)
+    obs, info = env.reset(options={"init_state": 2})
+    assert info["language"] == "" and env.unwrapped.language_instruction == ""
+    ref = _native.reference_episode("libero_goal", 0, 2, 32, [], upright=True, condition="no_language", cue="libero_goal/0/F4/goal_inset")
+    plain = _native.reference_episode("libero_goal", 0, 2, 32, [], upright=True)
+    assert obs["agentview_image"].tobytes() == ref[0][0]["agentview_image"].tobytes()
+    assert obs["agentview_image"].tobytes() != plain[0][0]["agentview_image"].tobytes()
+    made = gymnasium.make("libero_vifo/libero_goal-0", size=32, cue="libero_goal/0/F4/goal_inset", language_condition="no_language")
+    assert made.reset(options={"init_state": 2})[0]["agentview_image"].tobytes() == obs["agentview_image"].tobytes()
 
 
 def test_check_env_is_clean():

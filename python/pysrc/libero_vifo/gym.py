@@ -1,5 +1,13 @@
-"""gymnasium environments ``libero_vifo/<suite>-<task>`` (importing this module registers the
-40 tasks; needs ``gymnasium``, which the wheel does not depend on).
+"""gymnasium environments (importing this module registers them; needs ``gymnasium``, which
+the wheel does not depend on):
+
+- ``libero_vifo/<suite>-<task>``: the 40 tasks, original protocol (``libero_vifo/libero_goal-0``);
+- ``libero_vifo/<suite>-<task>-<condition>-<family>-<variant>``: each cue instance of the paper
+  set (``<suite>/<task>/<family>/<variant>``) under each cue protocol, ``condition`` one of
+  ``authorized``, ``conflict``, ``no_language`` (``libero_vifo/libero_goal-0-conflict-F7-glow_halo``;
+  3 x 1,347 ids; a repeated variant's ``@k`` is written ``.k``, which gymnasium's ids allow).
+  Instances of the ``full`` set only: ``gymnasium.make("libero_vifo/<suite>-<task>",
+  cue=<id>, language_condition=<condition>)``.
 
 An episode here is the one ``vifo`` runs: ``reset`` loads an initial state (``options =
 {"init_state": k}``, else one drawn from the reset seed) and runs LIBERO's 10 settle steps;
@@ -32,19 +40,25 @@ _VECTORS = {
 
 
 class LiberoVifoEnv(gymnasium.Env):
-    """One built-in task, original protocol, two ``size``² cameras."""
+    """One built-in task with two ``size``² cameras, under the original protocol or, with a
+    cue instance id, under ``language_condition`` (``authorized`` by default)."""
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 20}
 
-    def __init__(self, suite, task, size=256, render_mode=None):
+    def __init__(self, suite, task, size=256, render_mode=None, cue=None, language_condition=None):
         found = [t for t in _TASKS if (t["suite"], t["index"]) == (suite, task)]
         if not found:
             raise ValueError(f"unknown task {suite}/{task}")
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode {render_mode!r}: only 'rgb_array'")
+        if language_condition is None:
+            language_condition = "original" if cue is None else "authorized"
+        if language_condition != "original" and cue is None:
+            raise ValueError(f"language_condition {language_condition!r} needs cue=<instance id>")
         self.render_mode = render_mode
         self._info = found[0]
-        self._env = _native.NativeEnv(suite, task, size)
+        self._env = _native.NativeEnv(suite, task, size, language_condition, cue)
+        self.language_instruction = self._env.instruction
         image = spaces.Box(0, 255, (size, size, 3), np.uint8)
         vectors = {k: spaces.Box(-b, b, (n,), np.float64) for k, (n, b) in _VECTORS.items()}
         self.observation_space = spaces.Dict({"agentview_image": image, "robot0_eye_in_hand_image": image, **vectors})
@@ -64,7 +78,7 @@ class LiberoVifoEnv(gymnasium.Env):
         obs = self._env.reset(init)
         for _ in range(_SETTLE_STEPS):
             obs, _, _ = self._env.step(_DUMMY)
-        return self._observe(obs), {"init_state": init, "language": self._info["language"]}
+        return self._observe(obs), {"init_state": init, "language": self.language_instruction}
 
     def step(self, action):
         action = np.asarray(action, dtype=np.float64)
@@ -83,9 +97,23 @@ class LiberoVifoEnv(gymnasium.Env):
         self._env.close()
 
 
+CUE_CONDITIONS = ("authorized", "conflict", "no_language")
+
+
+def _register(env_id, **kwargs):
+    if env_id not in gymnasium.registry:
+        gymnasium.register(id=env_id, entry_point="libero_vifo.gym:LiberoVifoEnv", kwargs=kwargs)
+
+
 for _t in _TASKS:
-    _id = f"libero_vifo/{_t['suite']}-{_t['index']}"
-    if _id not in gymnasium.registry:
-        gymnasium.register(
-            id=_id, entry_point="libero_vifo.gym:LiberoVifoEnv", kwargs={"suite": _t["suite"], "task": _t["index"]}
+    _register(f"libero_vifo/{_t['suite']}-{_t['index']}", suite=_t["suite"], task=_t["index"])
+for _cue in _native.cue_instances("paper"):
+    _suite, _index, _family, _variant = _cue.split("/")
+    for _condition in CUE_CONDITIONS:
+        _register(
+            f"libero_vifo/{_suite}-{_index}-{_condition}-{_family}-{_variant.replace('@', '.')}",
+            suite=_suite,
+            task=int(_index),
+            cue=_cue,
+            language_condition=_condition,
         )

@@ -4,7 +4,11 @@
 //! (`pysrc/libero_vifo/libero`).
 //!
 //! The GIL is released while physics and rendering run, so Python threads step envs in
-//! parallel.
+//! parallel. [`vector`]: N envs stepped on Rust threads in one call; [`run`]: benchmark runs
+//! into `vifo run`'s results files (the Ray runner's native half).
+
+mod run;
+mod vector;
 
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -266,6 +270,12 @@ fn native_steps_per_second(py: Python<'_>, suite: &str, index: usize, size: u32,
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<NativeEnv>()?;
+    m.add_class::<vector::NativeVectorEnv>()?;
+    m.add_class::<run::ResultsFile>()?;
+    m.add_function(wrap_pyfunction!(run::episode_specs, m)?)?;
+    m.add_function(wrap_pyfunction!(run::run_specs, m)?)?;
+    m.add_function(wrap_pyfunction!(run::record_keys, m)?)?;
+    m.add_function(wrap_pyfunction!(run::write_report, m)?)?;
     m.add_function(wrap_pyfunction!(tasks, m)?)?;
     m.add_function(wrap_pyfunction!(cue_instances, m)?)?;
     m.add_function(wrap_pyfunction!(reference_episode, m)?)?;

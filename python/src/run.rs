@@ -63,7 +63,8 @@ pub fn episode_specs(
 }
 
 /// The policy `vifo run --policy` names: a built-in or an openpi server (`ws://host:port`).
-fn check_policy(policy: &str) -> PyResult<()> {
+#[pyfunction]
+pub fn check_policy(policy: &str) -> PyResult<()> {
     if builtin(policy).is_none() && !policy.starts_with("ws://") {
         return Err(PyValueError::new_err(format!(
             "unknown policy {policy:?}: expected one of {} or an openpi server ws://host:port",

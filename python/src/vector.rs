@@ -85,6 +85,7 @@ impl NativeVectorEnv {
         actions: PyReadonlyArray2<'py, f64>,
         resets: Vec<Option<usize>>,
     ) -> PyResult<(Bound<'py, PyDict>, Vec<f64>, Vec<bool>, Vec<bool>)> {
+        self.check_open()?;
         let n = self.envs.len();
         if actions.shape() != [n, 7] {
             return Err(PyValueError::new_err(format!("actions of shape {:?}: expected ({n}, 7)", actions.shape())));
@@ -107,10 +108,15 @@ impl NativeVectorEnv {
 }
 
 impl NativeVectorEnv {
-    fn specs(&self, inits: &[Option<usize>]) -> PyResult<Vec<Option<EpisodeSpec>>> {
+    fn check_open(&self) -> PyResult<()> {
         if self.envs.is_empty() {
             return Err(pyo3::exceptions::PyRuntimeError::new_err("the vector env is closed"));
         }
+        Ok(())
+    }
+
+    fn specs(&self, inits: &[Option<usize>]) -> PyResult<Vec<Option<EpisodeSpec>>> {
+        self.check_open()?;
         if inits.len() != self.envs.len() {
             return Err(PyValueError::new_err(format!("{} initial states for {} envs", inits.len(), self.envs.len())));
         }

@@ -105,3 +105,30 @@ def test_make_vec_builds_the_vector_env_and_it_autoresets_next_step():
     obs, reward, terminated, truncated, info = envs.step(np.zeros((2, 7), dtype=np.float32))
     assert info["_init_state"].tolist() == [False, True] and reward[1] == 0.0
     envs.close()
+
+
+def test_wrong_arguments_raise_clear_exceptions():
+    from libero_vifo.gym import LiberoVifoEnv, LiberoVifoVectorEnv
+
+    with pytest.raises(ValueError, match="unknown task libero_goal/42"):
+        LiberoVifoEnv("libero_goal", 42, size=16)
+    with pytest.raises(ValueError, match="unknown task libero_goal/42"):
+        LiberoVifoVectorEnv(episodes=[("libero_goal", 0), ("libero_goal", 42)], size=16)
+    with pytest.raises(ValueError, match="unknown cue instance"):
+        LiberoVifoEnv("libero_goal", 0, size=16, cue="libero_goal/0/F9/nothing")
+    with pytest.raises(ValueError, match="needs cue="):
+        LiberoVifoVectorEnv(suite="libero_goal", task=0, size=16, language_condition="conflict")
+    env = LiberoVifoEnv("libero_goal", 0, size=16)
+    env.reset(options={"init_state": 0})
+    with pytest.raises(ValueError, match="not finite|NaN"):
+        env.step(np.array([0, 0, 0, 0, 0, 0, np.nan]))
+    env.close()
+    with pytest.raises(RuntimeError, match="closed"):
+        env.step(np.zeros(7))
+    vec = LiberoVifoVectorEnv(suite="libero_goal", task=0, num_envs=2, size=16)
+    vec.reset(options={"init_state": 0})
+    with pytest.raises(ValueError, match="initial state 50"):
+        vec.reset(options={"init_state": [0, 50]})
+    vec.close()
+    with pytest.raises(RuntimeError, match="closed"):
+        vec.step(np.zeros((2, 7)))

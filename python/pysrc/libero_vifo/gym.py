@@ -165,6 +165,8 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
         return obs, {"init_state": np.array(inits), "_init_state": np.ones(self.num_envs, dtype=bool)}
 
     def step(self, actions):
+        if self.closed:
+            raise RuntimeError("the vector env is closed")
         actions = np.ascontiguousarray(actions, dtype=np.float64)
         if actions.shape != (self.num_envs, 7):
             raise ValueError(f"actions of shape {actions.shape}: expected ({self.num_envs}, 7)")
@@ -180,7 +182,9 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
         return obs, np.array(rewards), terminated, truncated, info
 
     def close_extras(self, **kwargs):
-        self._env.close()
+        # Also called (by __del__) on an env whose constructor raised.
+        if hasattr(self, "_env"):
+            self._env.close()
 
 
 CUE_CONDITIONS = ("authorized", "conflict", "no_language")

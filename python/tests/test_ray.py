@@ -74,3 +74,31 @@ def test_a_sigkilled_worker_is_recovered_without_missing_or_duplicate_episodes(t
     assert "missing: 0  duplicates: 0  failed batches: 0" in run.stdout
     records = _native.record_keys(str(out / "results-random.jsonl"))
     assert len(records) == 20 and len({k for k, _ in records}) == 20 and all(ok for _, ok in records)
+
+
+def test_batches_go_to_one_openpi_server_each(cluster, tmp_path):
+    missing = [m for m in ("openpi_client", "websockets") if importlib.util.find_spec(m) is None]
+    if missing:
+        print(f"SKIPPED: the scripted openpi server needs {', '.join(missing)}")
+        pytest.skip(f"needs {', '.join(missing)}")
+    servers, logs = [], []
+    try:
+        for k in range(2):
+            logs.append(tmp_path / f"server{k}.jsonl")
+            servers.append(subprocess.Popen(
+                [sys.executable, str(ROOT / "tests" / "python" / "scripted_policy_server.py"), "--port", "0", "--log", str(logs[-1])],
+                stdout=subprocess.PIPE, text=True))
+        urls = [f"ws://127.0.0.1:{int(p.stdout.readline().split()[1])}" for p in servers]
+        selection = {"suites": ["libero_goal"], "protocols": ["original"], "families": ["F1", "F2"], "per_family": 1, "episodes": 2}
+        out = tmp_path / "served.jsonl"
+        s = run_benchmark(selection, urls, output=out, batch_size=1, size=32)
+    finally:
+        for p in servers:
+            p.kill()
+            p.wait()
+    n = len(_native.episode_specs(**selection))
+    assert n >= 2 and (s["episodes"], s["ran"], s["missing"], s["duplicates"]) == (n, n, 0, 0)
+    # Both servers answered, and every record names one policy (one row in the report).
+    assert all(log.exists() and log.read_text().count("\n") > 0 for log in logs)
+    policies = {json.loads(line)["policy"] for line in out.read_text().splitlines()}
+    assert len(policies) == 1 and policies.pop().startswith("openpi@ws://127.0.0.1:")

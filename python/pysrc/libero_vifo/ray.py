@@ -58,7 +58,7 @@ def run_benchmark(
     - ``policy``: a built-in (``expert-cue``, ``expert-language``, ``expert-authorized``,
       ``random``, ``zero``), an openpi server ``ws://host:port``, or a list of servers: batch
       ``j`` goes to server ``j % len(list)``, so with one server per worker each worker
-      talks to its own.
+      talks to its own; the records carry one policy name (the first record's server's).
     - ``address``: the cluster (``"auto"``, ``"ray://head:10001"``); ``None`` starts a local
       one with ``num_workers`` CPUs unless Ray is already initialised.
     - ``output``: the JSONL file (default ``vifo-run-ray/results-<policy>.jsonl``); ``resume``
@@ -105,7 +105,7 @@ def run_benchmark(
             task.remote([s for _, s in batch], servers[j % len(servers)], set_name, size): batch
             for j, batch in enumerate(batches)
         }
-        written, errors, failed = set(), 0, 0
+        written, errors, failed, run_name = set(), 0, 0, None
         while pending:
             ready, _ = ray.wait(list(pending), num_returns=1)
             for ref in ready:
@@ -119,9 +119,15 @@ def run_benchmark(
                 for key, line in records:
                     if key in written or key not in expected:
                         continue
+                    record = json.loads(line)
+                    # One run, one policy row in the report: records served by several
+                    # servers carry the name of the first record's server.
+                    run_name = run_name or record["policy"]
+                    if len(servers) > 1 and record["policy"] != run_name:
+                        line = json.dumps({**record, "policy": run_name})
                     results.write(line)
                     written.add(key)
-                    errors += json.loads(line)["outcome"]["status"] == "error"
+                    errors += record["outcome"]["status"] == "error"
                 if not quiet:
                     print(f"libero_vifo.ray: {len(written)}/{len(todo)} episodes written", flush=True)
     finally:

@@ -163,25 +163,29 @@ fn a_blown_up_simulation_ends_the_episode_as_an_error_naming_the_step() {
 
 #[test]
 fn an_unsettled_start_plus_libero_dummy_steps_is_the_settled_start() {
-    let s = goal0(Protocol::Original);
-    let mut settled = Env::new(small(&CameraName::ALL));
-    let reference = settled.reset(&s).unwrap().clone();
-    let mut env = Env::new(small(&CameraName::ALL));
-    let first = env.reset_unsettled(&s).unwrap().clone();
-    // Not settled yet: the fingers have not opened.
-    assert_ne!(first.gripper_qpos, reference.gripper_qpos);
-    for _ in 0..SETTLE_STEPS {
-        assert!(!env.step(&[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]).unwrap().done);
+    // The original protocol, and a cue anchored to the state (a halo on the drawer)
+    // under the conflict protocol: the cue is prepared from the settled scene either way.
+    let halo = spec(&task("libero_goal", 0), Protocol::Conflict, Some("libero_goal/0/F7/glow_halo"), 3, 0).unwrap();
+    for s in [goal0(Protocol::Original), halo] {
+        let mut settled = Env::new(small(&CameraName::ALL));
+        let reference = settled.reset(&s).unwrap().clone();
+        let mut env = Env::new(small(&CameraName::ALL));
+        let first = env.reset_unsettled(&s).unwrap().clone();
+        // Not settled yet: the fingers have not opened.
+        assert_ne!(first.gripper_qpos, reference.gripper_qpos);
+        assert_eq!(first.instruction, reference.instruction);
+        for _ in 0..SETTLE_STEPS {
+            assert!(!env.step(&[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]).unwrap().done);
+        }
+        let obs = env.observation();
+        assert_eq!((&obs.agentview, &obs.wrist), (&reference.agentview, &reference.wrist), "{}", s.key());
+        assert_eq!((obs.eef_pos, obs.eef_quat_xyzw, obs.joint_pos), (reference.eef_pos, reference.eef_quat_xyzw, reference.joint_pos));
+        assert_eq!(obs.gripper_qpos, reference.gripper_qpos);
+        // The same action from here gives the same state, and the success check agrees.
+        let a = [0.3, -0.2, 0.1, 0.0, 0.05, 0.0, 1.0];
+        let (x, y) = (env.step(&a).unwrap().observation.clone(), settled.step(&a).unwrap().observation.clone());
+        assert_eq!((x.agentview, x.wrist, x.eef_pos, x.gripper_qpos), (y.agentview, y.wrist, y.eef_pos, y.gripper_qpos));
+        assert_eq!(env.scored_success(), settled.scored_success());
+        assert_eq!(env.cue_drawing(), settled.cue_drawing());
     }
-    let obs = env.observation();
-    assert_eq!((&obs.agentview, &obs.wrist), (&reference.agentview, &reference.wrist));
-    assert_eq!((obs.eef_pos, obs.eef_quat_xyzw, obs.joint_pos), (reference.eef_pos, reference.eef_quat_xyzw, reference.joint_pos));
-    assert_eq!(obs.gripper_qpos, reference.gripper_qpos);
-    // The same action from here gives the same state, and the success check agrees.
-    let a = [0.3, -0.2, 0.1, 0.0, 0.05, 0.0, 1.0];
-    let (x, y) = (env.step(&a).unwrap().observation.clone(), settled.step(&a).unwrap().observation.clone());
-    assert_eq!((x.agentview, x.eef_pos, x.gripper_qpos), (y.agentview, y.eef_pos, y.gripper_qpos));
-    assert_eq!(env.scored_success(), settled.scored_success());
-    // A cue is prepared from the settled scene, so cue protocols cannot start unsettled.
-    assert!(matches!(env.reset_unsettled(&goal0(Protocol::Authorized)), Err(EnvError::Unsettled { .. })));
 }

@@ -4,16 +4,21 @@
 //! (`pysrc/libero_vifo/libero`).
 //!
 //! The GIL is released while physics and rendering run, so Python threads step envs in
-//! parallel.
+//! parallel. [`vector`]: N envs stepped on Rust threads in one call; [`run`]: benchmark runs
+//! into `vifo run`'s results files (the Ray runner's native half).
+
+mod run;
+mod vector;
 
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use vifo_protocols::benchmark::specs;
+use vifo_cues::SetName;
+use vifo_protocols::benchmark::{instances, specs};
 use vifo_protocols::env::{Env, EnvConfig, EnvError, scenes};
-use vifo_protocols::spec::{Protocol, TaskRef};
-use vifo_protocols::{Observation, benchmark};
+use vifo_protocols::spec::{EpisodeSpec, Protocol, TaskRef};
+use vifo_protocols::Observation;
 use vifo_scenes::sim::Sim;
 use vifo_scenes::view::{CameraName, ImageOrder};
 
@@ -31,6 +36,32 @@ fn py_err(e: EnvError) -> PyErr {
     }
 }
 
+/// The protocol called `condition` (`original`, `authorized`, `conflict`, `no_language`).
+fn protocol(condition: &str) -> PyResult<Protocol> {
+    Protocol::ALL.into_iter().find(|p| p.name() == condition).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "language_condition {condition:?}: expected one of original, authorized, conflict, no_language"
+        ))
+    })
+}
+
+/// The episode of task `suite`/`index` from initial state `init` under `condition` with cue
+/// instance `cue` (required by every condition but `original`, refused by it).
+fn episode_spec(suite: &str, index: usize, condition: &str, cue: Option<&str>, init: usize) -> PyResult<EpisodeSpec> {
+    let task = TaskRef { suite: suite.to_string(), index };
+    let protocol = protocol(condition)?;
+    if let (Protocol::Original, Some(id)) = (protocol, cue) {
+        return Err(PyValueError::new_err(format!(
+            "cue {id:?} with language_condition original: the original protocol shows no cue (use authorized, conflict or no_language)"
+        )));
+    }
+    let spec = specs::spec(&task, protocol, cue, init, 0).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    if init != spec.init {
+        return Err(PyValueError::new_err(format!("initial state {init}: task {task} has 50 (0 to 49)")));
+    }
+    Ok(spec)
+}
+
 /// One environment of one built-in task, started unsettled as LIBERO's `set_init_state`
 /// (the caller runs LIBERO's 10 dummy steps), images bottom-up as robosuite returns them.
 #[pyclass(module = "libero_vifo._native")]
@@ -38,6 +69,11 @@ struct NativeEnv {
     /// `None` once closed.
     env: Option<Env>,
     task: TaskRef,
+    condition: String,
+    cue: Option<String>,
+    /// The protocol's instruction (LIBERO's `language_instruction`).
+    #[pyo3(get)]
+    instruction: String,
 }
 
 impl NativeEnv {
@@ -48,24 +84,20 @@ impl NativeEnv {
 
 #[pymethods]
 impl NativeEnv {
-    /// An env for task `index` of `suite` with two `size`² cameras.
+    /// An env for task `index` of `suite` with two `size`² cameras, under protocol
+    /// `condition` with cue instance `cue`.
     #[new]
-    fn new(suite: &str, index: usize, size: u32) -> PyResult<NativeEnv> {
-        if size == 0 || size > MAX_SIZE {
-            return Err(PyValueError::new_err(format!("camera size {size}: expected 1 to {MAX_SIZE} pixels")));
-        }
-        let task = TaskRef { suite: suite.to_string(), index };
-        benchmark::builtin_task(&task).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    #[pyo3(signature = (suite, index, size, condition = "original", cue = None))]
+    fn new(suite: &str, index: usize, size: u32, condition: &str, cue: Option<String>) -> PyResult<NativeEnv> {
+        check_size(size)?;
+        let spec = episode_spec(suite, index, condition, cue.as_deref(), 0)?;
         let env = Env::new(EnvConfig { size, order: ImageOrder::BottomUp, cameras: CameraName::ALL.to_vec() });
-        Ok(NativeEnv { env: Some(env), task })
+        Ok(NativeEnv { env: Some(env), task: spec.task, condition: condition.to_string(), cue, instruction: spec.instruction })
     }
 
     /// Loads initial state `init` (0..50) without settling; returns the observation.
     fn reset<'py>(&mut self, py: Python<'py>, init: usize) -> PyResult<Bound<'py, PyDict>> {
-        let spec = specs::spec(&self.task, Protocol::Original, None, init, 0).map_err(|e| PyValueError::new_err(e.to_string()))?;
-        if init != spec.init {
-            return Err(PyValueError::new_err(format!("initial state {init}: task {} has 50 (0 to 49)", self.task)));
-        }
+        let spec = episode_spec(&self.task.suite, self.task.index, &self.condition, self.cue.as_deref(), init)?;
         let env = self.env()?;
         py.detach(|| env.reset_unsettled(&spec).map(|_| ())).map_err(py_err)?;
         observation(py, env)
@@ -106,6 +138,13 @@ impl NativeEnv {
     fn closed(&self) -> bool {
         self.env.is_none()
     }
+}
+
+fn check_size(size: u32) -> PyResult<()> {
+    if size == 0 || size > MAX_SIZE {
+        return Err(PyValueError::new_err(format!("camera size {size}: expected 1 to {MAX_SIZE} pixels")));
+    }
+    Ok(())
 }
 
 /// Movable objects: name, position, quaternion (x, y, z, w).
@@ -169,11 +208,22 @@ fn tasks(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
     Ok(out)
 }
 
+/// The cue instance ids of the built-in tasks in instance set `set` (`paper`, the paper's
+/// 1,347, or `full`), in suite, task and catalogue order.
+#[pyfunction]
+#[pyo3(signature = (set = "paper"))]
+fn cue_instances(set: &str) -> PyResult<Vec<String>> {
+    let set: SetName = set.parse().map_err(|e: String| PyValueError::new_err(e))?;
+    Ok(instances::all(set).iter().map(|c| c.id()).collect())
+}
+
 /// The same episode through the Rust API as `vifo` runs it (reset with the settle steps, then
 /// `actions`), for comparison with a Python loop: `[(obs, reward, done), ...]`, the reset's
-/// observation first. `upright` renders row 0 at the top instead of robosuite's order.
+/// observation first. `upright` renders row 0 at the top instead of robosuite's order;
+/// `condition` and `cue` as `NativeEnv`'s.
 #[pyfunction]
-#[pyo3(signature = (suite, index, init, size, actions, upright = false))]
+#[pyo3(signature = (suite, index, init, size, actions, upright = false, condition = "original", cue = None))]
+#[allow(clippy::too_many_arguments)]
 fn reference_episode<'py>(
     py: Python<'py>,
     suite: &str,
@@ -182,9 +232,11 @@ fn reference_episode<'py>(
     size: u32,
     actions: Vec<Vec<f64>>,
     upright: bool,
+    condition: &str,
+    cue: Option<&str>,
 ) -> PyResult<Vec<(Bound<'py, PyDict>, f64, bool)>> {
-    let task = TaskRef { suite: suite.to_string(), index };
-    let spec = specs::spec(&task, Protocol::Original, None, init, 0).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    check_size(size)?;
+    let spec = episode_spec(suite, index, condition, cue, init)?;
     let order = if upright { ImageOrder::Upright } else { ImageOrder::BottomUp };
     let mut env = Env::new(EnvConfig { size, order, cameras: CameraName::ALL.to_vec() });
     py.detach(|| env.reset(&spec).map(|_| ())).map_err(py_err)?;
@@ -218,7 +270,15 @@ fn native_steps_per_second(py: Python<'_>, suite: &str, index: usize, size: u32,
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<NativeEnv>()?;
+    m.add_class::<vector::NativeVectorEnv>()?;
+    m.add_class::<run::ResultsFile>()?;
+    m.add_function(wrap_pyfunction!(run::episode_specs, m)?)?;
+    m.add_function(wrap_pyfunction!(run::run_specs, m)?)?;
+    m.add_function(wrap_pyfunction!(run::check_policy, m)?)?;
+    m.add_function(wrap_pyfunction!(run::record_keys, m)?)?;
+    m.add_function(wrap_pyfunction!(run::write_report, m)?)?;
     m.add_function(wrap_pyfunction!(tasks, m)?)?;
+    m.add_function(wrap_pyfunction!(cue_instances, m)?)?;
     m.add_function(wrap_pyfunction!(reference_episode, m)?)?;
     m.add_function(wrap_pyfunction!(native_steps_per_second, m)?)?;
     Ok(())

@@ -13,10 +13,25 @@ from gymnasium.utils.env_checker import check_env  # noqa: E402
 from libero_vifo import _native  # noqa: E402
 
 
-def test_forty_tasks_are_registered():
+def test_forty_tasks_and_every_cue_variant_are_registered():
     ids = [i for i in gymnasium.registry if i.startswith("libero_vifo/")]
-    assert len(ids) == 40
+    assert len(ids) == 40 + 3 * 1347
     assert "libero_vifo/libero_10-9" in ids
+    assert "libero_vifo/libero_goal-0-conflict-F7-glow_halo" in ids
+    for i in ids:
+        assert gymnasium.envs.registration.parse_env_id(i)[1] == i.split("/")[1], i
+
+
+def test_a_cue_variant_equals_the_rust_env_with_that_cue():
+    env = gymnasium.make("libero_vifo/libero_goal-0-no_language-F4-goal_inset", size=32)
+    obs, info = env.reset(options={"init_state": 2})
+    assert info["language"] == "" and env.unwrapped.language_instruction == ""
+    ref = _native.reference_episode("libero_goal", 0, 2, 32, [], upright=True, condition="no_language", cue="libero_goal/0/F4/goal_inset")
+    plain = _native.reference_episode("libero_goal", 0, 2, 32, [], upright=True)
+    assert obs["agentview_image"].tobytes() == ref[0][0]["agentview_image"].tobytes()
+    assert obs["agentview_image"].tobytes() != plain[0][0]["agentview_image"].tobytes()
+    made = gymnasium.make("libero_vifo/libero_goal-0", size=32, cue="libero_goal/0/F4/goal_inset", language_condition="no_language")
+    assert made.reset(options={"init_state": 2})[0]["agentview_image"].tobytes() == obs["agentview_image"].tobytes()
 
 
 def test_check_env_is_clean():
@@ -42,3 +57,78 @@ def test_a_gym_episode_equals_the_rust_env():
         assert (reward, terminated or truncated) == (rr, rd)
     with pytest.raises(ValueError, match="shape"):
         env.step(np.zeros(6))
+
+
+def test_the_vector_env_steps_the_single_envs_episodes_on_any_thread_count():
+    from libero_vifo.gym import LiberoVifoVectorEnv
+
+    rng = np.random.default_rng(3)
+    actions = rng.uniform(-1, 1, (5, 2, 7))
+    episodes = [("libero_goal", 0), ("libero_goal", 0, "conflict", "libero_goal/0/F7/glow_halo")]
+    refs = [
+        _native.reference_episode("libero_goal", 0, 4, 32, actions[:, 0].tolist(), upright=True),
+        _native.reference_episode("libero_goal", 0, 9, 32, actions[:, 1].tolist(), upright=True, condition="conflict", cue="libero_goal/0/F7/glow_halo"),
+    ]
+    seen = []
+    for threads in (1, 2):
+        env = LiberoVifoVectorEnv(episodes=episodes, size=32, threads=threads)
+        assert env.num_envs == 2 and env.action_space.shape == (2, 7)
+        obs, info = env.reset(options={"init_state": [4, 9]})
+        assert env.observation_space.contains(obs) and list(info["init_state"]) == [4, 9]
+        frames = [obs["agentview_image"].tobytes()]
+        for t in range(5):
+            obs, reward, terminated, truncated, info = env.step(actions[t])
+            for k in range(2):
+                ro, rr, rd = refs[k][t + 1]
+                assert obs["robot0_eye_in_hand_image"][k].tobytes() == ro["robot0_eye_in_hand_image"].tobytes(), (threads, t, k)
+                assert obs["robot0_eef_pos"][k].tobytes() == ro["robot0_eef_pos"].tobytes()
+                assert (reward[k], terminated[k] or truncated[k]) == (rr, rd)
+            frames.append(obs["agentview_image"].tobytes())
+        seen.append(frames)
+        with pytest.raises(ValueError, match=r"shape \(2, 6\)"):
+            env.step(np.zeros((2, 6)))
+        bad = np.zeros((2, 7))
+        bad[1, 3] = np.nan
+        with pytest.raises(ValueError, match="env 1: element 3 is NaN"):
+            env.step(bad)
+        env.close()
+    assert seen[0] == seen[1]
+    assert env.unwrapped is env
+
+
+def test_make_vec_builds_the_vector_env_and_it_autoresets_next_step():
+    envs = gymnasium.make_vec("libero_vifo/libero_goal-0", num_envs=2, vectorization_mode="vector_entry_point", size=16)
+    obs, info = envs.reset(seed=1)
+    assert obs["agentview_image"].shape == (2, 16, 16, 3)
+    # Force the end of sub-env 1's episode, then check the next step restarts it.
+    envs.unwrapped._autoreset[1] = True
+    obs, reward, terminated, truncated, info = envs.step(np.zeros((2, 7), dtype=np.float32))
+    assert info["_init_state"].tolist() == [False, True] and reward[1] == 0.0
+    envs.close()
+
+
+def test_wrong_arguments_raise_clear_exceptions():
+    from libero_vifo.gym import LiberoVifoEnv, LiberoVifoVectorEnv
+
+    with pytest.raises(ValueError, match="unknown task libero_goal/42"):
+        LiberoVifoEnv("libero_goal", 42, size=16)
+    with pytest.raises(ValueError, match="unknown task libero_goal/42"):
+        LiberoVifoVectorEnv(episodes=[("libero_goal", 0), ("libero_goal", 42)], size=16)
+    with pytest.raises(ValueError, match="unknown cue instance"):
+        LiberoVifoEnv("libero_goal", 0, size=16, cue="libero_goal/0/F9/nothing")
+    with pytest.raises(ValueError, match="needs cue="):
+        LiberoVifoVectorEnv(suite="libero_goal", task=0, size=16, language_condition="conflict")
+    env = LiberoVifoEnv("libero_goal", 0, size=16)
+    env.reset(options={"init_state": 0})
+    with pytest.raises(ValueError, match="not finite|NaN"):
+        env.step(np.array([0, 0, 0, 0, 0, 0, np.nan]))
+    env.close()
+    with pytest.raises(RuntimeError, match="closed"):
+        env.step(np.zeros(7))
+    vec = LiberoVifoVectorEnv(suite="libero_goal", task=0, num_envs=2, size=16)
+    vec.reset(options={"init_state": 0})
+    with pytest.raises(ValueError, match="initial state 50"):
+        vec.reset(options={"init_state": [0, 50]})
+    vec.close()
+    with pytest.raises(RuntimeError, match="closed"):
+        vec.step(np.zeros((2, 7)))

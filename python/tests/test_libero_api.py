@@ -16,10 +16,10 @@ SIZE = 64
 DUMMY = [0.0] * 6 + [-1.0]
 
 
-def make_env(suite="libero_goal", i=0, size=SIZE):
+def make_env(suite="libero_goal", i=0, size=SIZE, **cue):
     task = benchmark.get_benchmark_dict()[suite]().get_task(i)
     path = pathlib.Path(get_libero_path("bddl_files")) / task.problem_folder / task.bddl_file
-    return OffScreenRenderEnv(bddl_file_name=path, camera_heights=size, camera_widths=size)
+    return OffScreenRenderEnv(bddl_file_name=path, camera_heights=size, camera_widths=size, **cue)
 
 
 def test_the_four_suites_and_their_tasks():
@@ -61,13 +61,32 @@ def test_observation_keys_dtypes_shapes():
     env.close()
 
 
-def test_an_openpi_style_episode_equals_the_rust_env_bit_for_bit():
+@pytest.mark.parametrize(
+    "condition, cue",
+    [
+        ("original", None),
+        ("authorized", "libero_goal/0/F1/caption_bar"),
+        ("conflict", "libero_goal/0/F7/glow_halo"),
+        ("no_language", "libero_goal/0/F4/goal_inset"),
+    ],
+)
+def test_an_openpi_style_episode_equals_the_rust_env_bit_for_bit(condition, cue):
     """openpi's loop: 10 dummy steps after set_init_state, then policy actions. The Rust
-    reference resets with its settle steps and takes the same policy actions."""
+    reference resets with its settle steps (as `vifo run`'s rollout does) and takes the same
+    policy actions; under a cue protocol both draw the cue."""
     rng = np.random.default_rng(5)
     actions = [list(rng.uniform(-1, 1, 7)) for _ in range(12)]
-    reference = _native.reference_episode("libero_goal", 0, 7, SIZE, actions)
-    env = make_env()
+    reference = _native.reference_episode("libero_goal", 0, 7, SIZE, actions, condition=condition, cue=cue)
+    env = make_env(cue=cue, language_condition=condition)
+    assert env.language_condition == condition
+    if condition == "original":
+        assert env.language_instruction == "open the middle drawer of the cabinet"
+    elif condition == "authorized":
+        assert env.language_instruction == "follow the visual cue in the observation and complete the task"
+    elif condition == "no_language":
+        assert env.language_instruction == ""
+    else:
+        assert env.language_instruction not in ("", "open the middle drawer of the cabinet")
     env.reset()
     obs = env.set_init_state(benchmark.get_benchmark_dict()["libero_goal"]().get_task_init_states(0)[7])
     for _ in range(10):
@@ -84,6 +103,31 @@ def test_an_openpi_style_episode_equals_the_rust_env_bit_for_bit():
         assert (r, d) == (rr, rd), t
     # The robot moved: the comparison is of different states, not of one frame.
     assert not np.array_equal(steps[0][0]["robot0_eef_pos"], steps[-1][0]["robot0_eef_pos"])
+    if cue is not None:
+        # The cue is in the picture: the same state without it looks different.
+        plain = _native.reference_episode("libero_goal", 0, 7, SIZE, actions)
+        assert plain[-1][0]["agentview_image"].tobytes() != steps[-1][0]["agentview_image"].tobytes()
+        assert plain[-1][0]["robot0_eef_pos"].tobytes() == steps[-1][0]["robot0_eef_pos"].tobytes()
+
+
+def test_cue_arguments_are_checked():
+    with pytest.raises(ValueError, match="unknown cue instance"):
+        make_env(cue="libero_goal/0/F2/no_such_arrow")
+    with pytest.raises(ValueError, match="belongs to task libero_goal/4"):
+        make_env(cue="libero_goal/4/F2/straight_arrow_red", language_condition="conflict")
+    with pytest.raises(ValueError, match='language_condition "nope"'):
+        make_env(cue="libero_goal/0/F1/caption_bar", language_condition="nope")
+    with pytest.raises(ValueError, match="needs cue="):
+        make_env(language_condition="authorized")
+    with pytest.raises(ValueError, match="original protocol shows no cue"):
+        make_env(cue="libero_goal/0/F1/caption_bar", language_condition="original")
+    with pytest.raises(TypeError, match="instance id"):
+        make_env(cue=3)
+    env = make_env(cue="libero_goal/0/F1/caption_bar")
+    assert (env.language_condition, env.cue) == ("authorized", "libero_goal/0/F1/caption_bar")
+    ids = __import__("libero_vifo").cue_instances()
+    assert len(ids) == 1347 and "libero_goal/0/F1/caption_bar" in ids
+    assert len(__import__("libero_vifo").cue_instances("full")) == 1671
 
 
 def test_images_are_bottom_up_as_robosuite_returns_them():

@@ -15,7 +15,8 @@ The prompt scripts misbehaviour:
   slow:<seconds>     wait before answering normally
   close_after_reply  answer normally, then close the connection
 
-Prints `PORT <n>` on stdout once listening (use --port 0 for a free port).
+Prints `PORT <n>` on stdout once listening (use --port 0 for a free port). `--log FILE` appends
+what each answered request held (prompt, shapes and dtypes) to FILE, one JSON line each.
 """
 
 import argparse
@@ -34,6 +35,7 @@ def parse_args():
     p.add_argument("--chunk", type=int, default=10, help="action chunk length H")
     p.add_argument("--dtype", choices=["f4", "f8"], default="f8")
     p.add_argument("--metadata", default="{}", help="JSON object sent as the metadata message")
+    p.add_argument("--log", help="append one JSON line per answered request (prompt, shapes) to this file")
     return p.parse_args()
 
 
@@ -101,6 +103,9 @@ async def handler(ws):
             },
         }
         STATE["requests"] += 1
+        if ARGS.log:
+            with open(ARGS.log, "a") as f:
+                f.write(json.dumps({"prompt": prompt, "shapes": reply["echo"]["shapes"]}) + "\n")
         await ws.send(PACKER.pack(reply))
         if prompt == "close_after_reply":
             await ws.close()

@@ -91,8 +91,6 @@ pub enum EnvError {
     Render(String),
     #[error("cue: {0}")]
     Cue(String),
-    #[error("protocol {protocol} shows a cue prepared from the settled scene; start it with reset, not reset_unsettled")]
-    Unsettled { protocol: String },
     #[error("no episode: call reset first")]
     NotStarted,
     #[error("the episode is over ({steps} steps); call reset")]
@@ -179,12 +177,10 @@ impl Env {
     /// Starts the episode as LIBERO's `set_init_state` does: the initial state loaded, no
     /// settle steps. The caller runs them as [`SETTLE_STEPS`] ordinary steps of LIBERO's dummy
     /// action (as openpi's client loop does); after them the episode is, bit for bit, the one
-    /// [`Env::reset`] starts, with a budget [`SETTLE_STEPS`] longer. Only the original protocol:
-    /// a cue is prepared from the settled scene.
+    /// [`Env::reset`] starts, with a budget [`SETTLE_STEPS`] longer. A cue is prepared from
+    /// the settled scene (a second copy of the state, settled aside), so its frames after the
+    /// settle steps are `reset`'s too; during them it is drawn over the settling scene.
     pub fn reset_unsettled(&mut self, spec: &EpisodeSpec) -> Result<&Observation, EnvError> {
-        if spec.protocol.uses_cue() {
-            return Err(EnvError::Unsettled { protocol: spec.protocol.name().to_string() });
-        }
         self.start(spec, false)
     }
 
@@ -235,9 +231,19 @@ impl Env {
             }
         };
         let render = !self.config.cameras.is_empty();
-        let cue = cue_spec
-            .map(|c| EpisodeCue::prepare(&sim, &view, &mut self.renderer, c, &task.goal, self.config.size, render))
-            .transpose()?;
+        let cue = match cue_spec {
+            None => None,
+            Some(c) if settle => Some(EpisodeCue::prepare(&sim, &view, &mut self.renderer, c, &task.goal, self.config.size, render)?),
+            Some(c) => {
+                // What `reset` would prepare it from: the same state after the settle steps.
+                let mut settled = Sim::new(assets.model.clone());
+                init_states::apply(&mut settled, start).map_err(|e| EnvError::Scene(format!("{}: initial state {}: {e}", spec.task, spec.init)))?;
+                init_states::wait(&mut settled);
+                let mut settled_view = assets.view.clone();
+                settled_view.update(&settled);
+                Some(EpisodeCue::prepare(&settled, &settled_view, &mut self.renderer, c, &task.goal, self.config.size, render)?)
+            }
+        };
         let budget = vifo_scenes::suite(&spec.task.suite).map_or(0, |s| s.max_steps as usize)
             + if settle { 0 } else { SETTLE_STEPS };
         self.episode = Some(Episode {

@@ -156,28 +156,12 @@ where
         unique.into_iter().filter(|s| options.shard.is_none_or(|sh| sh.contains(&s.key()))).collect();
     summary.in_shard = in_shard.len();
 
-    let _lock = RunLock::take(&options.output)?;
-    let loaded = read_records(&options.output)?;
-    if !options.resume && (!loaded.records.is_empty() || loaded.truncated_tail > 0) {
-        return Err(RunError::Exists(options.output.clone()));
-    }
-    if let Some(r) = loaded.records.iter().find(|r| r.version != RESULTS_VERSION) {
-        return Err(RunError::OtherVersion {
-            path: options.output.clone(),
-            found: r.version,
-            expected: RESULTS_VERSION,
-        });
-    }
-    summary.truncated_tail = loaded.truncated_tail;
-    if let Some(other) = loaded.records.iter().find(|r| r.set != options.set) {
-        return Err(RunError::OtherSet { path: options.output.clone(), found: other.set, wanted: options.set });
-    }
-    let done: BTreeSet<String> =
-        loaded.records.iter().filter(|r| results::is_completed(r)).map(|r| r.spec.key()).collect();
+    let OpenResults { lock: _lock, writer, done, truncated_tail } = open_results(options)?;
+    summary.truncated_tail = truncated_tail;
     let todo: Vec<&EpisodeSpec> = in_shard.into_iter().filter(|s| !done.contains(&s.key())).collect();
     summary.already_done = summary.in_shard - todo.len();
 
-    let writer = Mutex::new(ResultsWriter::append(&options.output, loaded.valid_len)?);
+    let writer = Mutex::new(writer);
     let failure: Mutex<Option<RunError>> = Mutex::new(None);
     let progress = progress_bar(todo.len() as u64, options.quiet);
     let errors = std::sync::atomic::AtomicUsize::new(0);
@@ -208,6 +192,41 @@ where
     summary.ran = todo.len();
     summary.errors = errors.into_inner();
     Ok(summary)
+}
+
+/// A results file opened for a run (by [`run`], or by a driver that gets its records from
+/// elsewhere, such as the Python wheel's Ray runner): locked, checked, ready to append.
+pub struct OpenResults {
+    /// Held while the file is written.
+    pub lock: RunLock,
+    pub writer: ResultsWriter,
+    /// Keys of the episodes that already have a completed record.
+    pub done: BTreeSet<String>,
+    /// Bytes of a cut-off last line found (and removed).
+    pub truncated_tail: usize,
+}
+
+/// Takes the lock on `options.output` and checks what it holds: without `resume` it must be
+/// empty; with it, its records must be of this [`RESULTS_VERSION`] and `options.set`.
+pub fn open_results(options: &RunOptions) -> Result<OpenResults, RunError> {
+    let lock = RunLock::take(&options.output)?;
+    let loaded = read_records(&options.output)?;
+    if !options.resume && (!loaded.records.is_empty() || loaded.truncated_tail > 0) {
+        return Err(RunError::Exists(options.output.clone()));
+    }
+    if let Some(r) = loaded.records.iter().find(|r| r.version != RESULTS_VERSION) {
+        return Err(RunError::OtherVersion {
+            path: options.output.clone(),
+            found: r.version,
+            expected: RESULTS_VERSION,
+        });
+    }
+    if let Some(other) = loaded.records.iter().find(|r| r.set != options.set) {
+        return Err(RunError::OtherSet { path: options.output.clone(), found: other.set, wanted: options.set });
+    }
+    let done = loaded.records.iter().filter(|r| results::is_completed(r)).map(|r| r.spec.key()).collect();
+    let writer = ResultsWriter::append(&options.output, loaded.valid_len)?;
+    Ok(OpenResults { lock, writer, done, truncated_tail: loaded.truncated_tail })
 }
 
 /// One episode with its wall time; panics and mismatched records become error records.

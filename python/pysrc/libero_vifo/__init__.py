@@ -6,6 +6,12 @@ Switch an evaluation script by changing its imports::
     from libero_vifo.libero.envs import OffScreenRenderEnv
 """
 
-from . import _native  # noqa: F401
+from . import _native
 
-__all__ = ["libero"]
+__all__ = ["libero", "cue_instances"]
+
+
+def cue_instances(set="paper"):
+    """The cue instance ids of the 40 tasks (``libero_goal/0/F7/glow_halo``) in the ``paper``
+    set (1,347) or the ``full`` one, for ``OffScreenRenderEnv(cue=...)``."""
+    return _native.cue_instances(set)

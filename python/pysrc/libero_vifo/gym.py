@@ -1,20 +1,33 @@
-"""gymnasium environments ``libero_vifo/<suite>-<task>`` (importing this module registers the
-40 tasks; needs ``gymnasium``, which the wheel does not depend on).
+"""gymnasium environments (importing this module registers them; needs ``gymnasium``, which
+the wheel does not depend on):
+
+- ``libero_vifo/<suite>-<task>``: the 40 tasks, original protocol (``libero_vifo/libero_goal-0``);
+- ``libero_vifo/<suite>-<task>-<condition>-<family>-<variant>``: each cue instance of the paper
+  set (``<suite>/<task>/<family>/<variant>``) under each cue protocol, ``condition`` one of
+  ``authorized``, ``conflict``, ``no_language`` (``libero_vifo/libero_goal-0-conflict-F7-glow_halo``;
+  3 x 1,347 ids; a repeated variant's ``@k`` is written ``.k``, which gymnasium's ids allow).
+  Instances of the ``full`` set only: ``gymnasium.make("libero_vifo/<suite>-<task>",
+  cue=<id>, language_condition=<condition>)``.
 
 An episode here is the one ``vifo`` runs: ``reset`` loads an initial state (``options =
 {"init_state": k}``, else one drawn from the reset seed) and runs LIBERO's 10 settle steps;
 ``terminated`` when the task is done, ``truncated`` at the suite's budget. Images are upright
 (row 0 at the top), unlike ``OffScreenRenderEnv``'s robosuite order.
+
+``LiberoVifoVectorEnv`` (also ``gymnasium.make_vec(id, num_envs=N,
+vectorization_mode="vector_entry_point")``) steps N episodes in one call on Rust threads with
+the GIL released; its sub-envs are the same episodes, bit for bit, as the single env's.
 """
 
 import gymnasium
 import numpy as np
 from gymnasium import spaces
+from gymnasium.vector.utils import batch_space
 
 from . import _native
 from .libero.benchmark import _TASKS
 
-__all__ = ["LiberoVifoEnv"]
+__all__ = ["LiberoVifoEnv", "LiberoVifoVectorEnv"]
 
 _DUMMY = [0.0] * 6 + [-1.0]
 _SETTLE_STEPS = 10
@@ -31,23 +44,41 @@ _VECTORS = {
 }
 
 
+def _observation_space(size):
+    image = spaces.Box(0, 255, (size, size, 3), np.uint8)
+    vectors = {k: spaces.Box(-b, b, (n,), np.float64) for k, (n, b) in _VECTORS.items()}
+    return spaces.Dict({"agentview_image": image, "robot0_eye_in_hand_image": image, **vectors})
+
+
+def _resolve_condition(cue, language_condition):
+    if language_condition is None:
+        language_condition = "original" if cue is None else "authorized"
+    if language_condition != "original" and cue is None:
+        raise ValueError(f"language_condition {language_condition!r} needs cue=<instance id>")
+    return language_condition
+
+
+def _task_info(suite, task):
+    found = [t for t in _TASKS if (t["suite"], t["index"]) == (suite, task)]
+    if not found:
+        raise ValueError(f"unknown task {suite}/{task}")
+    return found[0]
+
+
 class LiberoVifoEnv(gymnasium.Env):
-    """One built-in task, original protocol, two ``size``² cameras."""
+    """One built-in task with two ``size``² cameras, under the original protocol or, with a
+    cue instance id, under ``language_condition`` (``authorized`` by default)."""
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 20}
 
-    def __init__(self, suite, task, size=256, render_mode=None):
-        found = [t for t in _TASKS if (t["suite"], t["index"]) == (suite, task)]
-        if not found:
-            raise ValueError(f"unknown task {suite}/{task}")
+    def __init__(self, suite, task, size=256, render_mode=None, cue=None, language_condition=None):
+        self._info = _task_info(suite, task)
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode {render_mode!r}: only 'rgb_array'")
         self.render_mode = render_mode
-        self._info = found[0]
-        self._env = _native.NativeEnv(suite, task, size)
-        image = spaces.Box(0, 255, (size, size, 3), np.uint8)
-        vectors = {k: spaces.Box(-b, b, (n,), np.float64) for k, (n, b) in _VECTORS.items()}
-        self.observation_space = spaces.Dict({"agentview_image": image, "robot0_eye_in_hand_image": image, **vectors})
+        self._env = _native.NativeEnv(suite, task, size, _resolve_condition(cue, language_condition), cue)
+        self.language_instruction = self._env.instruction
+        self.observation_space = _observation_space(size)
         self.action_space = spaces.Box(-1.0, 1.0, (7,), np.float32)
         self._last = None
 
@@ -64,7 +95,7 @@ class LiberoVifoEnv(gymnasium.Env):
         obs = self._env.reset(init)
         for _ in range(_SETTLE_STEPS):
             obs, _, _ = self._env.step(_DUMMY)
-        return self._observe(obs), {"init_state": init, "language": self._info["language"]}
+        return self._observe(obs), {"init_state": init, "language": self.language_instruction}
 
     def step(self, action):
         action = np.asarray(action, dtype=np.float64)
@@ -83,9 +114,101 @@ class LiberoVifoEnv(gymnasium.Env):
         self._env.close()
 
 
-for _t in _TASKS:
-    _id = f"libero_vifo/{_t['suite']}-{_t['index']}"
-    if _id not in gymnasium.registry:
+class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
+    """``num_envs`` episodes of one task (or one per entry of ``episodes``: ``(suite, task)``
+    or ``(suite, task, language_condition, cue)``) stepped together on ``threads`` Rust
+    threads (default: one per env), the GIL released.
+
+    ``reset`` starts every sub-env from an initial state (``options={"init_state": k}`` or a
+    list of N, else drawn from the reset seed) with the 10 settle steps, as ``vifo run``;
+    ``step`` takes an (N, 7) batch. Autoreset is gymnasium 1.0's next-step mode: the step after
+    a sub-env ended resets it to a drawn initial state (reward 0, not done) and ignores its
+    action. Infos: ``init_state`` where a sub-env (re)started, ``success`` per step.
+    """
+
+    metadata = {"autoreset_mode": "NextStep"}
+
+    def __init__(self, num_envs=1, suite=None, task=None, size=256, cue=None, language_condition=None, threads=None, episodes=None):
+        if episodes is None:
+            if suite is None or task is None:
+                raise ValueError("name the task (suite=, task=) or pass episodes=[(suite, task[, language_condition, cue]), ...]")
+            episodes = [(suite, task, language_condition, cue)] * num_envs
+        rows = []
+        for e in episodes:
+            s, t, condition, c = (tuple(e) + (None, None))[:4]
+            _task_info(s, t)
+            rows.append((s, int(t), _resolve_condition(c, condition), c))
+        self.num_envs = len(rows)
+        self._counts = [_task_info(s, t)["init_states"] for s, t, _, _ in rows]
+        self._env = _native.NativeVectorEnv(rows, size, threads or self.num_envs)
+        self.language_instructions = self._env.instructions()
+        self.single_observation_space = _observation_space(size)
+        self.single_action_space = spaces.Box(-1.0, 1.0, (7,), np.float32)
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self._autoreset = np.zeros(self.num_envs, dtype=bool)
+
+    def _draw(self, k):
+        return int(self.np_random.integers(self._counts[k]))
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        init = (options or {}).get("init_state")
+        if init is None:
+            inits = [self._draw(k) for k in range(self.num_envs)]
+        elif np.ndim(init) == 0:
+            inits = [int(init)] * self.num_envs
+        else:
+            inits = [int(i) for i in init]
+        obs = self._env.reset(inits)
+        self._autoreset[:] = False
+        return obs, {"init_state": np.array(inits), "_init_state": np.ones(self.num_envs, dtype=bool)}
+
+    def step(self, actions):
+        if self.closed:
+            raise RuntimeError("the vector env is closed")
+        actions = np.ascontiguousarray(actions, dtype=np.float64)
+        if actions.shape != (self.num_envs, 7):
+            raise ValueError(f"actions of shape {actions.shape}: expected ({self.num_envs}, 7)")
+        resets = [self._draw(k) if self._autoreset[k] else None for k in range(self.num_envs)]
+        obs, rewards, terminated, truncated = self._env.step(actions, resets)
+        terminated, truncated = np.array(terminated), np.array(truncated)
+        info = {"success": terminated.copy(), "_success": ~self._autoreset}
+        restarted = np.array([r is not None for r in resets])
+        if restarted.any():
+            info["init_state"] = np.array([-1 if r is None else r for r in resets])
+            info["_init_state"] = restarted
+        self._autoreset = terminated | truncated
+        return obs, np.array(rewards), terminated, truncated, info
+
+    def close_extras(self, **kwargs):
+        # Also called (by __del__) on an env whose constructor raised.
+        if hasattr(self, "_env"):
+            self._env.close()
+
+
+CUE_CONDITIONS = ("authorized", "conflict", "no_language")
+
+
+def _register(env_id, **kwargs):
+    if env_id not in gymnasium.registry:
         gymnasium.register(
-            id=_id, entry_point="libero_vifo.gym:LiberoVifoEnv", kwargs={"suite": _t["suite"], "task": _t["index"]}
+            id=env_id,
+            entry_point="libero_vifo.gym:LiberoVifoEnv",
+            vector_entry_point="libero_vifo.gym:LiberoVifoVectorEnv",
+            kwargs=kwargs,
+        )
+
+
+for _t in _TASKS:
+    _register(f"libero_vifo/{_t['suite']}-{_t['index']}", suite=_t["suite"], task=_t["index"])
+for _cue in _native.cue_instances("paper"):
+    _suite, _index, _family, _variant = _cue.split("/")
+    for _condition in CUE_CONDITIONS:
+        _register(
+            f"libero_vifo/{_suite}-{_index}-{_condition}-{_family}-{_variant.replace('@', '.')}",
+            suite=_suite,
+            task=int(_index),
+            cue=_cue,
+            language_condition=_condition,
         )

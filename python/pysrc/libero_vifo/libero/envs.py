@@ -5,6 +5,13 @@ Differences from LIBERO, all on purpose:
   ``set_init_state`` next anyway. Neither runs settle steps: the caller's dummy steps do, as
   openpi's loop does, and after LIBERO's 10 of them the episode equals ``vifo``'s bit for bit.
 - The physics has no randomness, so ``seed`` only records the seed.
+- Extra keyword arguments reach the cue protocols: ``cue=`` (an instance id,
+  ``libero_goal/0/F7/glow_halo``; ``libero_vifo.cue_instances()`` lists them) and
+  ``language_condition=`` (``authorized``, the default with a cue, ``conflict`` or
+  ``no_language``; ``original``, the default without). The images then carry the cue as
+  ``vifo run`` draws it and ``language_instruction`` is the protocol's instruction (openpi's
+  loop reads ``task.language``; feed ``env.language_instruction`` instead). ``done``,
+  ``reward`` and ``check_success`` follow the protocol's scored task.
 - After the episode is done (task finished or the suite's budget + 10 steps), ``step`` raises
   ``RuntimeError`` instead of simulating on.
 """
@@ -36,16 +43,24 @@ def _find_task(bddl_file_name):
 class OffScreenRenderEnv:
     """One LIBERO task with two square cameras, stepped with 7-D actions."""
 
-    def __init__(self, bddl_file_name, camera_heights=128, camera_widths=128, **kwargs):
+    def __init__(self, bddl_file_name, camera_heights=128, camera_widths=128, cue=None, language_condition=None, **kwargs):
         if camera_heights != camera_widths:
             raise ValueError(f"camera_heights {camera_heights} != camera_widths {camera_widths}: cameras are square here")
         unknown = set(kwargs) - {"camera_names", "has_renderer", "has_offscreen_renderer", "use_camera_obs", "control_freq", "horizon"}
         if unknown:
             raise TypeError(f"OffScreenRenderEnv: unsupported arguments {sorted(unknown)}")
         self._task = _find_task(bddl_file_name)
-        self._env = _native.NativeEnv(self._task["suite"], self._task["index"], int(camera_heights))
+        if cue is not None and not isinstance(cue, str):
+            raise TypeError(f"cue: expected an instance id string, got {type(cue).__name__}")
+        if language_condition is None:
+            language_condition = "original" if cue is None else "authorized"
+        if language_condition != "original" and cue is None:
+            raise ValueError(f"language_condition {language_condition!r} needs cue=<instance id> (libero_vifo.cue_instances() lists them)")
+        self._env = _native.NativeEnv(self._task["suite"], self._task["index"], int(camera_heights), language_condition, cue)
         self._seed = None
-        self.language_instruction = self._task["language"]
+        self.cue = cue
+        self.language_condition = language_condition
+        self.language_instruction = self._env.instruction
 
     def seed(self, seed):
         self._seed = seed

@@ -1,0 +1,154 @@
+"""The benchmark sharded over a Ray cluster (needs ``ray``: ``pip install libero_vifo[ray]``).
+
+``run_benchmark(selection, policy)`` lists the selection's episodes as ``vifo run`` does, skips
+those the results file already completed, splits the rest into batches and runs each batch as
+one Ray task: one process runs its episodes with the same Rust code as ``vifo run``
+(``_native.run_specs``) and returns their records. The driver appends each returned record to
+the results file through the runner's own lock, checks and writer, so the file is a ``vifo
+run`` results file: ``vifo report`` reads it and ``vifo run --resume`` (or ``resume=True``
+here) continues it.
+
+A worker that dies (killed, out of memory, a lost node) fails its task and Ray runs the task
+again (``max_retries``); records come back only from a finished task and the driver writes a
+key once, so a batch cut short leaves no record and a retried one no duplicate. The summary
+counts missing and duplicate episodes of the file after the run.
+"""
+
+import collections
+import json
+import os
+import tempfile
+import time
+
+import ray
+
+from . import _native
+
+__all__ = ["run_benchmark"]
+
+
+def _run_batch(specs, policy, set_name, size):
+    """One Ray task: the episodes ``specs`` (JSON) in this process; ``[(key, record line)]``."""
+    with tempfile.TemporaryDirectory(prefix="libero-vifo-batch-") as scratch:
+        path = os.path.join(scratch, "results.jsonl")
+        _native.run_specs(specs, policy, path, set=set_name, threads=1, size=size)
+        with open(path) as f:
+            lines = [line for line in f.read().splitlines() if line.strip()]
+        keys = [key for key, _ in _native.record_keys(path)]
+    return list(zip(keys, lines))
+
+
+def run_benchmark(
+    selection,
+    policy,
+    address=None,
+    output=None,
+    resume=False,
+    batch_size=None,
+    num_workers=None,
+    size=256,
+    max_retries=3,
+    report_dir=None,
+    quiet=False,
+):
+    """Runs ``selection`` with ``policy`` on a Ray cluster into a ``vifo run`` results file.
+
+    - ``selection``: ``vifo run``'s options as a dict: ``set`` (``paper``/``full``),
+      ``suites``, ``protocols``, ``families``, ``per_family``, ``episodes``.
+    - ``policy``: a built-in (``expert-cue``, ``expert-language``, ``expert-authorized``,
+      ``random``, ``zero``), an openpi server ``ws://host:port``, or a list of servers: batch
+      ``j`` goes to server ``j % len(list)``, so with one server per worker each worker
+      talks to its own; the records carry one policy name (the first record's server's).
+    - ``address``: the cluster (``"auto"``, ``"ray://head:10001"``); ``None`` starts a local
+      one with ``num_workers`` CPUs unless Ray is already initialised.
+    - ``output``: the JSONL file (default ``vifo-run-ray/results-<policy>.jsonl``); ``resume``
+      continues it. ``batch_size``: episodes per task (default: about 4 tasks per worker).
+    - ``report_dir``: also write ``vifo report``'s tables there.
+
+    Returns a summary dict: ``episodes``, ``already_done``, ``ran``, ``errors``, ``missing``,
+    ``duplicates``, ``failed_batches`` (tasks that failed even after their retries; their
+    episodes are missing and a resumed run retries them), ``seconds``, ``output``.
+    """
+    selection = dict(selection)
+    set_name = selection.pop("set", "paper")
+    unknown = set(selection) - {"suites", "protocols", "families", "per_family", "episodes"}
+    if unknown:
+        raise ValueError(f"selection: unknown keys {sorted(unknown)} (expected set, suites, protocols, families, per_family, episodes)")
+    servers = list(policy) if isinstance(policy, (list, tuple)) else [policy]
+    if not servers or not all(isinstance(p, str) for p in servers):
+        raise TypeError("policy: expected a built-in policy name, a ws:// URL or a list of ws:// URLs")
+    if len(servers) > 1 and not all(p.startswith("ws://") for p in servers):
+        raise ValueError("policy: a list must hold ws:// servers only")
+    for p in servers:
+        _native.check_policy(p)
+    name = servers[0] if len(servers) == 1 else "+".join(servers)
+    if output is None:
+        safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in servers[0])
+        output = os.path.join("vifo-run-ray", f"results-{safe}.jsonl")
+
+    specs = _native.episode_specs(set=set_name, **selection)
+    expected = {key for key, _ in specs}
+    results = _native.ResultsFile(output, set=set_name, resume=resume)
+    start = time.monotonic()
+    try:
+        done = set(results.done())
+        todo = [(key, spec) for key, spec in dict(specs).items() if key not in done]
+        if not ray.is_initialized():
+            ray.init(address=address, num_cpus=num_workers if address is None else None, include_dashboard=False,
+                     log_to_driver=not quiet)
+        workers = max(1, int(ray.cluster_resources().get("CPU", num_workers or 1)))
+        if batch_size is None:
+            batch_size = max(1, -(-len(todo) // (4 * workers)))
+        batches = [todo[i : i + batch_size] for i in range(0, len(todo), batch_size)]
+        task = ray.remote(max_retries=max_retries, retry_exceptions=False, num_cpus=1)(_run_batch)
+        pending = {
+            task.remote([s for _, s in batch], servers[j % len(servers)], set_name, size): batch
+            for j, batch in enumerate(batches)
+        }
+        written, errors, failed, run_name = set(), 0, 0, None
+        while pending:
+            ready, _ = ray.wait(list(pending), num_returns=1)
+            for ref in ready:
+                batch = pending.pop(ref)
+                try:
+                    records = ray.get(ref)
+                except ray.exceptions.RayError as e:
+                    failed += 1
+                    print(f"libero_vifo.ray: a batch of {len(batch)} episodes failed after {max_retries} retries: {e}")
+                    continue
+                for key, line in records:
+                    if key in written or key not in expected:
+                        continue
+                    record = json.loads(line)
+                    # One run, one policy row in the report: records served by several
+                    # servers carry the name of the first record's server.
+                    run_name = run_name or record["policy"]
+                    if len(servers) > 1 and record["policy"] != run_name:
+                        line = json.dumps({**record, "policy": run_name})
+                    results.write(line)
+                    written.add(key)
+                    errors += record["outcome"]["status"] == "error"
+                if not quiet:
+                    print(f"libero_vifo.ray: {len(written)}/{len(todo)} episodes written", flush=True)
+    finally:
+        results.close()
+    records = _native.record_keys(output)
+    completed = collections.Counter(key for key, ok in records if ok)
+    summary = {
+        "episodes": len(expected),
+        "already_done": len(expected & done),
+        "ran": len(written),
+        "errors": errors,
+        # Episodes of the selection without any record, and second completed records of one
+        # episode (an error record followed by its retry is how `--resume` works, not a duplicate).
+        "missing": len(expected - {key for key, _ in records}),
+        "duplicates": sum(n - 1 for n in completed.values()),
+        "failed_batches": failed,
+        "seconds": time.monotonic() - start,
+        "output": str(output),
+        "policy": name,
+    }
+    if report_dir is not None:
+        summary["report"] = _native.write_report([str(output)], str(report_dir))
+    return summary
+

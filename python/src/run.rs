@@ -1,0 +1,177 @@
+//! Benchmark runs from Python (`libero_vifo.ray`): the episode list of a selection, episodes
+//! run by the same code as `vifo run` (`env::rollout::run_episodes`), and the results file
+//! written through the runner's own lock, checks and record writer, so `vifo report` and
+//! `vifo run --resume` read what Python wrote.
+
+use std::path::PathBuf;
+
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use vifo_cues::{Family, SetName};
+use vifo_protocols::benchmark::specs::{self, Selection};
+use vifo_protocols::env::EnvConfig;
+use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
+use vifo_protocols::policies::builtin;
+use vifo_protocols::remote::RemotePolicy;
+use vifo_protocols::runner::{OpenResults, RunError, RunOptions, read_records};
+use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec};
+use vifo_protocols::{Policy, report};
+use vifo_scenes::view::CameraName;
+
+fn value_err(e: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+fn run_err(e: RunError) -> PyErr {
+    PyRuntimeError::new_err(e.to_string())
+}
+
+fn parse_set(set: &str) -> PyResult<SetName> {
+    set.parse().map_err(|e: String| PyValueError::new_err(e))
+}
+
+/// The episodes of a selection (`vifo run`'s options: `--set --suite --protocol --family
+/// --per-family --episodes`), as `(key, spec JSON)` in `vifo run`'s order.
+#[pyfunction]
+#[pyo3(signature = (set = "paper", suites = Vec::new(), protocols = Vec::new(), families = Vec::new(), per_family = None, episodes = 1))]
+pub fn episode_specs(
+    set: &str,
+    suites: Vec<String>,
+    protocols: Vec<String>,
+    families: Vec<String>,
+    per_family: Option<usize>,
+    episodes: usize,
+) -> PyResult<Vec<(String, String)>> {
+    let mut selection = Selection::all(episodes);
+    selection.set = parse_set(set)?;
+    selection.suites = suites;
+    if !protocols.is_empty() && !protocols.iter().any(|p| p == "all") {
+        selection.protocols = protocols.iter().map(|p| crate::protocol(p)).collect::<PyResult<_>>()?;
+    }
+    selection.families = families
+        .iter()
+        .map(|f| {
+            Family::ALL
+                .into_iter()
+                .find(|x| x.to_string().eq_ignore_ascii_case(f))
+                .ok_or_else(|| PyValueError::new_err(format!("unknown cue family {f:?}: expected F1 to F8")))
+        })
+        .collect::<PyResult<_>>()?;
+    selection.per_family = per_family;
+    let specs = specs::specs(&selection).map_err(value_err)?;
+    specs.iter().map(|s| Ok((s.key(), serde_json::to_string(s).map_err(value_err)?))).collect()
+}
+
+/// The policy `vifo run --policy` names: a built-in or an openpi server (`ws://host:port`).
+#[pyfunction]
+pub fn check_policy(policy: &str) -> PyResult<()> {
+    if builtin(policy).is_none() && !policy.starts_with("ws://") {
+        return Err(PyValueError::new_err(format!(
+            "unknown policy {policy:?}: expected one of {} or an openpi server ws://host:port",
+            vifo_protocols::policies::NAMES.join(", ")
+        )));
+    }
+    Ok(())
+}
+
+/// Runs the episodes `specs` (JSON, from `episode_specs`) with `policy` into the results file
+/// `output` exactly as `vifo run` does (threads, resume, the cameras only for policies that
+/// look, fast-forward, the built-in look); returns `(ran, errors, already_done)`.
+#[pyfunction]
+#[pyo3(signature = (specs, policy, output, set = "paper", threads = 1, resume = false, size = 256, quiet = true))]
+#[allow(clippy::too_many_arguments)]
+pub fn run_specs(
+    py: Python<'_>,
+    specs: Vec<String>,
+    policy: &str,
+    output: PathBuf,
+    set: &str,
+    threads: usize,
+    resume: bool,
+    size: u32,
+    quiet: bool,
+) -> PyResult<(usize, usize, usize)> {
+    check_policy(policy)?;
+    crate::check_size(size)?;
+    let specs: Vec<EpisodeSpec> =
+        specs.iter().map(|s| serde_json::from_str(s).map_err(|e| value_err(format!("episode spec: {e}")))).collect::<PyResult<_>>()?;
+    let render = builtin(policy).is_none_or(|p| p.uses_images());
+    let config = EnvConfig { size, cameras: if render { CameraName::ALL.to_vec() } else { Vec::new() }, ..EnvConfig::default() };
+    let options = RunOptions { threads, resume, quiet, policy: policy.to_string(), set: parse_set(set)?, ..RunOptions::new(output) };
+    let make = || -> Result<Box<dyn Policy>, String> {
+        match builtin(policy) {
+            Some(p) => Ok(p),
+            None => RemotePolicy::connect(policy).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string()),
+        }
+    };
+    let summary = py.detach(|| run_episodes(&specs, make, config, &RolloutOptions::default(), &options)).map_err(run_err)?;
+    Ok((summary.ran, summary.errors, summary.already_done))
+}
+
+/// A results file opened as `vifo run` opens it (locked while open, checked, a cut last line
+/// removed), to which a driver appends records that were made elsewhere.
+#[pyclass(module = "libero_vifo._native")]
+pub struct ResultsFile {
+    open: Option<OpenResults>,
+    set: SetName,
+    path: PathBuf,
+}
+
+#[pymethods]
+impl ResultsFile {
+    #[new]
+    #[pyo3(signature = (path, set = "paper", resume = false))]
+    fn new(path: PathBuf, set: &str, resume: bool) -> PyResult<ResultsFile> {
+        let set = parse_set(set)?;
+        let options = RunOptions { resume, set, ..RunOptions::new(&path) };
+        let open = vifo_protocols::runner::open_results(&options).map_err(run_err)?;
+        Ok(ResultsFile { open: Some(open), set, path })
+    }
+
+    /// Keys of the episodes that already have a completed record (skipped on resume).
+    fn done(&self) -> PyResult<Vec<String>> {
+        Ok(self.opened()?.done.iter().cloned().collect())
+    }
+
+    /// Appends one record (a line `run_specs` wrote); it must be of this file's instance set.
+    fn write(&mut self, line: &str) -> PyResult<()> {
+        let record: EpisodeRecord =
+            serde_json::from_str(line).map_err(|e| value_err(format!("{}: not an episode record: {e}", self.path.display())))?;
+        if record.set != self.set {
+            return Err(PyValueError::new_err(format!("record of the {} set, this file holds the {} set", record.set, self.set)));
+        }
+        let open = self.open.as_mut().ok_or_else(|| PyRuntimeError::new_err("the results file is closed"))?;
+        open.writer.write(&record).map_err(run_err)
+    }
+
+    /// Releases the lock.
+    fn close(&mut self) {
+        self.open = None;
+    }
+}
+
+impl ResultsFile {
+    fn opened(&self) -> PyResult<&OpenResults> {
+        self.open.as_ref().ok_or_else(|| PyRuntimeError::new_err("the results file is closed"))
+    }
+}
+
+/// The keys of the records in a results file, in file order (repeats kept), and whether each
+/// is completed: what a check for missing and duplicate episodes reads.
+#[pyfunction]
+pub fn record_keys(path: PathBuf) -> PyResult<Vec<(String, bool)>> {
+    let loaded = read_records(&path).map_err(run_err)?;
+    Ok(loaded.records.iter().map(|r| (r.spec.key(), !matches!(r.outcome, vifo_protocols::spec::Outcome::Error { .. }))).collect())
+}
+
+/// `vifo report`: Tables 1 and 2 of the results files into `out` (Markdown, CSV, JSON,
+/// charts); returns the Markdown.
+#[pyfunction]
+pub fn write_report(paths: Vec<PathBuf>, out: PathBuf) -> PyResult<String> {
+    let mut records = Vec::new();
+    for path in &paths {
+        records.extend(read_records(path).map_err(run_err)?.records);
+    }
+    let report = report::build(&records, &Default::default());
+    report.write(&out).map_err(|e| PyRuntimeError::new_err(format!("{}: {e}", out.display())))
+}

@@ -1,0 +1,200 @@
+//! `NativeVectorEnv`: N episodes stepped in one call on Rust threads with the GIL released
+//! (the core of `libero_vifo.gym.LiberoVifoVectorEnv`). Each env owns its episode, so the
+//! bytes of an env's observations do not depend on the thread count.
+
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use vifo_protocols::env::{Env, EnvConfig, EnvError};
+use vifo_protocols::spec::EpisodeSpec;
+use vifo_scenes::view::{CameraName, ImageOrder};
+
+use crate::{check_size, episode_spec, py_err};
+
+/// One sub-env's episode: (suite, task index, condition, cue instance).
+type Episode = (String, usize, String, Option<String>);
+
+#[pyclass(module = "libero_vifo._native")]
+pub struct NativeVectorEnv {
+    envs: Vec<Env>,
+    episodes: Vec<Episode>,
+    threads: usize,
+}
+
+/// What one sub-env does in a call.
+enum Job<'a> {
+    Reset(&'a EpisodeSpec),
+    Step(&'a [f64]),
+    Keep,
+}
+
+/// (reward, terminated, truncated) of a sub-env after a call.
+type Outcome = (f64, bool, bool);
+
+#[pymethods]
+impl NativeVectorEnv {
+    /// `episodes`: one (suite, index, condition, cue) per sub-env; upright `size`² images;
+    /// `threads` worker threads (at most one per env).
+    #[new]
+    fn new(episodes: Vec<Episode>, size: u32, threads: usize) -> PyResult<NativeVectorEnv> {
+        check_size(size)?;
+        if episodes.is_empty() {
+            return Err(PyValueError::new_err("a vector env needs at least one episode"));
+        }
+        if threads == 0 {
+            return Err(PyValueError::new_err("threads: expected at least 1"));
+        }
+        for (suite, index, condition, cue) in &episodes {
+            episode_spec(suite, *index, condition, cue.as_deref(), 0)?;
+        }
+        let config = EnvConfig { size, order: ImageOrder::Upright, cameras: CameraName::ALL.to_vec() };
+        let envs = episodes.iter().map(|_| Env::new(config.clone())).collect();
+        let threads = threads.min(episodes.len());
+        Ok(NativeVectorEnv { envs, episodes, threads })
+    }
+
+    #[getter]
+    fn num_envs(&self) -> usize {
+        self.envs.len()
+    }
+
+    /// Each instruction (the protocol's).
+    fn instructions(&self) -> PyResult<Vec<String>> {
+        self.episodes.iter().map(|(s, i, c, q)| Ok(episode_spec(s, *i, c, q.as_deref(), 0)?.instruction)).collect()
+    }
+
+    /// Starts sub-env `k` from initial state `inits[k]` (settled, as `vifo run`) where it is
+    /// not `None`; returns every sub-env's observation, stacked.
+    fn reset<'py>(&mut self, py: Python<'py>, inits: Vec<Option<usize>>) -> PyResult<Bound<'py, PyDict>> {
+        let specs = self.specs(&inits)?;
+        let jobs: Vec<Job> = specs.iter().map(|s| s.as_ref().map_or(Job::Keep, Job::Reset)).collect();
+        self.run(py, jobs)?;
+        stacked(py, &self.envs)
+    }
+
+    /// One call for all sub-envs: sub-env `k` is reset to `resets[k]` where that is given
+    /// (reward 0, not done: gymnasium's next-step autoreset), else stepped with row `k` of
+    /// `actions` (N×7). Every action is checked before any env moves. Returns the stacked
+    /// observations and per env reward (1.0 once the scored task is done), terminated (done
+    /// by success) and truncated (the budget ran out).
+    #[allow(clippy::type_complexity)]
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        actions: PyReadonlyArray2<'py, f64>,
+        resets: Vec<Option<usize>>,
+    ) -> PyResult<(Bound<'py, PyDict>, Vec<f64>, Vec<bool>, Vec<bool>)> {
+        self.check_open()?;
+        let n = self.envs.len();
+        if actions.shape() != [n, 7] {
+            return Err(PyValueError::new_err(format!("actions of shape {:?}: expected ({n}, 7)", actions.shape())));
+        }
+        let actions = actions.as_slice().map_err(|_| PyValueError::new_err("actions: expected a C-contiguous array"))?;
+        if let Some(i) = actions.iter().position(|v| !v.is_finite()) {
+            return Err(PyValueError::new_err(format!("action of env {}: element {} is {}, not finite", i / 7, i % 7, actions[i])));
+        }
+        let specs = self.specs(&resets)?;
+        let jobs: Vec<Job> =
+            specs.iter().enumerate().map(|(k, s)| s.as_ref().map_or(Job::Step(&actions[k * 7..(k + 1) * 7]), Job::Reset)).collect();
+        let outcomes = self.run(py, jobs)?;
+        let obs = stacked(py, &self.envs)?;
+        Ok((obs, outcomes.iter().map(|o| o.0).collect(), outcomes.iter().map(|o| o.1).collect(), outcomes.iter().map(|o| o.2).collect()))
+    }
+
+    fn close(&mut self) {
+        self.envs.clear();
+    }
+}
+
+impl NativeVectorEnv {
+    fn check_open(&self) -> PyResult<()> {
+        if self.envs.is_empty() {
+            return Err(pyo3::exceptions::PyRuntimeError::new_err("the vector env is closed"));
+        }
+        Ok(())
+    }
+
+    fn specs(&self, inits: &[Option<usize>]) -> PyResult<Vec<Option<EpisodeSpec>>> {
+        self.check_open()?;
+        if inits.len() != self.envs.len() {
+            return Err(PyValueError::new_err(format!("{} initial states for {} envs", inits.len(), self.envs.len())));
+        }
+        inits
+            .iter()
+            .zip(&self.episodes)
+            .map(|(init, (s, i, c, q))| init.map(|init| episode_spec(s, *i, c, q.as_deref(), init)).transpose())
+            .collect()
+    }
+
+    /// Runs the jobs on the worker threads, the GIL released; the first error names its env.
+    fn run(&mut self, py: Python<'_>, jobs: Vec<Job>) -> PyResult<Vec<Outcome>> {
+        let threads = self.threads;
+        let envs = &mut self.envs;
+        let results: Vec<Result<Outcome, EnvError>> = py.detach(|| {
+            let mut work: Vec<(&mut Env, Job)> = envs.iter_mut().zip(jobs).collect();
+            let per_thread = work.len().div_ceil(threads);
+            if threads == 1 {
+                return work.iter_mut().map(|(env, job)| apply(env, job)).collect();
+            }
+            std::thread::scope(|scope| {
+                let handles: Vec<_> = work
+                    .chunks_mut(per_thread)
+                    .map(|chunk| scope.spawn(move || chunk.iter_mut().map(|(env, job)| apply(env, job)).collect::<Vec<_>>()))
+                    .collect();
+                handles.into_iter().flat_map(|h| h.join().expect("a vector env worker panicked")).collect()
+            })
+        });
+        results.into_iter().enumerate().map(|(k, r)| r.map_err(|e| with_env(k, py_err(e), py))).collect()
+    }
+}
+
+fn apply(env: &mut Env, job: &Job) -> Result<Outcome, EnvError> {
+    match job {
+        Job::Reset(spec) => env.reset(spec).map(|_| (0.0, false, false)),
+        Job::Step(action) => {
+            let done = env.step(action)?.done;
+            let success = env.scored_success();
+            Ok((if success { 1.0 } else { 0.0 }, success, done && !success))
+        }
+        Job::Keep => Ok((0.0, false, false)),
+    }
+}
+
+/// The error of sub-env `k`, its message prefixed with `env k: `.
+fn with_env(k: usize, err: PyErr, py: Python<'_>) -> PyErr {
+    let message = format!("env {k}: {}", err.value(py));
+    if err.is_instance_of::<PyValueError>(py) {
+        PyValueError::new_err(message)
+    } else {
+        pyo3::exceptions::PyRuntimeError::new_err(message)
+    }
+}
+
+/// The observations of every env stacked along a first axis of length N.
+fn stacked<'py>(py: Python<'py>, envs: &[Env]) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let n = envs.len();
+    let images = |f: fn(&vifo_protocols::Observation) -> &vifo_cues::RgbImage| -> PyResult<Bound<'py, PyAny>> {
+        let first = f(envs[0].observation());
+        let shape = [n, first.height as usize, first.width as usize, 3];
+        let data: Vec<u8> = envs.iter().flat_map(|e| f(e.observation()).data.iter().copied()).collect();
+        if data.len() != shape.iter().product::<usize>() {
+            return Err(pyo3::exceptions::PyRuntimeError::new_err("an env has not been reset"));
+        }
+        Ok(PyArray1::from_vec(py, data).reshape(shape)?.into_any())
+    };
+    d.set_item("agentview_image", images(|o| &o.agentview)?)?;
+    d.set_item("robot0_eye_in_hand_image", images(|o| &o.wrist)?)?;
+    let vectors = |len: usize, f: &dyn Fn(&vifo_protocols::Observation) -> Vec<f64>| -> PyResult<Bound<'py, PyAny>> {
+        let data: Vec<f64> = envs.iter().flat_map(|e| f(e.observation())).collect();
+        Ok(PyArray1::from_vec(py, data).reshape([n, len])?.into_any())
+    };
+    d.set_item("robot0_eef_pos", vectors(3, &|o| o.eef_pos.to_vec())?)?;
+    d.set_item("robot0_eef_quat", vectors(4, &|o| o.eef_quat_xyzw.to_vec())?)?;
+    d.set_item("robot0_gripper_qpos", vectors(2, &|o| o.gripper_qpos.to_vec())?)?;
+    d.set_item("robot0_joint_pos", vectors(7, &|o| o.joint_pos.to_vec())?)?;
+    d.set_item("robot0_joint_pos_cos", vectors(7, &|o| o.joint_pos.map(f64::cos).to_vec())?)?;
+    d.set_item("robot0_joint_pos_sin", vectors(7, &|o| o.joint_pos.map(f64::sin).to_vec())?)?;
+    Ok(d)
+}

@@ -38,6 +38,35 @@ impl Protocol {
     }
 }
 
+/// How the episode's cue reaches the camera (paper §4.2).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CueForm {
+    /// Drawn over the camera images (the main benchmark).
+    #[default]
+    Overlay,
+    /// A physical card, sign or tag standing in the scene with the cue's picture on its face
+    /// (F1, F6, F8 only): seen with perspective, occlusion and lighting, and movable by the arm.
+    Object,
+}
+
+impl CueForm {
+    pub const ALL: [CueForm; 2] = [CueForm::Overlay, CueForm::Object];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            CueForm::Overlay => "overlay",
+            CueForm::Object => "object",
+        }
+    }
+
+    /// Results files leave the overlay form out, so records written before forms existed and
+    /// records of the main benchmark stay byte for byte what they were.
+    pub fn is_overlay(&self) -> bool {
+        *self == CueForm::Overlay
+    }
+}
+
 /// A LIBERO task by suite and index (`libero_goal/3`).
 #[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct TaskRef {
@@ -86,15 +115,21 @@ pub struct EpisodeSpec {
     /// The task the cue shows (every protocol but the original).
     pub cue_task: Option<TaskRef>,
     /// Seed of everything random in the episode (fixture jitter, policy sampling), derived from
-    /// the fields above so results do not depend on scheduling.
+    /// the fields above so results do not depend on scheduling. The same for both cue forms,
+    /// so the two forms of an instance are paired episodes.
     pub seed: u64,
+    /// How the cue is shown; absent from results files for the overlay.
+    #[serde(default, skip_serializing_if = "CueForm::is_overlay")]
+    pub cue_form: CueForm,
 }
 
 impl EpisodeSpec {
-    /// A stable key identifying the episode in a results file (used by `--resume`).
+    /// A stable key identifying the episode in a results file (used by `--resume`); the
+    /// object form of a cue ends in `|object`.
     pub fn key(&self) -> String {
+        let form = if self.cue_form.is_overlay() { "" } else { "|object" };
         format!(
-            "{}|{}|{}|{}|{}",
+            "{}|{}|{}|{}|{}{form}",
             self.task,
             self.protocol.name(),
             self.instance.as_deref().unwrap_or("-"),

@@ -21,6 +21,7 @@ fn record(policy: &str, protocol: Protocol, family: &str, n: usize, outcome: Out
             language_task: None,
             cue_task: None,
             seed: n as u64,
+            cue_form: Default::default(),
         },
         policy: policy.into(),
         outcome,

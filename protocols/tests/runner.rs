@@ -23,6 +23,7 @@ fn specs(n: usize) -> Vec<EpisodeSpec> {
                 language_task: Some(task.clone()),
                 cue_task: protocol.uses_cue().then_some(task),
                 seed: 0,
+                cue_form: Default::default(),
             };
             spec.seed = seed_for(&spec);
             spec

@@ -15,6 +15,7 @@
 
 pub mod bddl;
 pub mod catalog;
+pub mod cue_object;
 pub mod init_file;
 pub mod init_states;
 pub mod look;

@@ -84,6 +84,7 @@ pub fn spec(
         language_task: language.and_then(|l| l.builtin),
         cue_task: protocol.uses_cue().then(|| task.clone()),
         seed: 0,
+        cue_form: Default::default(),
     };
     spec.seed = seed_for(&spec);
     Ok(spec)

@@ -17,6 +17,8 @@ pub enum CueDrawing {
     NoCue,
     /// The cue is drawn into every rendered frame.
     Drawn,
+    /// The cue is an object in the scene (paper §4.2); the cameras see it like any other.
+    InScene,
 }
 
 /// The cue of one episode, prepared at reset.
@@ -25,6 +27,7 @@ pub struct EpisodeCue {
     /// The bridge's state; `None` when no camera is rendered (nothing to draw into, and the
     /// ghost's expert rollout and the goal pictures are not worth preparing).
     bridge: Option<scene_cues::EpisodeCue>,
+    in_scene: bool,
 }
 
 impl EpisodeCue {
@@ -47,7 +50,17 @@ impl EpisodeCue {
         } else {
             None
         };
-        Ok(EpisodeCue { spec, bridge })
+        Ok(EpisodeCue { spec, bridge, in_scene: false })
+    }
+
+    /// A cue standing in the scene as an object: nothing is drawn over the frames.
+    pub fn in_scene(spec: &'static CueSpec) -> EpisodeCue {
+        EpisodeCue { spec, bridge: None, in_scene: true }
+    }
+
+    /// Whether the cue is an object in the scene rather than drawn over the frames.
+    pub fn is_in_scene(&self) -> bool {
+        self.in_scene
     }
 
     pub fn spec(&self) -> &'static CueSpec {

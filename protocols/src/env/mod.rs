@@ -30,6 +30,7 @@
 //!   MuJoCo's `mjData`) and its view's transforms. Frames render into reused buffers.
 
 pub mod cue;
+pub mod cue_object;
 mod observe;
 pub mod rollout;
 pub mod scenes;
@@ -45,7 +46,7 @@ use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
 
 use crate::benchmark::{BenchmarkError, builtin_task, instances, language};
 use crate::policy::{EpisodeState, Observation};
-use crate::spec::{EpisodeSpec, Protocol};
+use crate::spec::{CueForm, EpisodeSpec, Protocol};
 pub use cue::CueDrawing;
 use cue::EpisodeCue;
 
@@ -196,22 +197,6 @@ impl Env {
                 found: spec.instruction.clone(),
             });
         }
-        let assets = scenes::assets(task)?;
-        let start = assets.starts.get(spec.init).ok_or_else(|| EnvError::NoInitState {
-            task: spec.task.to_string(),
-            init: spec.init,
-            count: assets.starts.len(),
-        })?;
-        let mut sim = Sim::new(assets.model.clone());
-        init_states::apply(&mut sim, start).map_err(|e| EnvError::Scene(format!("{}: initial state {}: {e}", spec.task, spec.init)))?;
-        if settle {
-            init_states::wait(&mut sim);
-        }
-        if let Some(why) = sim.blow_up() {
-            return Err(EnvError::Physics { step: 0, why });
-        }
-        let mut view = assets.view.clone();
-        view.update(&sim);
         let cue_spec = match (spec.protocol.uses_cue(), spec.instance.as_deref()) {
             (false, _) => None,
             (true, None) => {
@@ -230,11 +215,41 @@ impl Env {
                 Some(cue)
             }
         };
+        let cue_object = match (spec.cue_form, cue_spec) {
+            (CueForm::Overlay, _) => None,
+            (CueForm::Object, Some(cue)) => Some((cue, cue_object::kind_of(cue)?)),
+            (CueForm::Object, None) => {
+                return Err(EnvError::Cue(format!("protocol {} has no cue to stand in the scene", spec.protocol.name())));
+            }
+        };
+        let assets = scenes::assets_with(task, cue_object.map(|(_, kind)| kind))?;
+        let start = assets.starts.get(spec.init).ok_or_else(|| EnvError::NoInitState {
+            task: spec.task.to_string(),
+            init: spec.init,
+            count: assets.starts.len(),
+        })?;
+        let mut sim = Sim::new(assets.model.clone());
+        init_states::apply(&mut sim, start).map_err(|e| EnvError::Scene(format!("{}: initial state {}: {e}", spec.task, spec.init)))?;
+        if let Some((cue, _)) = cue_object {
+            cue_object::stand(&mut sim, cue, spec.init)?;
+        }
+        if settle {
+            init_states::wait(&mut sim);
+        }
+        if let Some(why) = sim.blow_up() {
+            return Err(EnvError::Physics { step: 0, why });
+        }
         let render = !self.config.cameras.is_empty();
-        let cue = match cue_spec {
-            None => None,
-            Some(c) if settle => Some(EpisodeCue::prepare(&sim, &view, &mut self.renderer, c, &task.goal, self.config.size, render)?),
-            Some(c) => {
+        let mut view = assets.view.clone();
+        if let (Some((cue, _)), true) = (cue_object, render) {
+            cue_object::paint(&mut view, &sim, cue)?;
+        }
+        view.update(&sim);
+        let cue = match (cue_spec, cue_object) {
+            (None, _) => None,
+            (Some(c), Some(_)) => Some(EpisodeCue::in_scene(c)),
+            (Some(c), None) if settle => Some(EpisodeCue::prepare(&sim, &view, &mut self.renderer, c, &task.goal, self.config.size, render)?),
+            (Some(c), None) => {
                 // What `reset` would prepare it from: the same state after the settle steps.
                 let mut settled = Sim::new(assets.model.clone());
                 init_states::apply(&mut settled, start).map_err(|e| EnvError::Scene(format!("{}: initial state {}: {e}", spec.task, spec.init)))?;
@@ -284,6 +299,7 @@ impl Env {
     /// Whether this episode's frames show its cue.
     pub fn cue_drawing(&self) -> CueDrawing {
         match self.episode.as_ref().and_then(|e| e.cue.as_ref()) {
+            Some(c) if c.is_in_scene() => CueDrawing::InScene,
             Some(_) => CueDrawing::Drawn,
             None => CueDrawing::NoCue,
         }

@@ -6,6 +6,8 @@ use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
 use vifo_scenes::Task;
+use vifo_scenes::catalog::ObjectModel;
+use vifo_scenes::cue_object::{CueObjectKind, ENTITY_NAME};
 use vifo_scenes::init_states::{self, EpisodeStart};
 use vifo_scenes::look::Look;
 use vifo_scenes::sim::SceneModel;
@@ -24,18 +26,27 @@ pub struct SceneAssets {
 /// The assets of a built-in task, built on first use and kept for the life of the process
 /// (40 tasks at most).
 pub fn assets(task: &'static Task) -> Result<&'static SceneAssets, EnvError> {
-    static BUILT: Mutex<BTreeMap<String, &'static SceneAssets>> = Mutex::new(BTreeMap::new());
+    assets_with(task, None)
+}
+
+/// The assets of a built-in task with a cue object of `kind` among its entities (paper §4.2;
+/// the picture on its face is painted per episode), or without one. Kept like [`assets`]
+/// (40 tasks × 6 at most).
+pub fn assets_with(task: &'static Task, cue_object: Option<CueObjectKind>) -> Result<&'static SceneAssets, EnvError> {
+    static BUILT: Mutex<BTreeMap<(String, Option<CueObjectKind>), &'static SceneAssets>> = Mutex::new(BTreeMap::new());
     // Held while building, so two threads never build the same task twice; building takes
     // milliseconds.
     let mut built = BUILT.lock().unwrap_or_else(|p| p.into_inner());
-    if let Some(a) = built.get(&task.name) {
+    let key = (task.name.clone(), cue_object);
+    if let Some(a) = built.get(&key) {
         return Ok(a);
     }
-    let model = SceneModel::build(task).map_err(|e| EnvError::Scene(e.to_string()))?;
+    let props: Vec<(&str, &'static ObjectModel)> = cue_object.map(|k| (ENTITY_NAME, k.model())).into_iter().collect();
+    let model = SceneModel::build_with(task, &props).map_err(|e| EnvError::Scene(e.to_string()))?;
     let starts = init_states::fixed(task).map_err(|e| EnvError::Scene(e.to_string()))?;
     let view = SceneView::with_look(&model, look());
     let assets: &'static SceneAssets = Box::leak(Box::new(SceneAssets { model, view, starts }));
-    built.insert(task.name.clone(), assets);
+    built.insert(key, assets);
     Ok(assets)
 }
 

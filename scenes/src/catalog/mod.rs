@@ -8,10 +8,10 @@
 mod bounds;
 mod facts;
 mod frames;
-mod inertia;
+pub(crate) mod inertia;
 mod looks;
 mod model;
-mod spec;
+pub(crate) mod spec;
 
 use std::sync::OnceLock;
 

@@ -96,6 +96,14 @@ impl Sim {
         }
     }
 
+    /// Puts a movable entity (a prop such as a cue object) at `at`, at rest.
+    pub fn place_object(&mut self, entity: usize, at: &Pose) {
+        let body = &mut self.world.rapier_mut().bodies[self.model.entities[entity].bodies[0]];
+        body.set_position(rapier_pose(at), true);
+        body.set_linvel(Vector::from([0.0; 3]), true);
+        body.set_angvel(Vector::from([0.0; 3]), true);
+    }
+
     /// Loads a LIBERO state (arm, gripper, object poses, articulation joints) and resets the
     /// controller as LIBERO's `reset()` + `set_init_state()` leave it.
     pub fn load_state(&mut self, state: &InitState) -> Result<(), StateError> {

@@ -87,7 +87,8 @@ pub struct SceneModel {
     pub task: Task,
     pub class: &'static SceneClass,
     pub robot: Panda,
-    /// Movable objects in `:objects` order, then the non-arena fixtures in `:fixtures` order.
+    /// Movable objects in `:objects` order, then the non-arena fixtures in `:fixtures` order,
+    /// then the props the task does not name ([`SceneModel::build_with`]: a cue object).
     pub entities: Vec<SceneEntity>,
     pub regions: Vec<SceneRegion>,
     /// Colliders of the arena (table top slabs or floor).
@@ -120,6 +121,13 @@ impl SceneModel {
     /// Builds the scene of `task`. Fixtures stand at their region centres and objects at the
     /// origin until an episode places them.
     pub fn build(task: &Task) -> Result<Arc<SceneModel>, BuildError> {
+        SceneModel::build_with(task, &[])
+    }
+
+    /// Like [`SceneModel::build`], with extra movable props the task does not name (a cue as a
+    /// scene object, paper §4.2), each `(entity name, model)`, after the task's entities. They
+    /// are not part of the task's state vectors; episodes place them.
+    pub fn build_with(task: &Task, props: &[(&str, &'static ObjectModel)]) -> Result<Arc<SceneModel>, BuildError> {
         let class = scene_class(task.problem).ok_or_else(|| BuildError::UnsupportedProblem {
             task: task.label(),
             problem: task.problem.to_string(),
@@ -141,6 +149,9 @@ impl SceneModel {
                 known: catalog::CATEGORIES.join(", "),
             })?;
             entities.push(insert_entity(&mut world, &entity.name, model));
+        }
+        for (name, model) in props {
+            entities.push(insert_entity(&mut world, name, model));
         }
         let regions = resolve_regions(task, class, &entities)?;
         let model = SceneModel {

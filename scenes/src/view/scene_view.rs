@@ -242,6 +242,17 @@ impl SceneView {
         SceneView { scene, anchors: b.anchors, lods, indicators, legend: b.legend, class }
     }
 
+    /// Adds a mesh drawn on body `body` of entity `entity` at `local` (in that body's frame),
+    /// with the entity's segmentation id: the picture on a cue object's face.
+    pub fn attach(&mut self, entity: usize, body: usize, local: Pose, mesh: Arc<Mesh>, material: Material, segment: u32) {
+        let at = self.anchors.len();
+        self.scene.instances.insert(at, Instance { mesh, material, transform: Transform::IDENTITY, segment });
+        self.anchors.push(Anchor::Entity { entity, body, local, scale: [1.0; 3] });
+        if !self.lods.is_empty() {
+            self.lods.push(Lods::from([]));
+        }
+    }
+
     /// Poses every instance as `sim` has its bodies, and shows the indicators whose condition
     /// holds.
     pub fn update(&mut self, sim: &Sim) {

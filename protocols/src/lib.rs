@@ -10,6 +10,8 @@
 //! - [`report`]: the paper's Tables 1 and 2 (Markdown, CSV, JSON) and per-family bar charts.
 //! - [`runner`]: parallel, resumable, shardable runs writing one JSON line per episode.
 //! - [`scene_cues`]: cue instances drawn on simulated scenes (anchors, ghosts, goal pictures).
+//! - [`studies`]: the paper's extended studies (§4.2 cues as scene objects, ...) as episode
+//!   selections and tables for the same runner and report.
 //! - [`vqa`]: Part I-A questions, their export, answer extraction, scoring and answerers.
 
 pub mod benchmark;
@@ -22,7 +24,8 @@ pub mod runner;
 pub mod scene_cues;
 pub mod serving;
 pub mod spec;
+pub mod studies;
 pub mod vqa;
 
 pub use policy::{EpisodeState, Observation, Policy, PolicyError};
-pub use spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
+pub use spec::{CueForm, EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};

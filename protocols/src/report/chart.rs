@@ -18,7 +18,7 @@ const TOP: f32 = 48.0;
 const BOTTOM: f32 = 70.0;
 
 /// One colour per family (Tableau 10), in family order.
-pub(super) const COLOURS: [[u8; 3]; 8] = [
+pub(crate) const COLOURS: [[u8; 3]; 8] = [
     [78, 121, 167],
     [242, 142, 43],
     [225, 87, 89],
@@ -30,7 +30,7 @@ pub(super) const COLOURS: [[u8; 3]; 8] = [
 ];
 
 /// The paper's column headers.
-pub(super) fn short_name(f: Family) -> &'static str {
+pub(crate) fn short_name(f: Family) -> &'static str {
     match f {
         Family::F1 => "F1 Text",
         Family::F2 => "F2 Geom.",
@@ -43,14 +43,14 @@ pub(super) fn short_name(f: Family) -> &'static str {
     }
 }
 
-pub(super) fn rect(pm: &mut Pixmap, x: f32, y: f32, w: f32, h: f32, color: Rgba) {
+pub(crate) fn rect(pm: &mut Pixmap, x: f32, y: f32, w: f32, h: f32, color: Rgba) {
     if let Some(r) = Rect::from_xywh(x, y, w.max(0.5), h.max(0.5)) {
         fill(pm, &PathBuilder::from_rect(r), color, Transform::identity());
     }
 }
 
 /// A line of text centred at (x, y), shrunk and then shortened with "…" to fit `max_w`.
-pub(super) fn label(pm: &mut Pixmap, text: &str, x: f32, y: f32, size: f32, max_w: f32, color: Rgba) {
+pub(crate) fn label(pm: &mut Pixmap, text: &str, x: f32, y: f32, size: f32, max_w: f32, color: Rgba) {
     let mut size = size;
     while size > 8.0 && line_width(Face::Sans, size, text) > max_w {
         size -= 1.0;
@@ -67,7 +67,7 @@ pub(super) fn label(pm: &mut Pixmap, text: &str, x: f32, y: f32, size: f32, max_
 }
 
 /// Legend text starting at x, vertically centred on y.
-pub(super) fn legend_text(pm: &mut Pixmap, text: &str, x: f32, y: f32, color: Rgba) {
+pub(crate) fn legend_text(pm: &mut Pixmap, text: &str, x: f32, y: f32, color: Rgba) {
     let w = line_width(Face::Sans, 12.0, text);
     label(pm, text, x + w / 2.0, y, 12.0, w + 1.0, color);
 }
@@ -128,7 +128,7 @@ pub fn family_chart(report: &Report, metric: Metric) -> Result<Vec<u8>, String> 
 }
 
 /// The opaque pixmap as an RGB PNG (premultiplied and straight colour agree when opaque).
-pub(super) fn encode_png(pm: &Pixmap) -> Result<Vec<u8>, String> {
+pub(crate) fn encode_png(pm: &Pixmap) -> Result<Vec<u8>, String> {
     let rgb: Vec<u8> = pm.data().chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
     let img = image::RgbImage::from_raw(pm.width(), pm.height(), rgb).ok_or("pixel buffer size")?;
     let mut out = std::io::Cursor::new(Vec::new());

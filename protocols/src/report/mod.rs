@@ -13,6 +13,9 @@
 //! hold several records of one episode: the last completed one counts
 //! ([`crate::runner::final_records`]), per policy.
 //!
+//! Cues as scene objects (the `objects` study, [`crate::studies::objects`]) are not the
+//! benchmark's cues: their records are left out of both tables and reported by the study.
+//!
 //! Table 2, per policy and cue family F1–F8 (the family of an episode is that of its cue
 //! instance): VQA (all four stages), AVF, UVF, UVI, and Avg. — the unweighted mean of the
 //! families that have data, which is how the paper's Avg. column is formed.
@@ -137,11 +140,12 @@ pub fn looks(records: &[EpisodeRecord]) -> BTreeMap<String, usize> {
 /// maps a policy name to its VQA scores (a policy may have only one of the two). Each row holds
 /// one policy's episodes of one set (see [`Report::sets`]).
 pub fn build(records: &[EpisodeRecord], vqa: &BTreeMap<String, VqaScores>) -> Report {
+    let records: Vec<&EpisodeRecord> = records.iter().filter(|r| r.spec.cue_form.is_overlay()).collect();
     let sets: Vec<SetName> = records.iter().map(|r| r.set).collect::<std::collections::BTreeSet<_>>().into_iter().collect();
     let name = |policy: &str, set: SetName| if sets.len() > 1 { format!("{policy} [{set}]") } else { policy.to_string() };
     let mut by_row: BTreeMap<String, (String, Vec<EpisodeRecord>)> = BTreeMap::new();
     for r in records {
-        by_row.entry(name(&r.policy, r.set)).or_insert_with(|| (r.policy.clone(), Vec::new())).1.push(r.clone());
+        by_row.entry(name(&r.policy, r.set)).or_insert_with(|| (r.policy.clone(), Vec::new())).1.push((*r).clone());
     }
     let mut rows: Vec<(String, String)> = by_row.iter().map(|(row, (policy, _))| (row.clone(), policy.clone())).collect();
     rows.extend(vqa.keys().filter(|p| !by_row.values().any(|(policy, _)| policy == *p)).map(|p| (p.clone(), p.clone())));

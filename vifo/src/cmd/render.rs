@@ -7,7 +7,9 @@ use clap::Args;
 use vifo::look::{LookArgs, label};
 use vifo::start::InitSource;
 use vifo::render::{self, RenderRequest};
+use vifo_protocols::env::{self, Env, EnvConfig};
 use vifo_protocols::scene_cues::{self, EpisodeCue, start::settled_start};
+use vifo_protocols::{CueForm, EpisodeSpec, Protocol, benchmark};
 use vifo_render::Renderer;
 use vifo_render::imageio::save_png;
 use vifo_scenes::sim::SceneModel;
@@ -22,6 +24,10 @@ pub struct RenderArgs {
     /// them) on the frame of the shipped initial state --init after LIBERO's settle steps.
     #[arg(long, value_name = "INSTANCE", conflicts_with_all = ["libero_init", "gif", "frames"])]
     pub cue: Option<String>,
+    /// With --cue (F1 text, F6 signs, F8 codes): the cue as an object standing in the scene
+    /// (paper §4.2) instead of drawn over the frame.
+    #[arg(long, requires = "cue")]
+    pub as_object: bool,
     /// Index of the initial state.
     #[arg(long, default_value_t = 0)]
     pub init: usize,
@@ -62,7 +68,7 @@ pub struct RenderArgs {
 
 pub fn run(args: RenderArgs) -> Result<()> {
     if let Some(id) = &args.cue {
-        return render_cue(id, &args);
+        return if args.as_object { render_cue_object(id, &args) } else { render_cue(id, &args) };
     }
     let look = args.look.look()?;
     let request = RenderRequest {
@@ -113,5 +119,29 @@ fn render_cue(id: &str, args: &RenderArgs) -> Result<()> {
     if let Some(demo) = cue.demo().filter(|d| !d.success) {
         println!("note: the expert's demonstration failed ({}); the cue shows the states it reached", demo.failure.as_deref().unwrap_or("unknown"));
     }
+    Ok(())
+}
+
+/// `--cue ID --as-object`: the episode's first observation with the cue standing in the scene,
+/// as `vifo run` shows it to policies (authorized protocol, initial state --init).
+fn render_cue_object(id: &str, args: &RenderArgs) -> Result<()> {
+    let cue = benchmark::instances::find(id)?;
+    let task = benchmark::instances::task_of(cue)?;
+    if let Some(given) = args.task.as_deref().filter(|t| *t != cue.task) {
+        bail!("--task {given} differs from the task of cue {id} ({}); leave --task out", cue.task);
+    }
+    let output = args.output.as_ref().ok_or_else(|| anyhow!("give -o FILE.png for the frame with the cue object"))?;
+    let look = args.look.look()?;
+    env::scenes::use_look(look.clone())?;
+    let order = if args.bottom_up { ImageOrder::BottomUp } else { ImageOrder::Upright };
+    let mut env = Env::new(EnvConfig { size: args.size, order, cameras: vec![args.camera] });
+    let spec = EpisodeSpec { cue_form: CueForm::Object, ..benchmark::specs::spec(&task, Protocol::Authorized, Some(id), args.init, 0)? };
+    let obs = env.reset(&spec)?;
+    let image = match args.camera {
+        CameraName::AgentView => &obs.agentview,
+        CameraName::EyeInHand => &obs.wrist,
+    };
+    save_png(&vifo_render::RgbImage { width: image.width, height: image.height, data: image.data.clone() }, output)?;
+    println!("{id} as a scene object on {} (init {}) with {}, look {} -> {}", cue.task, args.init, args.camera, label(look.as_deref()), output.display());
     Ok(())
 }

@@ -8,7 +8,9 @@ use anyhow::Context;
 use clap::Args as ClapArgs;
 use vifo_protocols::report;
 use vifo_protocols::runner::read_records;
+use vifo_protocols::studies;
 use vifo_protocols::vqa::VqaScores;
+use vifo_protocols::CueForm;
 
 #[derive(ClapArgs)]
 pub struct Args {
@@ -17,6 +19,10 @@ pub struct Args {
     /// VQA scores of a policy, from `vifo vqa score --out`: POLICY=FILE; repeatable.
     #[arg(long = "vqa")]
     vqa: Vec<String>,
+    /// VQA scores of a policy on the cue-object export (`vifo vqa export --form object`), for
+    /// the objects study's table (§4.2): POLICY=FILE; repeatable.
+    #[arg(long = "vqa-object")]
+    vqa_object: Vec<String>,
     /// Folder for table1/table2 .md/.csv/.json and chart_*.png.
     #[arg(long, default_value = "report")]
     out: PathBuf,
@@ -35,13 +41,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         records.extend(loaded.records);
     }
-    let mut vqa = BTreeMap::new();
-    for item in &args.vqa {
-        let (policy, file) = item.split_once('=').context("--vqa expects POLICY=FILE")?;
-        let text = std::fs::read_to_string(file).with_context(|| format!("reading {file}"))?;
-        let scores: VqaScores = serde_json::from_str(&text)
-            .with_context(|| format!("{file}: expected VQA scores from `vifo vqa score --out`"))?;
-        vqa.insert(policy.to_string(), scores);
+    let vqa = read_scores(&args.vqa, "--vqa")?;
+    let vqa_object = read_scores(&args.vqa_object, "--vqa-object")?;
+    let mut by_form: studies::objects::FormVqa = BTreeMap::new();
+    for (forms, form) in [(&vqa, CueForm::Overlay), (&vqa_object, CueForm::Object)] {
+        by_form.extend(forms.iter().map(|(p, s)| ((p.clone(), form), s.clone())));
     }
     anyhow::ensure!(!records.is_empty() || !vqa.is_empty(), "nothing to report: give results files or --vqa scores");
     let looks = report::looks(&records);
@@ -54,8 +58,22 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         eprintln!("look: {listed}");
     }
     let report = report::build(&records, &vqa);
-    let markdown = report.write(&args.out).with_context(|| format!("writing {}", args.out.display()))?;
+    let mut markdown = report.write(&args.out).with_context(|| format!("writing {}", args.out.display()))?;
+    markdown += &studies::write_reports(&records, &by_form, &args.out).with_context(|| format!("writing {}", args.out.display()))?;
     print!("{markdown}");
     println!("\nwritten to {}", args.out.display());
     Ok(())
+}
+
+/// `POLICY=FILE` items of VQA scores (`vifo vqa score --out`).
+fn read_scores(items: &[String], option: &str) -> anyhow::Result<BTreeMap<String, VqaScores>> {
+    let mut out = BTreeMap::new();
+    for item in items {
+        let (policy, file) = item.split_once('=').with_context(|| format!("{option} expects POLICY=FILE"))?;
+        let text = std::fs::read_to_string(file).with_context(|| format!("reading {file}"))?;
+        let scores: VqaScores = serde_json::from_str(&text)
+            .with_context(|| format!("{file}: expected VQA scores from `vifo vqa score --out`"))?;
+        out.insert(policy.to_string(), scores);
+    }
+    Ok(out)
 }

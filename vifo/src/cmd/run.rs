@@ -6,6 +6,11 @@
 //! that part of the benchmark. Each policy's episodes go to `OUT/results-<policy>.jsonl` as
 //! they finish (stopping at any time leaves a valid file; `--resume` continues it), and the
 //! tables and charts of all policies in the folder to `OUT/report/`.
+//!
+//! `--study objects|all` runs the paper's extended studies instead (every built-in policy
+//! unless `--policy` names some) into `vifo-run-study/`, with the same results files, resume,
+//! threads, shards, `--sample` and report, plus each study's own table. The quick default
+//! includes a small sample of every study.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -21,7 +26,8 @@ use vifo_protocols::policies::{self, builtin};
 use vifo_protocols::remote::RemotePolicy;
 use vifo_protocols::runner::{RunOptions, Shard, read_records};
 use vifo_protocols::serving::{Format, Profile, ServedPolicy, ServingConfig};
-use vifo_protocols::spec::EpisodeSpec;
+use vifo_protocols::spec::{CueForm, EpisodeSpec};
+use vifo_protocols::studies::{self, Study, StudyOptions};
 use vifo_protocols::{Policy, Protocol, report};
 use vifo::look::LookArgs;
 use vifo_scenes::view::CameraName;
@@ -99,6 +105,14 @@ pub struct Args {
     /// hold the waits for a shared machine's cores). `--resume` later continues to the whole run.
     #[arg(long)]
     sample: Option<usize>,
+    /// Run the paper's extended studies instead of a benchmark selection: objects (§4.2, cues
+    /// as scene objects) or all; repeatable. `--episodes` and `--set` apply.
+    #[arg(long, value_delimiter = ',')]
+    study: Vec<String>,
+    /// With --study objects: only the episodes of this cue form (overlay or object); --protocol
+    /// likewise keeps only the study's episodes of those protocols.
+    #[arg(long, requires = "study", value_parser = super::vqa::parse_form)]
+    form: Option<CueForm>,
     #[command(flatten)]
     look: LookArgs,
 }
@@ -108,13 +122,21 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         print_conflicts()?;
         return Ok(());
     }
+    let studies = Study::parse_list(&args.study).map_err(anyhow::Error::msg)?;
+    if !studies.is_empty() {
+        anyhow::ensure!(
+            args.suite.is_empty() && args.family.is_empty() && args.per_family.is_none(),
+            "--study runs the study's own selection; leave out --suite, --family and --per-family"
+        );
+    }
     let quick = args.suite.is_empty()
         && args.protocol.is_empty()
         && args.family.is_empty()
         && args.per_family.is_none()
-        && args.episodes.is_none();
+        && args.episodes.is_none()
+        && studies.is_empty();
     let selection = Selection { set: args.set, ..if quick { Selection::quick() } else { selection(&args)? } };
-    let policies: Vec<String> = match (&args.policy[..], quick) {
+    let policies: Vec<String> = match (&args.policy[..], quick || !studies.is_empty()) {
         ([], true) => policies::NAMES.iter().map(|s| s.to_string()).collect(),
         ([], false) => bail!("name the policy to run: --policy {} or --policy ws://host:port", policies::NAMES.join("|")),
         (given, _) => given.to_vec(),
@@ -132,8 +154,36 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if args.render_always || policies.iter().any(|p| builtin(p).is_none_or(|b| b.uses_images())) {
         vifo_protocols::env::scenes::use_look(args.look.look()?)?;
     }
-    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(if quick { "vifo-run-quick" } else { "vifo-run" }));
-    let all_specs = specs::specs(&selection)?;
+    let default_out = match (quick, studies.is_empty()) {
+        (true, _) => "vifo-run-quick",
+        (false, false) => "vifo-run-study",
+        (false, true) => "vifo-run",
+    };
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(default_out));
+    let all_specs = if studies.is_empty() {
+        let mut all = specs::specs(&selection)?;
+        if quick {
+            // A small sample of every extended study joins the quick default.
+            for study in Study::ALL {
+                all.extend(study.episodes(&StudyOptions { set: args.set, episodes: 1, quick: true })?);
+            }
+        }
+        all
+    } else {
+        let options = StudyOptions { set: args.set, episodes: args.episodes.unwrap_or(1), quick: false };
+        let protocols = selection.protocols.clone();
+        let mut all = Vec::new();
+        for study in &studies {
+            let episodes = study.episodes(&options)?;
+            let episodes: Vec<EpisodeSpec> = episodes
+                .into_iter()
+                .filter(|s| args.form.is_none_or(|f| s.cue_form == f) && protocols.contains(&s.protocol))
+                .collect();
+            println!("study {}: {} episodes per policy", study.name(), episodes.len());
+            all.extend(episodes);
+        }
+        all
+    };
     let specs = match args.sample {
         Some(n) => specs::sample(&all_specs, n),
         None => all_specs.clone(),
@@ -143,7 +193,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         specs.len(),
         match (quick, args.sample) {
             (_, Some(_)) => format!("a sample of the selection's {}", all_specs.len()),
-            (true, None) => "quick default: one instance per family".to_string(),
+            (true, None) => "quick default: one instance per family and a sample of each study".to_string(),
+            (false, None) if !studies.is_empty() => "study".to_string(),
             (false, None) => "selection".to_string(),
         },
         args.set,
@@ -153,6 +204,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     );
     eprintln!("(stop at any time: the results files stay valid; run again with --resume to continue)");
     let mut results = Vec::new();
+    let start = Instant::now();
     for policy in &policies {
         let path = out.join(format!("results-{}.jsonl", file_safe(policy)));
         run_policy(policy, &specs, &path, &args)?;
@@ -161,6 +213,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         results.push(path);
     }
+    println!(
+        "whole run: {} episodes x {} polic{} in {:.0} s",
+        specs.len(),
+        policies.len(),
+        if policies.len() == 1 { "y" } else { "ies" },
+        start.elapsed().as_secs_f64()
+    );
     write_report(&out, &results)
 }
 
@@ -288,7 +347,8 @@ fn write_report(out: &Path, results: &[PathBuf]) -> anyhow::Result<()> {
     }
     let report = report::build(&records, &Default::default());
     let dir = out.join("report");
-    let markdown = report.write(&dir).with_context(|| format!("writing {}", dir.display()))?;
+    let mut markdown = report.write(&dir).with_context(|| format!("writing {}", dir.display()))?;
+    markdown += &studies::write_reports(&records, &Default::default(), &dir).with_context(|| format!("writing {}", dir.display()))?;
     println!("\n{markdown}\nreport written to {}", dir.display());
     Ok(())
 }

@@ -14,7 +14,7 @@ use vifo_protocols::benchmark;
 use vifo_protocols::env::{Env, EnvConfig};
 use vifo_protocols::vqa::{self, Prediction, score};
 use vifo_cues::SetName;
-use vifo_protocols::Protocol;
+use vifo_protocols::{CueForm, Protocol};
 use vifo_scenes::view::CameraName;
 
 #[derive(ClapArgs)]
@@ -37,6 +37,10 @@ enum Command {
         /// Instance set: paper (1,347 instances, 5,388 questions) or full.
         #[arg(long, default_value = "paper", value_parser = super::run::parse_set)]
         set: SetName,
+        /// overlay (every instance, drawn over the image) or object (the F1, F6 and F8
+        /// instances standing in the scene, paper §4.2).
+        #[arg(long, default_value = "overlay", value_parser = parse_form)]
+        form: CueForm,
     },
     /// Ask an OpenAI-compatible server (vLLM, SGLang) every question; resumable.
     Answer {
@@ -101,7 +105,7 @@ enum Command {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     match args.command {
-        Command::Export { out, size, set } => export(&out, size, set),
+        Command::Export { out, size, set, form } => export(&out, size, set, form),
         Command::Answer { dir, endpoint, model, api_key, concurrency, retries, timeout, max_tokens, out, quiet } => {
             anyhow::ensure!(timeout.is_finite() && timeout > 0.0, "--timeout must be a positive number of seconds");
             let questions = read_questions(&dir)?;
@@ -187,9 +191,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 
 /// Questions for every instance of a set, each instance's image from its scene after the
 /// settle steps. The set's name goes to `set.txt` beside the questions.
-fn export(out: &Path, size: u32, set: SetName) -> anyhow::Result<()> {
+fn export(out: &Path, size: u32, set: SetName, form: CueForm) -> anyhow::Result<()> {
     anyhow::ensure!((16..=4096).contains(&size), "--size must be between 16 and 4096 pixels");
-    let instances: Vec<vifo_cues::CueSpec> = benchmark::instances::all(set).to_vec();
+    let instances: Vec<vifo_cues::CueSpec> = benchmark::instances::all(set)
+        .iter()
+        .filter(|c| form == CueForm::Overlay || vifo_cues::OBJECT_FAMILIES.contains(&c.family))
+        .cloned()
+        .collect();
     let questions = vqa::generate(&instances, &benchmark::instances::vqa_scenes())?;
     let mut env = Env::new(EnvConfig { size, cameras: vec![CameraName::AgentView], ..EnvConfig::default() });
     let mut done = 0;
@@ -201,11 +209,18 @@ fn export(out: &Path, size: u32, set: SetName) -> anyhow::Result<()> {
         let cue = benchmark::instances::find(id).map_err(|e| e.to_string())?;
         let task = benchmark::instances::task_of(cue).map_err(|e| e.to_string())?;
         let spec = benchmark::specs::spec(&task, Protocol::Authorized, Some(id), 0, 0).map_err(|e| e.to_string())?;
+        let spec = vifo_protocols::EpisodeSpec { cue_form: form, ..spec };
         Ok(env.reset(&spec).map_err(|e| e.to_string())?.agentview.clone())
     })?;
     write(&out.join("set.txt"), &format!("{set}\n"))?;
+    write(&out.join("form.txt"), &format!("{}\n", form.name()))?;
     println!("{} questions ({set} set), {written} images -> {}", questions.len(), out.display());
     Ok(())
+}
+
+/// `--form overlay|object`.
+pub fn parse_form(name: &str) -> Result<CueForm, String> {
+    CueForm::ALL.into_iter().find(|f| f.name() == name).ok_or_else(|| format!("unknown form {name:?}: expected overlay or object"))
 }
 
 fn write(path: &Path, text: &str) -> anyhow::Result<()> {

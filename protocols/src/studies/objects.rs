@@ -1,0 +1,362 @@
+//! §4.2, cues as scene objects: every F1 (text), F6 (sign) and F8 (code) instance of the set in
+//! both forms, overlay and object, under authorized cue following (AVF) and the empty
+//! instruction (UVI); VQA (Part I-A) per form comes from scores of the two exports
+//! (`vifo vqa export --form overlay|object`). Part II-A is left out as in the paper, where UVF
+//! stays 0 for every model.
+//!
+//! The table is the paper's comparison figure as numbers: per policy and family, each metric in
+//! both forms and the change (object − overlay, points), and an Avg. row (unweighted mean of
+//! the families, as the paper's average drops are formed).
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
+
+use serde::Serialize;
+use tiny_skia::Pixmap;
+use vifo_cues::{Family, OBJECT_FAMILIES};
+
+use super::StudyOptions;
+use crate::benchmark::specs::{INIT_STATES, spec};
+use crate::benchmark::{BenchmarkError, instances};
+use crate::report::chart::{COLOURS, encode_png, label, legend_text, rect, short_name};
+use crate::report::family_of;
+use crate::runner::{final_records, stable_hash};
+use crate::spec::{CueForm, EpisodeRecord, EpisodeSpec, Outcome, Protocol};
+use crate::vqa::{Accuracy, VqaScores};
+
+/// The protocols of the study: AVF and UVI.
+pub const PROTOCOLS: [Protocol; 2] = [Protocol::Authorized, Protocol::NoLanguage];
+
+/// VQA scores per (policy, form).
+pub type FormVqa = BTreeMap<(String, CueForm), VqaScores>;
+
+/// The study's episodes: per F1/F6/F8 instance of the set (the quick sample: the first of each
+/// family by the stable hash of its id), both forms, both protocols, `episodes` each.
+pub fn episodes(options: &StudyOptions) -> Result<Vec<EpisodeSpec>, BenchmarkError> {
+    let mut chosen: Vec<&vifo_cues::CueSpec> =
+        instances::all(options.set).iter().filter(|c| OBJECT_FAMILIES.contains(&c.family)).collect();
+    if options.quick {
+        chosen = OBJECT_FAMILIES
+            .iter()
+            .filter_map(|f| chosen.iter().copied().filter(|c| c.family == *f).min_by_key(|c| stable_hash(&c.id())))
+            .collect();
+    }
+    let mut out = Vec::new();
+    for cue in chosen {
+        let task = instances::task_of(cue)?;
+        for form in CueForm::ALL {
+            for protocol in PROTOCOLS {
+                for e in 0..options.episodes {
+                    let s = spec(&task, protocol, Some(&cue.id()), e % INIT_STATES, e / INIT_STATES)?;
+                    out.push(EpisodeSpec { cue_form: form, ..s });
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// One metric in both forms: percentages and how many episodes (questions) each holds.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Pair {
+    pub overlay: Option<f64>,
+    pub object: Option<f64>,
+    pub overlay_n: usize,
+    pub object_n: usize,
+}
+
+impl Pair {
+    fn of(overlay: Option<Accuracy>, object: Option<Accuracy>) -> Pair {
+        Pair {
+            overlay: overlay.and_then(|a| a.percent()),
+            object: object.and_then(|a| a.percent()),
+            overlay_n: overlay.map_or(0, |a| a.total),
+            object_n: object.map_or(0, |a| a.total),
+        }
+    }
+
+    /// Object − overlay, in points.
+    pub fn change(&self) -> Option<f64> {
+        Some(self.object? - self.overlay?)
+    }
+
+    fn mean(pairs: &[&Pair]) -> Pair {
+        let avg = |v: Vec<f64>| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
+        Pair {
+            overlay: avg(pairs.iter().filter_map(|p| p.overlay).collect()),
+            object: avg(pairs.iter().filter_map(|p| p.object).collect()),
+            overlay_n: pairs.iter().map(|p| p.overlay_n).sum(),
+            object_n: pairs.iter().map(|p| p.object_n).sum(),
+        }
+    }
+}
+
+/// One row: a policy and a family (`None`: the Avg. row).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Row {
+    pub policy: String,
+    pub family: Option<Family>,
+    pub vqa: Pair,
+    pub avf: Pair,
+    pub uvi: Pair,
+    /// Episodes counted and error records among them (both forms).
+    pub episodes: usize,
+    pub errors: usize,
+}
+
+/// The study's table.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Table {
+    pub rows: Vec<Row>,
+}
+
+/// The table of the policies that have object-form episodes in `records` (repeated records of
+/// one episode: the last completed one counts, as in the main report).
+pub fn build(records: &[EpisodeRecord], vqa: &FormVqa) -> Table {
+    let sets: BTreeSet<_> = records.iter().map(|r| r.set).collect();
+    let name = |r: &EpisodeRecord| if sets.len() > 1 { format!("{} [{}]", r.policy, r.set) } else { r.policy.clone() };
+    let mut by_policy: BTreeMap<String, (String, Vec<EpisodeRecord>)> = BTreeMap::new();
+    for r in records {
+        let family = r.spec.instance.as_deref().and_then(family_of);
+        if family.is_some_and(|f| OBJECT_FAMILIES.contains(&f)) && PROTOCOLS.contains(&r.spec.protocol) {
+            by_policy.entry(name(r)).or_insert_with(|| (r.policy.clone(), Vec::new())).1.push(r.clone());
+        }
+    }
+    let mut table = Table::default();
+    for (row_name, (policy, rs)) in by_policy {
+        let episodes: Vec<EpisodeRecord> = final_records(rs).into_values().collect();
+        if !episodes.iter().any(|r| r.spec.cue_form == CueForm::Object) {
+            continue;
+        }
+        let mut rows = Vec::new();
+        for family in OBJECT_FAMILIES {
+            let of_family: Vec<&EpisodeRecord> =
+                episodes.iter().filter(|r| r.spec.instance.as_deref().and_then(family_of) == Some(family)).collect();
+            let rate = |protocol: Protocol, form: CueForm| {
+                let mut acc = Accuracy::default();
+                for r in of_family.iter().filter(|r| r.spec.protocol == protocol && r.spec.cue_form == form) {
+                    if let Outcome::Completed { cue_success: Some(s), .. } = r.outcome {
+                        acc.add(s);
+                    }
+                }
+                (acc.total > 0).then_some(acc)
+            };
+            let vqa_of = |form: CueForm| vqa.get(&(policy.clone(), form)).and_then(|v| v.families.get(&family).copied());
+            rows.push(Row {
+                policy: row_name.clone(),
+                family: Some(family),
+                vqa: Pair::of(vqa_of(CueForm::Overlay), vqa_of(CueForm::Object)),
+                avf: Pair::of(rate(Protocol::Authorized, CueForm::Overlay), rate(Protocol::Authorized, CueForm::Object)),
+                uvi: Pair::of(rate(Protocol::NoLanguage, CueForm::Overlay), rate(Protocol::NoLanguage, CueForm::Object)),
+                episodes: of_family.len(),
+                errors: of_family.iter().filter(|r| matches!(r.outcome, Outcome::Error { .. })).count(),
+            });
+        }
+        let mean = |f: fn(&Row) -> &Pair| Pair::mean(&rows.iter().map(f).collect::<Vec<_>>());
+        let avg = Row {
+            policy: row_name.clone(),
+            family: None,
+            vqa: mean(|r| &r.vqa),
+            avf: mean(|r| &r.avf),
+            uvi: mean(|r| &r.uvi),
+            episodes: rows.iter().map(|r| r.episodes).sum(),
+            errors: rows.iter().map(|r| r.errors).sum(),
+        };
+        table.rows.extend(rows);
+        table.rows.push(avg);
+    }
+    table
+}
+
+fn pct(v: Option<f64>) -> String {
+    v.map_or_else(|| "–".to_string(), |p| format!("{p:.1}"))
+}
+
+fn signed(v: Option<f64>) -> String {
+    v.map_or_else(|| "–".to_string(), |p| format!("{p:+.1}"))
+}
+
+fn family_name(f: Option<Family>) -> &'static str {
+    f.map_or("Avg.", short_name)
+}
+
+impl Table {
+    /// Markdown: per policy and family, each metric overlay / object / change.
+    pub fn markdown(&self) -> String {
+        let mut s = String::from(
+            "### Cues as scene objects (§4.2): overlay vs object\n\n\
+             | Policy | Family | VQA overlay | VQA object | Δ | AVF overlay | AVF object | Δ | UVI overlay | UVI object | Δ | Episodes | Errors |\n\
+             |---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        );
+        for r in &self.rows {
+            let cells: Vec<String> = [&r.vqa, &r.avf, &r.uvi]
+                .iter()
+                .flat_map(|p| [pct(p.overlay), pct(p.object), signed(p.change())])
+                .collect();
+            s += &format!("| {} | {} | {} | {} | {} |\n", r.policy, family_name(r.family), cells.join(" | "), r.episodes, r.errors);
+        }
+        s += "\nΔ = object − overlay in points; Avg. is the unweighted mean of F1, F6 and F8. VQA needs \
+              `vifo report --vqa` / `--vqa-object` scores of the two exports (`vifo vqa export --form`).\n";
+        s
+    }
+
+    pub fn csv(&self) -> String {
+        let mut s = String::from(
+            "policy,family,vqa_overlay,vqa_object,vqa_change,avf_overlay,avf_object,avf_change,uvi_overlay,uvi_object,uvi_change,avf_overlay_n,avf_object_n,uvi_overlay_n,uvi_object_n,episodes,errors\n",
+        );
+        let num = |v: Option<f64>| v.map_or_else(String::new, |p| format!("{p:.4}"));
+        for r in &self.rows {
+            let family = r.family.map_or("avg".to_string(), |f| f.to_string());
+            let cells: Vec<String> =
+                [&r.vqa, &r.avf, &r.uvi].iter().flat_map(|p| [num(p.overlay), num(p.object), num(p.change())]).collect();
+            s += &format!(
+                "{},{family},{},{},{},{},{},{},{}\n",
+                r.policy,
+                cells.join(","),
+                r.avf.overlay_n,
+                r.avf.object_n,
+                r.uvi.overlay_n,
+                r.uvi.object_n,
+                r.episodes,
+                r.errors
+            );
+        }
+        s
+    }
+
+    /// Writes `objects.{md,csv,json}` and `chart_objects.png` into `dir`; returns the Markdown.
+    pub fn write(&self, dir: &Path) -> std::io::Result<String> {
+        std::fs::create_dir_all(dir)?;
+        let md = self.markdown();
+        std::fs::write(dir.join("objects.md"), &md)?;
+        std::fs::write(dir.join("objects.csv"), self.csv())?;
+        let json = serde_json::to_string_pretty(self).map_err(std::io::Error::other)? + "\n";
+        std::fs::write(dir.join("objects.json"), json)?;
+        std::fs::write(dir.join("chart_objects.png"), self.chart().map_err(std::io::Error::other)?)?;
+        Ok(md)
+    }
+
+    /// The paper's comparison figure: one panel per metric (VQA, AVF, UVI), in each a group per
+    /// policy of F1, F6, F8 and Avg., each an overlay bar (pale) beside an object bar (full).
+    pub fn chart(&self) -> Result<Vec<u8>, String> {
+        const PANEL_W: f32 = 420.0;
+        const H: f32 = 380.0;
+        let (top, bottom, left) = (56.0f32, 64.0f32, 40.0f32);
+        let mut pm = Pixmap::new((3.0 * PANEL_W + 150.0) as u32, H as u32).ok_or("chart size")?;
+        pm.fill(tiny_skia::Color::WHITE);
+        let black = vifo_cues::draw::rgb([30, 30, 30]);
+        let width = pm.width() as f32;
+        label(&mut pm, "Cues as overlays (pale) and as scene objects (full), % per family", width / 2.0, 20.0, 17.0, width, black);
+        let policies: Vec<&str> = self.rows.iter().map(|r| r.policy.as_str()).collect::<BTreeSet<_>>().into_iter().collect();
+        let groups: [(Option<Family>, [u8; 3]); 4] = [
+            (Some(Family::F1), COLOURS[0]),
+            (Some(Family::F6), COLOURS[5]),
+            (Some(Family::F8), COLOURS[7]),
+            (None, [90, 90, 90]),
+        ];
+        let pale = |c: [u8; 3]| c.map(|v| ((v as u16 + 2 * 255) / 3) as u8);
+        let metrics: [(&str, fn(&Row) -> &Pair); 3] = [("VQA", |r| &r.vqa), ("AVF", |r| &r.avf), ("UVI", |r| &r.uvi)];
+        for (m, (metric, pair)) in metrics.iter().enumerate() {
+            let x0 = m as f32 * PANEL_W + left;
+            let x1 = (m + 1) as f32 * PANEL_W - 10.0;
+            let (y0, y1) = (top, H - bottom);
+            label(&mut pm, metric, (x0 + x1) / 2.0, top - 14.0, 15.0, PANEL_W, black);
+            for tick in [0.0f32, 50.0, 100.0] {
+                let y = y1 - tick / 100.0 * (y1 - y0);
+                rect(&mut pm, x0, y - 0.5, x1 - x0, 1.0, vifo_cues::draw::rgb([215, 215, 215]));
+                label(&mut pm, &format!("{tick:.0}"), x0 - 16.0, y, 11.0, 30.0, black);
+            }
+            let group_w = (x1 - x0) / policies.len().max(1) as f32;
+            let bar_w = group_w * 0.84 / (2 * groups.len()) as f32;
+            for (g, policy) in policies.iter().enumerate() {
+                let start = x0 + g as f32 * group_w + group_w * 0.08;
+                for (i, (family, colour)) in groups.iter().enumerate() {
+                    let Some(row) = self.rows.iter().find(|r| r.policy == *policy && r.family == *family) else { continue };
+                    let p = pair(row);
+                    for (k, (value, c)) in [(p.overlay, pale(*colour)), (p.object, *colour)].into_iter().enumerate() {
+                        if let Some(v) = value {
+                            let h = (v as f32).clamp(0.0, 100.0) / 100.0 * (y1 - y0);
+                            rect(&mut pm, start + (2 * i + k) as f32 * bar_w + 0.5, y1 - h, bar_w - 1.0, h, vifo_cues::draw::rgb(c));
+                        }
+                    }
+                }
+                label(&mut pm, policy, start + group_w * 0.42, y1 + 16.0, 11.0, group_w - 4.0, black);
+            }
+            rect(&mut pm, x0, y1, x1 - x0, 1.5, black);
+        }
+        let lx = 3.0 * PANEL_W + 10.0;
+        for (i, (family, colour)) in groups.iter().enumerate() {
+            let y = top + 10.0 + i as f32 * 24.0;
+            rect(&mut pm, lx, y - 6.0, 8.0, 12.0, vifo_cues::draw::rgb(pale(*colour)));
+            rect(&mut pm, lx + 9.0, y - 6.0, 8.0, 12.0, vifo_cues::draw::rgb(*colour));
+            legend_text(&mut pm, family_name(*family), lx + 24.0, y, black);
+        }
+        encode_png(&pm)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spec::TaskRef;
+
+    fn record(policy: &str, id: &str, protocol: Protocol, form: CueForm, init: usize, success: Option<bool>) -> EpisodeRecord {
+        let task: TaskRef = id.rsplitn(3, '/').nth(2).unwrap().parse().unwrap();
+        let spec = EpisodeSpec { cue_form: form, ..spec(&task, protocol, Some(id), init, 0).unwrap() };
+        let outcome = match success {
+            Some(s) => Outcome::Completed { language_success: None, cue_success: Some(s), steps: 10 },
+            None => Outcome::Error { message: "dropped".into() },
+        };
+        EpisodeRecord { version: 1, spec, policy: policy.into(), outcome, wall_ms: 1.0, set: vifo_cues::SetName::Paper, look: String::new() }
+    }
+
+    #[test]
+    fn the_study_runs_every_text_sign_and_code_instance_in_both_forms_under_avf_and_uvi() {
+        let options = StudyOptions { set: vifo_cues::SetName::Paper, episodes: 2, quick: false };
+        let specs = episodes(&options).unwrap();
+        let n = instances::all(options.set).iter().filter(|c| OBJECT_FAMILIES.contains(&c.family)).count();
+        assert_eq!(specs.len(), n * 2 * 2 * 2);
+        let keys: BTreeSet<String> = specs.iter().map(|s| s.key()).collect();
+        assert_eq!(keys.len(), specs.len());
+        let quick = episodes(&StudyOptions { quick: true, episodes: 1, ..options }).unwrap();
+        let families: BTreeSet<Family> = quick.iter().filter_map(|s| s.instance.as_deref().and_then(family_of)).collect();
+        assert_eq!((quick.len(), families.len()), (3 * 4, 3));
+    }
+
+    #[test]
+    fn the_table_compares_the_forms_per_family_with_an_average() {
+        let f1 = "libero_goal/0/F1/caption_bar";
+        let f6 = "libero_goal/0/F6/sign_maintenance_source";
+        let mut rs = vec![
+            record("p", f1, Protocol::Authorized, CueForm::Overlay, 0, Some(true)),
+            record("p", f1, Protocol::Authorized, CueForm::Overlay, 1, Some(true)),
+            record("p", f1, Protocol::Authorized, CueForm::Object, 0, Some(true)),
+            record("p", f1, Protocol::Authorized, CueForm::Object, 1, Some(false)),
+            record("p", f6, Protocol::NoLanguage, CueForm::Object, 0, None),
+            record("p", f6, Protocol::NoLanguage, CueForm::Object, 0, Some(true)),
+            // A policy without object episodes has no row; conflict episodes are not counted.
+            record("q", f1, Protocol::Authorized, CueForm::Overlay, 0, Some(true)),
+            record("p", f1, Protocol::Conflict, CueForm::Overlay, 0, Some(false)),
+        ];
+        let mut vqa = FormVqa::new();
+        let mut scores = VqaScores::default();
+        scores.families.insert(Family::F1, Accuracy { correct: 3, total: 4 });
+        vqa.insert(("p".into(), CueForm::Object), scores);
+        let table = build(&rs, &vqa);
+        assert_eq!(table.rows.len(), 4);
+        let f1_row = &table.rows[0];
+        assert_eq!((f1_row.avf.overlay, f1_row.avf.object, f1_row.avf.change()), (Some(100.0), Some(50.0), Some(-50.0)));
+        assert_eq!((f1_row.vqa.overlay, f1_row.vqa.object), (None, Some(75.0)));
+        let f6_row = &table.rows[1];
+        // The resumed episode's completed record counts, the error line does not.
+        assert_eq!((f6_row.uvi.object, f6_row.uvi.object_n, f6_row.errors), (Some(100.0), 1, 0));
+        let avg = &table.rows[3];
+        assert_eq!(avg.family, None);
+        assert_eq!(avg.avf.object, Some(50.0));
+        assert!(table.markdown().contains("| p | Avg. |"));
+        assert!(table.csv().lines().count() == 5);
+        assert!(table.chart().unwrap().starts_with(b"\x89PNG"));
+        rs.retain(|r| r.spec.cue_form == CueForm::Overlay);
+        assert!(build(&rs, &vqa).rows.is_empty());
+    }
+}

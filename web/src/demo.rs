@@ -195,8 +195,8 @@ impl Demo {
     /// Starts an episode of `task` (`libero_goal/3`) from shipped initial state `init` under
     /// the language condition `condition`, with cue instance `cue` (required by every condition
     /// but `original`) and `seed` (the benchmark's stable seed of the episode when `None`).
+    /// Bad arguments leave the running episode as it was.
     pub fn reset(&mut self, task: &str, init: usize, cue: Option<&str>, condition_name: &str, seed: Option<u64>) -> Result<Status, String> {
-        self.running = None;
         let task = parse_task(task)?;
         let protocol = condition(condition_name)?;
         if init >= specs::INIT_STATES {
@@ -208,6 +208,8 @@ impl Demo {
         if let Some(seed) = seed {
             spec.seed = seed;
         }
+        // From here on the old episode is gone (the environment drops it first).
+        self.running = None;
         self.env.reset(&spec).map_err(|e| format!("reset: {e}"))?;
         self.policy.reset().map_err(|e| format!("policy {}: {e}", self.policy_name))?;
         let builtin = builtin_task(&task).map_err(|e| e.to_string())?;
@@ -339,6 +341,10 @@ mod tests {
         assert!(demo.reset("libero_goal/1", 0, Some(CUE), "authorized", None).unwrap_err().contains("belongs to task"));
         assert!(demo.reset("libero_goal/0", 99, Some(CUE), "authorized", None).unwrap_err().contains("initial state 99 is outside"));
         assert!(demo.set_policy("clever").unwrap_err().contains("unknown policy"));
+        demo.reset("libero_goal/0", 0, None, "original", None).unwrap();
+        demo.step_action(&[0.0, 0.0, 0.1, 0.0, 0.0, 0.0, -1.0]).unwrap();
+        assert!(demo.reset("libero_goal/0", 0, Some("libero_goal/0/F9/nothing"), "authorized", None).is_err());
+        assert_eq!(demo.status().unwrap().steps, 1, "a rejected reset dropped the running episode");
         let start = demo.reset("libero_goal/0", 0, Some(CUE), "authorized", Some(7)).unwrap();
         assert_eq!(start.seed, "7");
         assert!(start.cue.as_deref().unwrap().contains("caption_bar"));

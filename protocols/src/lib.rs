@@ -4,8 +4,8 @@
 //!   what it produced — the records the runner writes and the reports read.
 //! - [`policy`]: the observation a policy sees and the [`Policy`] trait every policy implements
 //!   (built-in reference policies, remote VLA servers).
-//! - [`remote`]: the openpi websocket client, a [`Policy`] served by a VLA server.
-//! - [`serving`]: every VLA serving path (openpi, InternVLA, OpenVLA-OFT, Xiaomi, LeRobot) with
+//! - `remote` (feature `net`, on by default): the openpi websocket client, a [`Policy`] served by a VLA server.
+//! - `serving` (feature `net`): every VLA serving path (openpi, InternVLA, OpenVLA-OFT, Xiaomi, LeRobot) with
 //!   one observation/action profile per model.
 //! - [`report`]: the paper's Tables 1 and 2 (Markdown, CSV, JSON) and per-family bar charts.
 //! - [`runner`]: parallel, resumable, shardable runs writing one JSON line per episode.
@@ -18,10 +18,12 @@ pub mod benchmark;
 pub mod env;
 pub mod policies;
 pub mod policy;
+#[cfg(feature = "net")]
 pub mod remote;
 pub mod report;
 pub mod runner;
 pub mod scene_cues;
+#[cfg(feature = "net")]
 pub mod serving;
 pub mod spec;
 pub mod studies;

@@ -37,6 +37,8 @@ enum Command {
     Run(cmd::run::Args),
     /// The shipped initial states: regenerate them or check them.
     InitStates(cmd::init_states::Args),
+    /// The browser demo: build the site, serve it, run its episode natively.
+    Web(cmd::web::Args),
 }
 
 fn main() {
@@ -53,6 +55,7 @@ fn main() {
         Command::Render(args) => cmd::render::run(args),
         Command::Run(args) => cmd::run::run(args),
         Command::InitStates(args) => cmd::init_states::run(args),
+        Command::Web(args) => cmd::web::run(args),
     };
     if let Err(err) = result {
         eprintln!("error: {err:#}");

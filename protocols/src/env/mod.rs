@@ -289,6 +289,13 @@ impl Env {
         Ok(EpisodeState { sim: &ep.sim, cue_goal: ep.cue_goal.as_deref(), seed: ep.spec.seed })
     }
 
+    /// The running episode's physics state fingerprint (`vifo_physics::Fingerprint`: every
+    /// body pose and velocity, bit for bit), so an episode run elsewhere (the browser demo) can
+    /// be checked against a native run of the same spec; `None` before the first reset.
+    pub fn state_hash(&self) -> Option<u64> {
+        self.episode.as_ref().map(|ep| ep.sim.world().fingerprint().0)
+    }
+
     /// Whether the task the protocol scores is done as of the last step (LIBERO's
     /// `check_success`): the language task for original, the cue task for authorized and
     /// no-language, either for conflict. False before the first step.

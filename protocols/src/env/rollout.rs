@@ -4,7 +4,7 @@ use std::sync::Mutex;
 
 use vifo_cues::SetName;
 
-use super::{Env, EnvConfig};
+use super::{Env, EnvConfig, StepResult};
 use crate::policy::Policy;
 use crate::runner::{self, RunError, RunOptions, RunSummary};
 use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome, RESULTS_VERSION};
@@ -55,9 +55,7 @@ fn run(env: &mut Env, policy: &mut dyn Policy, spec: &EpisodeSpec, options: &Rol
     policy.reset().map_err(|e| e.to_string())?;
     let mut resting = 0;
     loop {
-        let state = env.state().map_err(|e| e.to_string())?;
-        let action = policy.act_with_state(env.observation(), &state).map_err(|e| format!("step {}: {e}", env.observation().step))?;
-        let step = env.step(&action).map_err(|e| e.to_string())?;
+        let step = policy_step(env, policy)?;
         let (language_success, cue_success, mut steps, done) =
             (step.language_success, step.cue_success, step.steps, step.done);
         if !done && options.fast_forward && policy.holding_still() && env.at_rest() {
@@ -72,6 +70,15 @@ fn run(env: &mut Env, policy: &mut dyn Policy, spec: &EpisodeSpec, options: &Rol
         }
         return Ok(Outcome::Completed { language_success, cue_success, steps });
     }
+}
+
+/// One control step of `policy` in `env`'s running episode: the policy sees the latest
+/// observation (privileged policies also the episode state) and its action is applied. Errors
+/// of the policy name the step.
+pub fn policy_step<'e>(env: &'e mut Env, policy: &mut dyn Policy) -> Result<StepResult<'e>, String> {
+    let state = env.state().map_err(|e| e.to_string())?;
+    let action = policy.act_with_state(env.observation(), &state).map_err(|e| format!("step {}: {e}", env.observation().step))?;
+    env.step(&action).map_err(|e| e.to_string())
 }
 
 /// Runs every spec with policies made by `make` (one per worker thread, kept across its

@@ -7,9 +7,10 @@
 //! - [`extract`]: VLMEvalKit's answer extraction (letter, then option text; refusals are Z).
 //! - [`score`]: accuracy per stage, per family, and full-chain accuracy (FCA).
 //! - [`answerers`]: the oracle and the text-only (blind) baselines.
-//! - [`client`]: an OpenAI-compatible chat client (vLLM, SGLang) answering the questions.
+//! - `client` (feature `net`): an OpenAI-compatible chat client (vLLM, SGLang) answering the questions.
 
 pub mod answerers;
+#[cfg(feature = "net")]
 pub mod client;
 pub mod extract;
 pub mod files;

@@ -11,3 +11,4 @@ pub mod expert;
 pub mod render;
 pub mod run;
 pub mod init_states;
+pub mod web;

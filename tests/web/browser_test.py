@@ -1,0 +1,211 @@
+#!/usr/bin/env python3
+"""The browser demo in a real headless Chromium (selenium + Debian's chromium-driver).
+
+Serves a site built by `vifo web build` with `vifo web serve` on 127.0.0.1, then:
+  1. plays one cue episode of the expert on the page to success (URL-preset pickers, autoplay),
+     reading the fps counter and the first-frame time, and saves a screenshot;
+  2. runs episodes of tasks from three other suites through the page's module and compares
+     each final state hash with `vifo web episode` (the same episode, native);
+  3. plays agentview alone at 256² and reads the fps counter;
+  4. feeds malformed tasks, cues, conditions and action arrays from JavaScript: each must
+     throw an Error with a message, and the page must keep working (no wasm trap).
+Prints the measured figures as GATE lines (gates are reported, not asserted) and exits non-zero
+when a behaviour check fails. Without chromium, chromedriver or selenium it prints SKIPPED with
+the reason and exits 0.
+
+usage: browser_test.py --vifo target/fast/vifo --site target/web-site [--artifacts DIR]
+"""
+
+import argparse
+import json
+import shutil
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+# The episode played on the page, and the hash-check episodes (one task per other suite).
+PLAYED = ("libero_goal/0", "libero_goal/0/F2/bounding_boxes", "authorized")
+HASHED = [
+    ("libero_spatial/0", "libero_spatial/0/F2/straight_arrow_red", "authorized"),
+    ("libero_object/0", "libero_object/0/F7/spotlight_cone", "no_language"),
+    ("libero_10/0", "libero_10/0/F1/caption_bar", "conflict"),
+]
+
+
+def skip(reason):
+    print(f"SKIPPED browser test: {reason}")
+    sys.exit(0)
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--vifo", required=True, help="the vifo program")
+    parser.add_argument("--site", required=True, help="the folder vifo web build wrote")
+    parser.add_argument("--artifacts", default="target/web-artifacts", help="where the screenshot goes")
+    parser.add_argument("--timeout", type=float, default=240, help="seconds for the played episode")
+    args = parser.parse_args()
+
+    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
+    driver_path = shutil.which("chromedriver")
+    if not chromium or not driver_path:
+        skip("chromium and chromedriver are not installed (apt-get install chromium chromium-driver)")
+    try:
+        from selenium import webdriver
+        from selenium.webdriver.chrome.service import Service
+    except ImportError:
+        skip("python selenium is not installed (pip install selenium)")
+    if not (Path(args.site) / "index.html").is_file():
+        sys.exit(f"FAIL: {args.site} has no index.html; run vifo web build {args.site} first")
+
+    server = subprocess.Popen([args.vifo, "web", "serve", args.site, "--port", "0"], stdout=subprocess.PIPE, text=True)
+    failures = []
+    try:
+        url = server.stdout.readline().strip().split(" at ")[-1]
+        if not url.startswith("http://127.0.0.1:"):
+            sys.exit(f"FAIL: vifo web serve printed {url!r}")
+        options = webdriver.ChromeOptions()
+        options.binary_location = chromium
+        for flag in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1400,1100"):
+            options.add_argument(flag)
+        browser = webdriver.Chrome(service=Service(driver_path), options=options)
+        try:
+            run_checks(browser, url, args, failures)
+        finally:
+            browser.quit()
+    finally:
+        server.terminate()
+        server.wait()
+    if failures:
+        for f in failures:
+            print(f"FAIL: {f}")
+        sys.exit(1)
+    print("browser test passed")
+
+
+def page(browser, url, query):
+    browser.get(f"{url}?{query}")
+    deadline = time.time() + 60
+    while time.time() < deadline:
+        state = browser.execute_script("return [document.body.dataset.ready || '', document.getElementById('error').textContent]")
+        if state[0] == "1":
+            return
+        if state[1]:
+            raise RuntimeError(f"page error while loading: {state[1]}")
+        time.sleep(0.05)
+    raise RuntimeError("page did not load in 60 s")
+
+
+def text(browser, element_id):
+    return browser.execute_script(f"return document.getElementById('{element_id}').textContent")
+
+
+def play_and_sample_fps(browser, timeout):
+    """Waits until the playing episode is over (or `timeout`), sampling the fps counter."""
+    samples, deadline = [], time.time() + timeout
+    while time.time() < deadline:
+        time.sleep(0.5)
+        fps = float(text(browser, "fps") or 0)
+        if fps > 0:
+            samples.append(fps)
+        if browser.execute_script("return window.vifo.status.done") or text(browser, "error"):
+            break
+    return samples
+
+
+def native(args, task, cue, condition, size, wrist):
+    command = [args.vifo, "web", "episode", "--task", task, "--cue", cue, "--condition", condition, "--size", str(size), "--json"]
+    if not wrist:
+        command.append("--no-wrist")
+    out = subprocess.run(command, check=True, capture_output=True, text=True).stdout
+    return json.loads(out)
+
+
+def run_checks(browser, url, args, failures):
+    task, cue, condition = PLAYED
+    started = time.time()
+    page(browser, url, f"task={task}&cue={cue}&condition={condition}&size=128&autoplay=1")
+    first_frame = float(text(browser, "first-frame-ms"))
+    samples = play_and_sample_fps(browser, args.timeout)
+    status = browser.execute_script("return window.vifo.status")
+    Path(args.artifacts).mkdir(parents=True, exist_ok=True)
+    shot = Path(args.artifacts) / "web-demo.png"
+    browser.save_screenshot(str(shot))
+    print(f"played {task} {cue} {condition}: {status['steps']} steps in {time.time() - started:.1f} s, "
+          f"cue success {status['cue_success']}, screenshot {shot}")
+    if text(browser, "error"):
+        failures.append(f"page error while playing: {text(browser, 'error')}")
+    if not status["cue_success"]:
+        failures.append(f"the expert did not complete {cue} on the page ({status['steps']} steps)")
+    fps = statistics.median(samples) if samples else 0.0
+    print(f"GATE web fps, agentview + wrist 128², 20 Hz control: median {fps:.1f} over {len(samples)} samples "
+          f"(min {min(samples, default=0):.1f}, max {max(samples, default=0):.1f}); goal >= 30")
+    print(f"GATE web first frame: {first_frame:.0f} ms after navigation start; goal <= 3000")
+
+    reference = native(args, task, cue, condition, 128, True)
+    hashes = [(task, status["state_hash"], reference["state_hash"], status["steps"], reference["steps"])]
+    for task, cue, condition in HASHED:
+        page_status = browser.execute_script(
+            """const [task, cue, condition] = arguments;
+               const demo = window.vifo.demo;
+               demo.setPolicy("expert-cue");
+               let s = demo.reset(task, 0, cue, condition);
+               while (!s.done) s = demo.step();
+               return s;""", task, cue, condition)
+        reference = native(args, task, cue, condition, 128, True)
+        hashes.append((task, page_status["state_hash"], reference["state_hash"], page_status["steps"], reference["steps"]))
+    equal = 0
+    for task, on_page, in_native, page_steps, native_steps in hashes:
+        same = on_page == in_native and page_steps == native_steps
+        equal += same
+        print(f"  {task}: page {on_page} ({page_steps} steps), native {in_native} ({native_steps} steps): {'equal' if same else 'DIFFERENT'}")
+        if not same:
+            failures.append(f"{task}: state hash on the page {on_page} != native {in_native}")
+    print(f"GATE web state hash: {equal} of {len(hashes)} episodes equal to native (suites: "
+          f"{', '.join(sorted({h[0].split('/')[0] for h in hashes}))}); goal >= 3 from different suites")
+
+    page(browser, url, f"task={task}&cue={cue}&condition={condition}&size=256&wrist=0&autoplay=1")
+    samples = play_and_sample_fps(browser, 8)
+    fps = statistics.median(samples) if samples else 0.0
+    print(f"GATE web fps, agentview 256² alone: median {fps:.1f} over {len(samples)} samples; goal >= 15")
+
+    bad = browser.execute_script(
+        """const demo = window.vifo.demo;
+           const attempts = {
+             task: () => demo.reset("libero_nothing/3", 0, null, "original"),
+             cue: () => demo.reset("libero_goal/0", 0, "libero_goal/0/F9/none", "authorized"),
+             other_task_cue: () => demo.reset("libero_goal/1", 0, "libero_goal/0/F1/caption_bar", "authorized"),
+             condition: () => demo.reset("libero_goal/0", 0, null, "loud"),
+             init: () => demo.reset("libero_goal/0", 1.5, null, "original"),
+             init_range: () => demo.reset("libero_goal/0", 50, null, "original"),
+             policy: () => demo.setPolicy("psychic"),
+             short_action: () => demo.stepAction([0, 0, 0]),
+             nan_action: () => demo.stepAction([0, 0, NaN, 0, 0, 0, 0]),
+             text_action: () => demo.stepAction(["a", 0, 0, 0, 0, 0, 0]),
+             not_an_array: () => demo.stepAction("forward"),
+             null_action: () => demo.stepAction(null),
+           };
+           const out = {};
+           demo.reset("libero_goal/0", 0, null, "original");
+           for (const [name, f] of Object.entries(attempts)) {
+             try { f(); out[name] = "no exception"; }
+             catch (e) { out[name] = (e instanceof Error ? "" : "not an Error: ") + e.message; }
+           }
+           // The episode survived every rejected call: no step was taken, and it still steps.
+           const kept = demo.status();
+           const after = demo.stepAction([0, 0, 0, 0, 0, 0, -1]);
+           out.still_works = kept.steps === 0 && kept.task === "libero_goal/0" && after.steps === 1;
+           return out;""")
+    for name, message in bad.items():
+        if name == "still_works":
+            continue
+        print(f"  bad {name}: {message}")
+        if message == "no exception" or message.startswith("not an Error") or "unreachable" in message:
+            failures.append(f"bad {name} gave {message!r}, not a clear JavaScript Error")
+    if not bad["still_works"]:
+        failures.append("after the bad calls the demo no longer steps")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,181 @@
+// The demo page: pickers, play/pause/step/reset, both cameras on canvases, status and counters.
+// Everything runs in the WebAssembly module (vifo_web.js); this file only wires the page to it.
+// URL parameters preset the pickers (task, condition, cue, init, seed, policy, size, wrist=0,
+// autoplay=1), so a link can open a given episode.
+import init, { VifoDemo, tasks, instances, languageConditions, policies } from "./vifo_web.js";
+
+const $ = (id) => document.getElementById(id);
+const params = new URLSearchParams(location.search);
+let demo = null;
+let demoConfig = "";
+let status = null;
+let playing = false;
+let cueList = [];
+let firstFrameShown = false;
+// fps: frames drawn in the current one-second window; ms per step: mean wasm step + draw time.
+let fpsWindow = { start: 0, frames: 0 };
+let stepMs = { total: 0, count: 0 };
+
+function showError(err) {
+  $("error").textContent = err ? String(err.message ?? err) : "";
+}
+
+function fill(select, items, value) {
+  select.replaceChildren(...items.map(([v, text]) => new Option(text, v)));
+  if (value !== undefined && items.some(([v]) => v === value)) select.value = value;
+}
+
+function fillCues(preset) {
+  cueList = instances($("task").value);
+  const families = [...new Map(cueList.map((c) => [c.family, `${c.family} ${c.family_name}`]))];
+  const presetCue = cueList.find((c) => c.id === preset);
+  fill($("family"), families, presetCue?.family ?? $("family").value);
+  fillVariants(presetCue?.id);
+  return !preset || presetCue !== undefined;
+}
+
+function fillVariants(preset) {
+  const family = $("family").value;
+  const variants = cueList.filter((c) => c.family === family).map((c) => [c.id, c.variant + (c.paper ? "" : " (full set only)")]);
+  fill($("variant"), variants, preset);
+}
+
+// A new module-side demo when the frame size or camera set changes.
+function ensureDemo() {
+  const size = Number($("size").value);
+  const wrist = $("wrist").checked;
+  const config = `${size}/${wrist}`;
+  if (config === demoConfig) return;
+  demo?.free();
+  demo = new VifoDemo(size, wrist);
+  demoConfig = config;
+  for (const id of ["agentview", "wristview"]) {
+    $(id).width = size;
+    $(id).height = size;
+  }
+  $("wrist-figure").style.display = wrist ? "" : "none";
+}
+
+function reset() {
+  showError(null);
+  ensureDemo();
+  demo.setPolicy($("policy").value);
+  const seedText = $("seed").value.trim();
+  const seed = seedText === "" ? undefined : Number(seedText);
+  const condition = $("condition").value;
+  const cue = condition === "original" ? null : $("variant").value || null;
+  status = demo.reset($("task").value, Number($("init").value), cue, condition, seed);
+  stepMs = { total: 0, count: 0 };
+  draw();
+}
+
+function draw() {
+  const size = demo.size;
+  const put = (canvas, rgba) => {
+    const image = new ImageData(new Uint8ClampedArray(rgba.buffer, rgba.byteOffset, rgba.length), size, size);
+    canvas.getContext("2d").putImageData(image, 0, 0);
+  };
+  put($("agentview"), demo.agentview());
+  if ($("wrist").checked) put($("wristview"), demo.wrist());
+  showStatus();
+  if (!firstFrameShown) {
+    firstFrameShown = true;
+    $("first-frame-ms").textContent = Math.round(performance.now());
+  }
+  fpsWindow.frames += 1;
+  const now = performance.now();
+  if (now - fpsWindow.start >= 1000) {
+    $("fps").textContent = playing ? (fpsWindow.frames * 1000 / (now - fpsWindow.start)).toFixed(1) : "0";
+    fpsWindow = { start: now, frames: 0 };
+  }
+}
+
+function flag(value) {
+  return value === null || value === undefined ? "–" : value ? "yes" : "no";
+}
+
+function showStatus() {
+  $("instruction").textContent = status.instruction === "" ? "(empty)" : status.instruction;
+  $("cue").textContent = status.cue ?? "(no cue)";
+  $("steps").textContent = status.steps;
+  $("budget").textContent = status.budget;
+  $("cue-success").textContent = flag(status.cue_success);
+  $("language-success").textContent = flag(status.language_success);
+  $("done").textContent = status.done ? "yes" : "no";
+  $("state-hash").textContent = status.state_hash;
+  $("step-ms").textContent = stepMs.count ? (stepMs.total / stepMs.count).toFixed(1) : "–";
+  $("predicates").replaceChildren(...status.predicates.map((p) => {
+    const li = document.createElement("li");
+    li.innerHTML = `<span class="${p.holds ? "yes" : "no"}">${p.holds ? "✓" : "✗"}</span> ${p.task}: <code></code>`;
+    li.querySelector("code").textContent = p.atom;
+    return li;
+  }));
+}
+
+function stepOnce() {
+  const t0 = performance.now();
+  status = demo.step();
+  draw();
+  stepMs.total += performance.now() - t0;
+  stepMs.count += 1;
+}
+
+// One control step per animation frame while playing.
+function tick() {
+  if (!playing) return;
+  try {
+    stepOnce();
+    if (status.done) setPlaying(false);
+    else requestAnimationFrame(tick);
+  } catch (err) {
+    setPlaying(false);
+    showError(err);
+  }
+}
+
+function setPlaying(on) {
+  playing = on;
+  $("play").textContent = on ? "Pause" : "Play";
+  fpsWindow = { start: performance.now(), frames: 0 };
+  if (on) requestAnimationFrame(tick);
+}
+
+function guarded(f) {
+  return () => {
+    try {
+      f();
+    } catch (err) {
+      setPlaying(false);
+      showError(err);
+    }
+  };
+}
+
+async function main() {
+  await init();
+  const taskList = tasks();
+  fill($("task"), taskList.map((t) => [t.key, `${t.key}: ${t.instruction}`]), params.get("task") ?? "libero_goal/0");
+  fill($("condition"), languageConditions().map((c) => [c, c]), params.get("condition") ?? "authorized");
+  fill($("policy"), policies().map((p) => [p, p]), params.get("policy") ?? "expert-cue");
+  if (params.has("size")) $("size").value = params.get("size");
+  if (params.get("wrist") === "0") $("wrist").checked = false;
+  if (params.has("init")) $("init").value = params.get("init");
+  if (params.has("seed")) $("seed").value = params.get("seed");
+  const cueFound = fillCues(params.get("cue"));
+  $("task").onchange = guarded(() => { fillCues(); reset(); });
+  $("family").onchange = guarded(() => { fillVariants(); reset(); });
+  for (const id of ["variant", "condition", "init", "seed", "size", "wrist"]) $(id).onchange = guarded(reset);
+  $("policy").onchange = guarded(() => demo.setPolicy($("policy").value));
+  $("reset").onclick = guarded(() => { setPlaying(false); reset(); });
+  $("step").onclick = guarded(() => { setPlaying(false); if (!status.done) stepOnce(); });
+  $("play").onclick = guarded(() => setPlaying(!playing && !status.done));
+  reset();
+  if (!cueFound) showError(`cue ${params.get("cue")} is not an instance of ${$("task").value}; showing ${$("variant").value}`);
+  document.body.dataset.ready = "1";
+  if (params.get("autoplay") === "1") setPlaying(true);
+}
+
+main().catch(showError);
+
+// For scripts and the browser test: the page's demo object.
+window.vifo = { get demo() { return demo; }, get status() { return status; } };

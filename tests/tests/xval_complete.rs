@@ -1,0 +1,58 @@
+//! The MuJoCo frames recorded with LIBERO's complete asset set (`xval/record_complete.py`) are
+//! readable by `vifo xval --images`: every recording names one of our tasks, starts in our scene,
+//! and its images compare. The set lives outside the repository (`VIFO_XVAL_COMPLETE`, default
+//! `~/.cache/libero-vifo/xval-complete`); without it the tests print why they skip.
+
+use std::path::PathBuf;
+
+use vifo::xval::{self, Recording, images};
+use vifo_scenes::view::CameraName;
+
+fn complete_refs(test: &str) -> Option<PathBuf> {
+    let dir = std::env::var_os("VIFO_XVAL_COMPLETE")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache/libero-vifo/xval-complete")));
+    match dir {
+        Some(d) if xval::recordings_in(&d).is_ok() => Some(d),
+        d => {
+            println!(
+                "SKIPPED {test}: no complete-asset reference frames at {} (record them with \
+                 `~/.cache/libero-vifo/orig-venv/bin/python xval/record_complete.py`, or set VIFO_XVAL_COMPLETE)",
+                d.map_or_else(|| "$HOME/.cache/libero-vifo/xval-complete".into(), |d| d.display().to_string())
+            );
+            None
+        }
+    }
+}
+
+#[test]
+fn every_complete_recording_starts_in_our_scene_with_its_images() {
+    let Some(dir) = complete_refs("every_complete_recording_starts_in_our_scene_with_its_images") else { return };
+    let paths = xval::recordings_in(&dir).unwrap();
+    for path in &paths {
+        let rec = Recording::load(path).unwrap();
+        assert!(rec.steps.len() > images::IMAGE_STEPS[1], "{}: {} records", path.display(), rec.steps.len());
+        xval::start(&rec).unwrap_or_else(|e| panic!("{}: {e:#}", path.display()));
+        for camera in CameraName::ALL {
+            for t in images::IMAGE_STEPS {
+                let img = vifo_render::imageio::load_png(images::reference_image(path, camera, t)).unwrap();
+                assert_eq!((img.width, img.height), (images::IMAGE_SIZE, images::IMAGE_SIZE), "{} {camera} {t}", path.display());
+            }
+        }
+    }
+    println!("{} complete-asset recordings in {}", paths.len(), dir.display());
+}
+
+#[test]
+fn a_complete_recording_compares_with_the_built_in_look() {
+    let Some(dir) = complete_refs("a_complete_recording_compares_with_the_built_in_look") else { return };
+    let path = &xval::recordings_in(&dir).unwrap()[0];
+    let out = tempfile::tempdir().unwrap();
+    let reports = images::compare(path, &Recording::load(path).unwrap(), out.path(), None).unwrap();
+    assert_eq!(reports.len(), images::IMAGE_STEPS.len() * CameraName::ALL.len());
+    for r in &reports {
+        assert!(r.ssim.is_finite() && r.ssim > 0.0 && r.ssim <= 1.0, "{r:?}");
+        assert!(r.psnr_db.is_finite() && r.psnr_db > 5.0, "{r:?}");
+        assert!(r.output.exists(), "{}", r.output.display());
+    }
+}

@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use anyhow::Context;
 use clap::Args as ClapArgs;
 use vifo_protocols::report;
+use vifo_protocols::studies::{Study, safety};
 use vifo_protocols::runner::read_records;
 use vifo_protocols::vqa::VqaScores;
 
@@ -53,9 +54,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if !looks.is_empty() {
         eprintln!("look: {listed}");
     }
-    let report = report::build(&records, &vqa);
-    let markdown = report.write(&args.out).with_context(|| format!("writing {}", args.out.display()))?;
-    print!("{markdown}");
+    // Study episodes (their own suites) get their own tables, not the main ones.
+    let (study, main): (Vec<_>, Vec<_>) = records.into_iter().partition(|r| Study::of(&r.spec).is_some());
+    if !main.is_empty() || !vqa.is_empty() {
+        let report = report::build(&main, &vqa);
+        let markdown = report.write(&args.out).with_context(|| format!("writing {}", args.out.display()))?;
+        print!("{markdown}");
+    }
+    if !study.is_empty() {
+        let markdown = safety::build(&study).write(&args.out).with_context(|| format!("writing {}", args.out.display()))?;
+        print!("\n{markdown}");
+    }
     println!("\nwritten to {}", args.out.display());
     Ok(())
 }

@@ -6,6 +6,12 @@
 //! that part of the benchmark. Each policy's episodes go to `OUT/results-<policy>.jsonl` as
 //! they finish (stopping at any time leaves a valid file; `--resume` continues it), and the
 //! tables and charts of all policies in the folder to `OUT/report/`.
+//!
+//! `--study safety|all` runs an extended study instead (§4.3's safety-critical scenes): the
+//! same runner, results files `OUT/<study>-results-<policy>.jsonl` and options (`--resume`,
+//! `--threads`, `--shard`, `--episodes`), the built-in reference policies by default, and the
+//! study's own tables in `OUT/report/`. The quick default also runs a small sample of each
+//! study.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -22,6 +28,7 @@ use vifo_protocols::remote::RemotePolicy;
 use vifo_protocols::runner::{RunOptions, Shard, read_records};
 use vifo_protocols::serving::{Format, Profile, ServedPolicy, ServingConfig};
 use vifo_protocols::spec::EpisodeSpec;
+use vifo_protocols::studies::{Study, StudyOptions, safety};
 use vifo_protocols::{Policy, Protocol, report};
 use vifo::look::LookArgs;
 use vifo_scenes::view::CameraName;
@@ -99,14 +106,27 @@ pub struct Args {
     /// hold the waits for a shared machine's cores). `--resume` later continues to the whole run.
     #[arg(long)]
     sample: Option<usize>,
+    /// Run an extended study instead of the main benchmark: safety (§4.3's six
+    /// safety-critical scenes) or all; repeatable. Default policies: the three experts;
+    /// default episodes: 5 per instance and condition (initial states 0-4).
+    #[arg(long, value_delimiter = ',')]
+    study: Vec<String>,
     #[command(flatten)]
     look: LookArgs,
 }
+
+/// Episodes per instance and condition of a study run without `--episodes`.
+const STUDY_EPISODES: usize = 5;
+/// The reference policies a study runs without `--policy`: rows whose values are known.
+const STUDY_POLICIES: [&str; 3] = ["expert-cue", "expert-language", "expert-authorized"];
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     if args.conflicts {
         print_conflicts()?;
         return Ok(());
+    }
+    if !args.study.is_empty() {
+        return run_studies(&args);
     }
     let quick = args.suite.is_empty()
         && args.protocol.is_empty()
@@ -119,19 +139,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         ([], false) => bail!("name the policy to run: --policy {} or --policy ws://host:port", policies::NAMES.join("|")),
         (given, _) => given.to_vec(),
     };
-    for p in &policies {
-        if builtin(p).is_none() {
-            if !p.contains("://") {
-                bail!("unknown policy {p:?}: expected one of {} or a server URL", policies::NAMES.join(", "));
-            }
-            serving_config(p, &args)?;
-        }
-    }
-    anyhow::ensure!((16..=4096).contains(&args.size), "--size must be between 16 and 4096 pixels");
-    // The look matters (and is recorded) only where cameras draw.
-    if args.render_always || policies.iter().any(|p| builtin(p).is_none_or(|b| b.uses_images())) {
-        vifo_protocols::env::scenes::use_look(args.look.look()?)?;
-    }
+    check_policies(&policies, &args)?;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(if quick { "vifo-run-quick" } else { "vifo-run" }));
     let all_specs = specs::specs(&selection)?;
     let specs = match args.sample {
@@ -161,7 +169,96 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         results.push(path);
     }
-    write_report(&out, &results)
+    write_report(&out, &results)?;
+    if quick && args.sample.is_none() {
+        // A small sample of each study, in its own results files and tables.
+        let options = StudyOptions { episodes: 1, quick: true };
+        let mut study_results = Vec::new();
+        for study in Study::ALL {
+            let specs = study.episodes(&options)?;
+            println!("\nstudy {}: a sample of {} episodes per policy", study.name(), specs.len());
+            for policy in &policies {
+                let path = out.join(study_file(study, policy));
+                run_policy(policy, &specs, &path, &args)?;
+                study_results.push(path);
+            }
+        }
+        write_study_reports(&out, &study_results)?;
+    }
+    Ok(())
+}
+
+/// Checks every policy name or URL before any work, and sets the look where cameras draw.
+fn check_policies(policies: &[String], args: &Args) -> anyhow::Result<()> {
+    for p in policies {
+        if builtin(p).is_none() {
+            if !p.contains("://") {
+                bail!("unknown policy {p:?}: expected one of {} or a server URL", policies::NAMES.join(", "));
+            }
+            serving_config(p, args)?;
+        }
+    }
+    anyhow::ensure!((16..=4096).contains(&args.size), "--size must be between 16 and 4096 pixels");
+    // The look matters (and is recorded) only where cameras draw.
+    if args.render_always || policies.iter().any(|p| builtin(p).is_none_or(|b| b.uses_images())) {
+        vifo_protocols::env::scenes::use_look(args.look.look()?)?;
+    }
+    Ok(())
+}
+
+/// `vifo run --study ...`: each study's episodes for each policy, the time of the whole run,
+/// then the studies' tables.
+fn run_studies(args: &Args) -> anyhow::Result<()> {
+    let studies: Vec<Study> = if args.study.iter().any(|s| s == "all") {
+        Study::ALL.to_vec()
+    } else {
+        args.study.iter().map(|s| s.parse().map_err(anyhow::Error::msg)).collect::<anyhow::Result<_>>()?
+    };
+    let ignored = [(!args.suite.is_empty(), "--suite"), (!args.protocol.is_empty(), "--protocol"), (!args.family.is_empty(), "--family"), (args.per_family.is_some(), "--per-family"), (args.sample.is_some(), "--sample")];
+    if let Some((_, flag)) = ignored.iter().find(|(given, _)| *given) {
+        bail!("{flag} selects part of the main benchmark; a study chooses its own episodes (--episodes sets how many)");
+    }
+    let policies: Vec<String> =
+        if args.policy.is_empty() { STUDY_POLICIES.iter().map(|s| s.to_string()).collect() } else { args.policy.clone() };
+    check_policies(&policies, args)?;
+    let name = if studies.len() == 1 { studies[0].name() } else { "studies" };
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("vifo-run-{name}")));
+    let options = StudyOptions { episodes: args.episodes.unwrap_or(STUDY_EPISODES), quick: false };
+    eprintln!("(stop at any time: the results files stay valid; run again with --resume to continue)");
+    let started = Instant::now();
+    let mut results = Vec::new();
+    for study in studies {
+        let specs = study.episodes(&options)?;
+        println!("study {}: {} episodes per policy ({} per instance and condition), {} policies -> {}", study.name(), specs.len(), options.episodes, policies.len(), out.display());
+        for policy in &policies {
+            let path = out.join(study_file(study, policy));
+            run_policy(policy, &specs, &path, args)?;
+            results.push(path);
+        }
+    }
+    println!("whole study run: {:.0} s on {} threads", started.elapsed().as_secs_f64(), if args.threads == 0 { rayon_threads() } else { args.threads });
+    write_study_reports(&out, &results)
+}
+
+fn rayon_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// A study's results file for one policy.
+fn study_file(study: Study, policy: &str) -> String {
+    format!("{}-results-{}.jsonl", study.name(), file_safe(policy))
+}
+
+/// The studies' tables of every study results file given.
+pub fn write_study_reports(out: &Path, results: &[PathBuf]) -> anyhow::Result<()> {
+    let mut records = Vec::new();
+    for path in results {
+        records.extend(read_records(path)?.records);
+    }
+    let dir = out.join("report");
+    let markdown = safety::build(&records).write(&dir).with_context(|| format!("writing {}", dir.display()))?;
+    println!("\n{markdown}\nstudy tables written to {}", dir.display());
+    Ok(())
 }
 
 /// The selection the options describe (defaults: every suite, protocol and family, one episode).

@@ -21,12 +21,21 @@ pub fn all(set: SetName) -> &'static [CueSpec] {
 }
 
 /// The instance with this id (`libero_goal/3/F2/curved_arrow_yellow`), from either set (the
-/// `full` set holds every instance).
+/// `full` set holds every instance), or from the study suites' instances.
 pub fn find(id: &str) -> Result<&'static CueSpec, BenchmarkError> {
     static BY_ID: OnceLock<BTreeMap<String, usize>> = OnceLock::new();
     let full = all(SetName::Full);
     let index = BY_ID.get_or_init(|| full.iter().enumerate().map(|(i, s)| (s.id(), i)).collect());
-    index.get(id).map(|&i| &full[i]).ok_or_else(|| BenchmarkError::UnknownInstance(id.to_string()))
+    if let Some(&i) = index.get(id) {
+        return Ok(&full[i]);
+    }
+    study().iter().find(|s| s.id() == id).ok_or_else(|| BenchmarkError::UnknownInstance(id.to_string()))
+}
+
+/// Every cue instance of the study suites' tasks (`vifo_safety/1/F1/caption_bar`, ...).
+pub fn study() -> &'static [CueSpec] {
+    // Built from compiled-in tasks with the compiled-in parser and tested, as `all`.
+    &scene_cues::study_instances().unwrap_or_else(|e| panic!("instances of the study tasks: {e}")).instances
 }
 
 /// The task an instance belongs to.
@@ -43,6 +52,7 @@ pub fn human_name(category: &str) -> Option<String> {
             "glazed_rim_porcelain_ramekin" => "ramekin",
             "cookies" => "cookie box",
             "flat_stove" => "stove",
+            "kitchen_knife" => "knife",
             "black_book" => "book",
             "chefmate_8_frypan" => "frying pan",
             "desk_caddy" => "caddy",

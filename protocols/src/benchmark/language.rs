@@ -132,7 +132,11 @@ pub fn language_task(protocol: Protocol, task: &'static Task) -> Result<Option<L
 }
 
 /// The conflict partner of the task the cue shows (see the module documentation for the rules).
+/// A study scene's tasks pair by design instead ([`study_partner`]).
 pub fn conflict(cue_task: &'static Task) -> Result<LanguageTask, BenchmarkError> {
+    if let Some(partner) = study_partner(cue_task) {
+        return Ok(LanguageTask { instruction: partner.instruction.clone(), goal: partner.goal.clone(), builtin: task_ref(partner) });
+    }
     let own = task_ref(cue_task);
     candidates(cue_task)
         .filter(|k| k.builtin.is_none() || k.builtin != own)
@@ -145,6 +149,17 @@ pub fn conflict(cue_task: &'static Task) -> Result<LanguageTask, BenchmarkError>
                 .then(|| LanguageTask { instruction: k.instruction.clone(), goal, builtin: k.builtin.clone() })
         })
         .ok_or_else(|| BenchmarkError::NoConflictPartner(cue_task.label()))
+}
+
+/// The other task of a safety-critical scene (paper §4.3): `vifo_safety` task 2k (safe) and
+/// 2k+1 (hazardous) share one scene, so under conflict the language names the safe task while
+/// the cue shows the hazardous one (and the other way round for a cue on the safe task).
+pub fn study_partner(task: &Task) -> Option<&'static Task> {
+    let (suite, index) = (task.suite.as_deref()?, task.index?);
+    if suite != crate::studies::safety::SUITE {
+        return None;
+    }
+    vifo_scenes::task(suite, index ^ 1)
 }
 
 /// Candidates in rule order: same suite cyclically after the task, other suites, constructed.
@@ -211,7 +226,9 @@ pub fn initial_support<'a>(task: &'a Task, name: &str) -> Option<(Predicate, &'a
 /// language-following policy grounds instructions in.
 pub fn goal_pool(scene: &Task) -> Vec<Atom> {
     let mut pool: Vec<Atom> = Vec::new();
-    for atom in known_tasks().iter().filter_map(|k| map_into(k, scene)).flatten() {
+    // A study scene's own tasks' goals come first (they are written in its names).
+    let own = study_partner(scene).into_iter().flat_map(|partner| partner.goal.iter().chain(&scene.goal)).cloned();
+    for atom in own.chain(known_tasks().iter().filter_map(|k| map_into(k, scene)).flatten()) {
         if !pool.contains(&atom) {
             pool.push(atom);
         }
@@ -290,6 +307,22 @@ mod tests {
         // Objects absent from the scene do not map.
         let basket = known_tasks().iter().find(|k| k.builtin == Some(TaskRef { suite: "libero_object".into(), index: 0 })).unwrap();
         assert_eq!(map_into(basket, task("libero_goal", 0)), None);
+    }
+
+    #[test]
+    fn safety_scenes_pair_their_safe_and_hazardous_tasks() {
+        for index in 0..12 {
+            let t = task("vifo_safety", index);
+            let pair = conflict(t).unwrap();
+            let partner = task("vifo_safety", index ^ 1);
+            assert_eq!((pair.instruction.as_str(), &pair.goal), (partner.instruction.as_str(), &partner.goal));
+            assert_eq!(pair.builtin, Some(TaskRef { suite: "vifo_safety".into(), index: index ^ 1 }));
+            assert!(vifo_cues::parse(&pair.instruction).is_ok(), "{}", pair.instruction);
+            // Both goals are in the scene's pool, so the language expert can ground either.
+            let pool = goal_pool(t);
+            assert!(t.goal.iter().chain(&partner.goal).all(|a| pool.contains(a)), "{}", t.label());
+        }
+        assert_eq!(study_partner(task("libero_goal", 0)), None);
     }
 
     #[test]

@@ -164,16 +164,16 @@ pub fn build(records: &[EpisodeRecord], vqa: &BTreeMap<String, VqaScores>) -> Re
 }
 
 /// The success flag a metric reads from an outcome.
-type Flag = fn(&Outcome) -> Option<Option<bool>>;
+pub(crate) type Flag = fn(&Outcome) -> Option<Option<bool>>;
 
-fn language(o: &Outcome) -> Option<Option<bool>> {
+pub(crate) fn language(o: &Outcome) -> Option<Option<bool>> {
     match o {
         Outcome::Completed { language_success, .. } => Some(*language_success),
         Outcome::Error { .. } => None,
     }
 }
 
-fn cue(o: &Outcome) -> Option<Option<bool>> {
+pub(crate) fn cue(o: &Outcome) -> Option<Option<bool>> {
     match o {
         Outcome::Completed { cue_success, .. } => Some(*cue_success),
         Outcome::Error { .. } => None,
@@ -181,7 +181,7 @@ fn cue(o: &Outcome) -> Option<Option<bool>> {
 }
 
 /// Tallies one metric over the completed records of one protocol; returns the unscored count.
-fn tally<'a>(
+pub(crate) fn tally<'a>(
     records: impl Iterator<Item = &'a EpisodeRecord>,
     protocol: Protocol,
     flag: Flag,
@@ -295,6 +295,6 @@ impl Report {
     }
 }
 
-fn json<T: Serialize>(v: &T) -> std::io::Result<String> {
+pub(crate) fn json<T: Serialize>(v: &T) -> std::io::Result<String> {
     serde_json::to_string_pretty(v).map(|s| s + "\n").map_err(std::io::Error::other)
 }

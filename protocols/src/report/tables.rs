@@ -29,7 +29,7 @@ const COLUMNS: [Column; 11] = [
 ];
 
 /// Cells with the best value bold and the second best underlined (only among ≥ 2 values).
-fn ranked_cells(values: &[Option<f64>], higher_is_better: bool) -> Vec<String> {
+pub(crate) fn ranked_cells(values: &[Option<f64>], higher_is_better: bool) -> Vec<String> {
     let key = |v: f64| if higher_is_better { v } else { -v };
     let mut distinct: Vec<f64> = values.iter().flatten().map(|&v| round1(key(v))).collect();
     distinct.sort_by(|a, b| b.total_cmp(a));
@@ -173,7 +173,7 @@ pub fn table2_csv(report: &Report) -> String {
 }
 
 /// RFC 4180 quoting where needed.
-fn csv_field(s: &str) -> String {
+pub(crate) fn csv_field(s: &str) -> String {
     if s.contains([',', '"', '\n']) { format!("\"{}\"", s.replace('"', "\"\"")) } else { s.to_string() }
 }
 

@@ -33,6 +33,17 @@ pub fn builtin_instances() -> Result<&'static InstanceSet, SceneCueError> {
     set.as_ref().map_err(|e| SceneCueError::Instances(e.clone()))
 }
 
+/// Every cue instance of the study suites' tasks (`vifo_safety`; built once). Kept apart from
+/// the 40 tasks' sets, so the paper set and its counts stay LIBERO's.
+pub fn study_instances() -> Result<&'static InstanceSet, SceneCueError> {
+    static SET: OnceLock<Result<InstanceSet, InstanceError>> = OnceLock::new();
+    let set = SET.get_or_init(|| {
+        let tasks: Vec<TaskDescription> = vifo_scenes::study_suites().iter().flat_map(|s| &s.tasks).map(describe).collect();
+        InstanceSet::build(&tasks)
+    });
+    set.as_ref().map_err(|e| SceneCueError::Instances(e.clone()))
+}
+
 /// One named instance set of the 40 built-in tasks (built once).
 pub fn builtin_set(set: SetName) -> Result<&'static InstanceSet, SceneCueError> {
     let full = builtin_instances()?;
@@ -46,9 +57,11 @@ pub fn builtin_set(set: SetName) -> Result<&'static InstanceSet, SceneCueError> 
         .map_err(|why| SceneCueError::Unsupported { cue: "paper set".into(), why: why.clone() })
 }
 
-/// The built-in instance with this id (`libero_goal/3/F2/curved_arrow_yellow`).
+/// The built-in instance with this id (`libero_goal/3/F2/curved_arrow_yellow`, or a study
+/// task's `vifo_safety/1/F1/caption_bar`).
 pub fn instance(id: &str) -> Result<&'static CueSpec, SceneCueError> {
-    let set = builtin_instances()?;
+    let study = study_instances()?;
+    let set = if id.starts_with("vifo_") { study } else { builtin_instances()? };
     if let Some(spec) = set.instances.iter().find(|s| s.id() == id) {
         return Ok(spec);
     }

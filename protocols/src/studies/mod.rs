@@ -1,9 +1,13 @@
 //! The paper's extended studies (§4.2–§4.4) as selections of episodes for the benchmark's own
-//! runner, results files and report: `vifo run --study objects` (others join as they land),
-//! `--study all` for every one. Each study module gives its episodes and its tables, laid out
-//! as the paper lays that study out.
+//! runner, results files and report: `vifo run --study objects|safety`, `--study all` for
+//! every one. Each study module gives its episodes and its tables, laid out as the paper lays
+//! that study out.
+//!
+//! - [`objects`]: §4.2, F1/F6/F8 cues as scene objects against their overlays (LIBERO's tasks).
+//! - [`safety`]: §4.3, the six safety-critical scenes (their own suite, `vifo_safety`).
 
 pub mod objects;
+pub mod safety;
 
 use std::path::Path;
 
@@ -17,14 +21,17 @@ use crate::spec::{EpisodeRecord, EpisodeSpec};
 pub enum Study {
     /// §4.2: text cards, signs and code tags as scene objects, against their overlays.
     Objects,
+    /// §4.3: safe vs hazardous tasks under authorized cue following and language–cue conflict.
+    Safety,
 }
 
 impl Study {
-    pub const ALL: [Study; 1] = [Study::Objects];
+    pub const ALL: [Study; 2] = [Study::Objects, Study::Safety];
 
     pub fn name(self) -> &'static str {
         match self {
             Study::Objects => "objects",
+            Study::Safety => "safety",
         }
     }
 
@@ -52,6 +59,7 @@ impl Study {
     pub fn episodes(self, options: &StudyOptions) -> Result<Vec<EpisodeSpec>, BenchmarkError> {
         match self {
             Study::Objects => objects::episodes(options),
+            Study::Safety => safety::episodes(options),
         }
     }
 }
@@ -68,6 +76,17 @@ pub struct StudyOptions {
     pub quick: bool,
 }
 
+/// Whether an episode runs in a study's own suite (not one of LIBERO's): such episodes are
+/// reported in that study's tables only, never in the main benchmark's.
+pub fn own_suite(spec: &EpisodeSpec) -> bool {
+    spec.task.suite == safety::SUITE
+}
+
+/// The records the main benchmark's tables take: all but those of the studies' own suites.
+pub fn main_records(records: &[EpisodeRecord]) -> Vec<EpisodeRecord> {
+    records.iter().filter(|r| !own_suite(&r.spec)).cloned().collect()
+}
+
 /// Writes the tables and charts of every study whose episodes `records` hold into `dir`;
 /// returns their Markdown (empty when none).
 pub fn write_reports(records: &[EpisodeRecord], vqa: &objects::FormVqa, dir: &Path) -> std::io::Result<String> {
@@ -75,6 +94,11 @@ pub fn write_reports(records: &[EpisodeRecord], vqa: &objects::FormVqa, dir: &Pa
     let table = objects::build(records, vqa);
     if !table.rows.is_empty() {
         markdown += &table.write(dir)?;
+    }
+    let safety = safety::build(records);
+    if !safety.rows.is_empty() {
+        markdown += "\n";
+        markdown += &safety.write(dir)?;
     }
     Ok(markdown)
 }

@@ -28,6 +28,11 @@ pub fn spawn_quat(category: &str) -> Option<[f64; 4]> {
         | "bbq_sauce" => YAW_90,
         "moka_pot" | "wine_bottle" | "cream_cheese" | "butter" | "chocolate_pudding" | "black_book" => YAW_180,
         "porcelain_mug" | "white_yellow_mug" | "red_coffee_mug" => YAW_270,
+        // The safety scenes' objects (ours): the knife and strip across the table, the hand
+        // reaching in from the far side (fingers towards the robot), the canister as modelled.
+        "kitchen_knife" | "power_strip" => YAW_90,
+        "human_hand" => YAW_180,
+        "gas_canister" => [1.0, 0.0, 0.0, 0.0],
         "alphabet_soup" | "tomato_sauce" => CAN_UPRIGHT,
         "ketchup" | "milk" | "orange_juice" | "salad_dressing" => BOTTLE_UPRIGHT,
         _ => return None,

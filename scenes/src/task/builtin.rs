@@ -29,6 +29,11 @@ const SUITE_FILES: [(&str, &str); 4] = [
     ("libero_10", include_str!("../../tasks/libero_10.json")),
 ];
 
+/// Suites of the paper's extended studies (§4.3's safety-critical scenes), in our own format
+/// like the LIBERO suites. They are reached by name ([`suite`], [`task`]) but are not among
+/// [`suites`] or [`all_tasks`]: "all tasks" stays LIBERO's 40.
+const STUDY_FILES: [(&str, &str); 1] = [("vifo_safety", include_str!("../../tasks/vifo_safety.json"))];
+
 /// The four suite names, in reporting order.
 pub fn suite_names() -> [&'static str; 4] {
     SUITE_FILES.map(|(name, _)| name)
@@ -49,9 +54,21 @@ pub fn suites() -> &'static [Suite] {
     })
 }
 
-/// The suite called `name` (case-insensitive, as LIBERO's `get_benchmark`).
+/// The study suites (not part of the 40 tasks), parsed on first use.
+pub fn study_suites() -> &'static [Suite] {
+    static SUITES: OnceLock<Vec<Suite>> = OnceLock::new();
+    SUITES.get_or_init(|| {
+        STUDY_FILES
+            .iter()
+            .map(|(name, text)| load_suite(name, text).unwrap_or_else(|e| panic!("embedded tasks/{name}.json: {e}")))
+            .collect()
+    })
+}
+
+/// The suite called `name` (case-insensitive, as LIBERO's `get_benchmark`): one of the four VLA
+/// suites or a study suite.
 pub fn suite(name: &str) -> Option<&'static Suite> {
-    suites().iter().find(|s| s.name.eq_ignore_ascii_case(name))
+    suites().iter().chain(study_suites()).find(|s| s.name.eq_ignore_ascii_case(name))
 }
 
 /// Task `index` of suite `name`.
@@ -91,6 +108,28 @@ mod tests {
         );
         assert_eq!(all_tasks().count(), 40);
         assert_eq!(suite_names(), ["libero_spatial", "libero_object", "libero_goal", "libero_10"]);
+    }
+
+    #[test]
+    fn the_safety_suite_pairs_a_safe_and_a_hazardous_task_per_scene_outside_the_forty() {
+        let safety = suite("vifo_safety").unwrap();
+        assert_eq!(safety.tasks.len(), 12);
+        assert!(suites().iter().all(|s| s.name != "vifo_safety"));
+        assert!(all_tasks().all(|t| t.suite.as_deref() != Some("vifo_safety")));
+        for pair in safety.tasks.chunks(2) {
+            let (safe, hazard) = (&pair[0], &pair[1]);
+            // One scene: same objects, fixtures, regions and initial atoms; different goals.
+            assert_eq!((&safe.objects, &safe.fixtures, &safe.regions, &safe.init), (&hazard.objects, &hazard.fixtures, &hazard.regions, &hazard.init));
+            assert_ne!(safe.goal, hazard.goal);
+            for t in pair {
+                assert_eq!(t.instruction, instruction_from_file_name(&t.name), "{}", t.label());
+                assert!(!t.goal.iter().any(|a| t.init.contains(a)), "{}", t.label());
+                for atom in t.init.iter().chain(&t.goal) {
+                    assert!(atom.args.iter().all(|a| t.resolve(a).is_some()), "{}: {atom}", t.label());
+                }
+            }
+        }
+        assert_eq!(task("vifo_safety", 11).unwrap().instruction, "turn on the stove");
     }
 
     #[test]

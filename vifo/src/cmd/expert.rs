@@ -75,9 +75,13 @@ struct Summary {
 
 pub fn run(args: &ExpertArgs) -> Result<()> {
     let source = InitSource::from_libero_dir(args.libero_init.clone());
-    let suites: Vec<&vifo_scenes::Suite> = vifo_scenes::suites().iter().filter(|s| args.suite == "all" || s.name == args.suite).collect();
+    // "all" is LIBERO's four suites; a study suite (vifo_safety) is reached by its name.
+    let suites: Vec<&vifo_scenes::Suite> = match args.suite.as_str() {
+        "all" => vifo_scenes::suites().iter().collect(),
+        name => vifo_scenes::suite(name).into_iter().collect(),
+    };
     if suites.is_empty() {
-        return Err(anyhow!("unknown suite {} (libero_spatial, libero_object, libero_goal, libero_10 or all)", args.suite));
+        return Err(anyhow!("unknown suite {} (libero_spatial, libero_object, libero_goal, libero_10, all, or a study suite: vifo_safety)", args.suite));
     }
     let mut tasks = Vec::new();
     if !args.json {

@@ -57,7 +57,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if !looks.is_empty() {
         eprintln!("look: {listed}");
     }
-    let report = report::build(&records, &vqa);
+    let report = report::build(&studies::main_records(&records), &vqa);
     let mut markdown = report.write(&args.out).with_context(|| format!("writing {}", args.out.display()))?;
     markdown += &studies::write_reports(&records, &by_form, &args.out).with_context(|| format!("writing {}", args.out.display()))?;
     print!("{markdown}");

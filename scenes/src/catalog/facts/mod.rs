@@ -9,6 +9,8 @@ pub(crate) mod fixtures;
 #[rustfmt::skip]
 pub(crate) mod groceries;
 #[rustfmt::skip]
+pub(crate) mod hazards;
+#[rustfmt::skip]
 pub(crate) mod kitchenware;
 #[rustfmt::skip]
 pub(crate) mod tableware;

@@ -4,6 +4,7 @@
 
 pub(crate) mod fixtures;
 pub(crate) mod groceries;
+pub(crate) mod hazards;
 mod kit;
 pub(crate) mod kitchenware;
 pub(crate) mod tableware;

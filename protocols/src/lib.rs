@@ -22,6 +22,7 @@ pub mod runner;
 pub mod scene_cues;
 pub mod serving;
 pub mod spec;
+pub mod studies;
 pub mod vqa;
 
 pub use policy::{EpisodeState, Observation, Policy, PolicyError};

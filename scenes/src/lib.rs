@@ -23,4 +23,4 @@ pub mod sim;
 pub mod task;
 pub mod view;
 
-pub use task::{Suite, Task, all_tasks, suite, suite_names, suites, task};
+pub use task::{Suite, Task, all_tasks, study_suites, suite, suite_names, suites, task};

@@ -1,4 +1,5 @@
-//! The object and fixture catalog: every category the 40 LIBERO tasks use, as pure data.
+//! The object and fixture catalog: every category the 40 LIBERO tasks use, and the objects of
+//! the studies (`facts/study.rs`), as pure data.
 //!
 //! Each [`ObjectModel`] carries LIBERO's collision geometry and contact parameters, mass
 //! properties computed as MuJoCo compiles them, articulation joints, the named sites the goal
@@ -22,7 +23,7 @@ pub use model::{
     ObjectKind, ObjectModel, Recipe, SiteModel, SiteShape, VisualPart,
 };
 
-use facts::{fixtures as fx, groceries as gr, kitchenware as kw, tableware as tw};
+use facts::{fixtures as fx, groceries as gr, kitchenware as kw, study as st, tableware as tw};
 use spec::ObjectDef;
 
 /// A category name the catalog does not know.
@@ -35,7 +36,7 @@ pub struct UnknownCategory {
 type Look = fn(&ObjectDef) -> Vec<VisualPart>;
 
 /// Every category with its look, in a fixed order.
-const ENTRIES: [(&ObjectDef, Look); 28] = [
+const ENTRIES: [(&ObjectDef, Look); 32] = [
     (&tw::AKITA_BLACK_BOWL, looks::tableware::akita_black_bowl),
     (&tw::PLATE, looks::tableware::plate),
     (
@@ -67,11 +68,16 @@ const ENTRIES: [(&ObjectDef, Look); 28] = [
     (&fx::MICROWAVE, looks::fixtures::microwave),
     (&fx::WINE_RACK, looks::fixtures::wine_rack),
     (&fx::DESK_CADDY, looks::fixtures::desk_caddy),
+    // The PiPER study's objects (§4.4), not LIBERO's.
+    (&st::RED_PLASTIC_CUP, looks::study::red_plastic_cup),
+    (&st::BLUE_PLASTIC_CUP, looks::study::blue_plastic_cup),
+    (&st::GREEN_PLASTIC_CUP, looks::study::green_plastic_cup),
+    (&st::PAPER_NOTE, looks::study::paper_note),
 ];
 
 /// The category names, in catalog order.
-pub const CATEGORIES: [&str; 28] = {
-    let mut names = [""; 28];
+pub const CATEGORIES: [&str; 32] = {
+    let mut names = [""; 32];
     let mut i = 0;
     while i < ENTRIES.len() {
         names[i] = ENTRIES[i].0.category;

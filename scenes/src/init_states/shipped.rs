@@ -11,11 +11,13 @@ use crate::init_file::articulation_joints;
 use crate::sim::ARENA_CATEGORIES;
 use crate::task::Task;
 
-const FILES: [(&str, &str); 4] = [
+const FILES: [(&str, &str); 5] = [
     ("libero_spatial", include_str!("../../init_states/libero_spatial.json")),
     ("libero_object", include_str!("../../init_states/libero_object.json")),
     ("libero_goal", include_str!("../../init_states/libero_goal.json")),
     ("libero_10", include_str!("../../init_states/libero_10.json")),
+    // The PiPER study's scene (§4.4).
+    ("vifo_piper", include_str!("../../init_states/vifo_piper.json")),
 ];
 
 /// Why a task has no usable shipped states.
@@ -37,7 +39,7 @@ pub enum ShippedError {
 
 /// A shipped suite file, parsed.
 pub fn shipped_suite(name: &str) -> Result<&'static SuiteStates, ShippedError> {
-    static PARSED: [OnceLock<Result<SuiteStates, FormatError>>; 4] = [const { OnceLock::new() }; 4];
+    static PARSED: [OnceLock<Result<SuiteStates, FormatError>>; 5] = [const { OnceLock::new() }; 5];
     let i = FILES.iter().position(|(n, _)| *n == name).ok_or_else(|| ShippedError::NoSuite(name.to_string()))?;
     let (file, text) = FILES[i];
     PARSED[i].get_or_init(|| parse(text, &format!("init_states/{file}.json"))).as_ref().map_err(|e| e.clone().into())

@@ -29,6 +29,21 @@ const SUITE_FILES: [(&str, &str); 4] = [
     ("libero_10", include_str!("../../tasks/libero_10.json")),
 ];
 
+/// The suites of the extended studies (not LIBERO's): reached by name ([`suite`], [`task`]),
+/// never part of [`suites`] or [`all_tasks`] (the 40 LIBERO tasks).
+const STUDY_FILES: [(&str, &str); 1] = [("vifo_piper", include_str!("../../tasks/vifo_piper.json"))];
+
+/// The study suites, parsed on first use.
+pub fn study_suites() -> &'static [Suite] {
+    static SUITES: OnceLock<Vec<Suite>> = OnceLock::new();
+    SUITES.get_or_init(|| {
+        STUDY_FILES
+            .iter()
+            .map(|(name, text)| load_suite(name, text).unwrap_or_else(|e| panic!("embedded tasks/{name}.json: {e}")))
+            .collect()
+    })
+}
+
 /// The four suite names, in reporting order.
 pub fn suite_names() -> [&'static str; 4] {
     SUITE_FILES.map(|(name, _)| name)
@@ -49,9 +64,10 @@ pub fn suites() -> &'static [Suite] {
     })
 }
 
-/// The suite called `name` (case-insensitive, as LIBERO's `get_benchmark`).
+/// The suite called `name` (case-insensitive, as LIBERO's `get_benchmark`): one of the four,
+/// or a study suite.
 pub fn suite(name: &str) -> Option<&'static Suite> {
-    suites().iter().find(|s| s.name.eq_ignore_ascii_case(name))
+    suites().iter().chain(study_suites()).find(|s| s.name.eq_ignore_ascii_case(name))
 }
 
 /// Task `index` of suite `name`.
@@ -91,6 +107,16 @@ mod tests {
         );
         assert_eq!(all_tasks().count(), 40);
         assert_eq!(suite_names(), ["libero_spatial", "libero_object", "libero_goal", "libero_10"]);
+    }
+
+    #[test]
+    fn study_suites_are_found_by_name_but_not_listed() {
+        let piper = suite("vifo_piper").unwrap();
+        assert_eq!(piper.tasks.len(), 1);
+        assert_eq!(piper.tasks[0].instruction, instruction_from_file_name(&piper.tasks[0].name));
+        assert_eq!(piper.tasks[0].instruction, "stack the cups");
+        assert!(suites().iter().all(|s| s.name != "vifo_piper"));
+        assert!(all_tasks().all(|t| t.suite.as_deref() != Some("vifo_piper")));
     }
 
     #[test]

@@ -22,6 +22,7 @@ use vifo_protocols::remote::RemotePolicy;
 use vifo_protocols::runner::{RunOptions, Shard, read_records};
 use vifo_protocols::serving::{Format, Profile, ServedPolicy, ServingConfig};
 use vifo_protocols::spec::EpisodeSpec;
+use vifo_protocols::studies::{Study, piper};
 use vifo_protocols::{Policy, Protocol, report};
 use vifo::look::LookArgs;
 use vifo_scenes::view::CameraName;
@@ -99,6 +100,11 @@ pub struct Args {
     /// hold the waits for a shared machine's cores). `--resume` later continues to the whole run.
     #[arg(long)]
     sample: Option<usize>,
+    /// Run an extended study instead of the main protocols: piper (§4.4, the PiPER cup
+    /// stacking) or all. `--episodes N` then takes the first N initial states per condition
+    /// (default: all 50). Default output folder: vifo-run-<study>.
+    #[arg(long)]
+    study: Option<String>,
     #[command(flatten)]
     look: LookArgs,
 }
@@ -107,6 +113,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if args.conflicts {
         print_conflicts()?;
         return Ok(());
+    }
+    if let Some(study) = &args.study {
+        return run_study(study, &args);
     }
     let quick = args.suite.is_empty()
         && args.protocol.is_empty()
@@ -133,7 +142,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         vifo_protocols::env::scenes::use_look(args.look.look()?)?;
     }
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(if quick { "vifo-run-quick" } else { "vifo-run" }));
-    let all_specs = specs::specs(&selection)?;
+    let mut all_specs = specs::specs(&selection)?;
+    if quick {
+        // A small sample of each study: the first initial state of each condition.
+        all_specs.extend(piper::episodes(QUICK_STUDY_STATES, 1)?);
+    }
     let specs = match args.sample {
         Some(n) => estimate::sample(&all_specs, n),
         None => all_specs.clone(),
@@ -162,6 +175,44 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         results.push(path);
     }
     write_report(&out, &results)
+}
+
+/// Initial states per condition of each study in the quick default run.
+const QUICK_STUDY_STATES: usize = 1;
+
+/// `vifo run --study S`: the study's episodes for every named (default: every built-in)
+/// policy, its table, and the whole run's time on this machine.
+fn run_study(name: &str, args: &Args) -> anyhow::Result<()> {
+    let studies: Vec<Study> = if name == "all" { Study::ALL.to_vec() } else { vec![name.parse::<Study>().map_err(anyhow::Error::msg)?] };
+    anyhow::ensure!(
+        args.suite.is_empty() && args.protocol.is_empty() && args.family.is_empty() && args.per_family.is_none() && args.sample.is_none(),
+        "--study runs the study's own episodes: --suite, --protocol, --family, --per-family and --sample do not apply"
+    );
+    let policies: Vec<String> = if args.policy.is_empty() { policies::NAMES.iter().map(|s| s.to_string()).collect() } else { args.policy.clone() };
+    for p in &policies {
+        if builtin(p).is_none() && !p.contains("://") {
+            bail!("unknown policy {p:?}: expected one of {} or a server URL", policies::NAMES.join(", "));
+        }
+    }
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("vifo-run-{name}")));
+    let mut specs = Vec::new();
+    for study in &studies {
+        specs.extend(match study {
+            Study::Piper => piper::episodes(args.episodes.unwrap_or(piper::STATES), 1)?,
+        });
+    }
+    println!("{} episodes per policy (study {name}), {} policies -> {}", specs.len(), policies.len(), out.display());
+    let started = Instant::now();
+    let mut results = Vec::new();
+    for policy in &policies {
+        let path = out.join(format!("results-{}.jsonl", file_safe(policy)));
+        run_policy(policy, &specs, &path, args)?;
+        results.push(path);
+    }
+    let secs = started.elapsed().as_secs_f64();
+    write_report(&out, &results)?;
+    println!("study {name}: {} episodes × {} policies in {secs:.0} s on this machine ({} threads)", specs.len(), policies.len(), if args.threads == 0 { "all".to_string() } else { args.threads.to_string() });
+    Ok(())
 }
 
 /// The selection the options describe (defaults: every suite, protocol and family, one episode).
@@ -280,16 +331,31 @@ fn serving_config(url: &str, args: &Args) -> anyhow::Result<Option<ServingConfig
     Ok(Some(ServingConfig::new(url, format, profile)?))
 }
 
-/// Tables and charts of every results file in the folder.
+/// Tables and charts of every results file in the folder: the main protocols' (Tables 1 and
+/// 2) and each study's own table.
 fn write_report(out: &Path, results: &[PathBuf]) -> anyhow::Result<()> {
     let mut records = Vec::new();
     for path in results {
         records.extend(read_records(path)?.records);
     }
-    let report = report::build(&records, &Default::default());
+    let (study, main): (Vec<_>, Vec<_>) = records.into_iter().partition(|r| Study::of_suite(&r.spec.task.suite).is_some());
     let dir = out.join("report");
-    let markdown = report.write(&dir).with_context(|| format!("writing {}", dir.display()))?;
-    println!("\n{markdown}\nreport written to {}", dir.display());
+    if !main.is_empty() {
+        let report = report::build(&main, &Default::default());
+        let markdown = report.write(&dir).with_context(|| format!("writing {}", dir.display()))?;
+        println!("\n{markdown}");
+    }
+    let rows = piper::table(&study);
+    if !rows.is_empty() {
+        std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+        let markdown = piper::markdown(&rows);
+        for (file, text) in [("piper.md", markdown.clone()), ("piper.csv", piper::csv(&rows)), ("piper.json", serde_json::to_string_pretty(&rows)?)] {
+            let path = dir.join(file);
+            std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+        }
+        println!("\n{markdown}");
+    }
+    println!("report written to {}", dir.display());
     Ok(())
 }
 

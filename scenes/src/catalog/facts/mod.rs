@@ -12,3 +12,5 @@ pub(crate) mod groceries;
 pub(crate) mod kitchenware;
 #[rustfmt::skip]
 pub(crate) mod tableware;
+#[rustfmt::skip]
+pub(crate) mod study;

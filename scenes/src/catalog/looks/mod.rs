@@ -6,4 +6,5 @@ pub(crate) mod fixtures;
 pub(crate) mod groceries;
 mod kit;
 pub(crate) mod kitchenware;
+pub(crate) mod study;
 pub(crate) mod tableware;

@@ -1,11 +1,13 @@
 //! The arm-agnostic interface the skills drive: a grip-site pose target and a gripper command
 //! go in, the 7-D action a policy sends comes out, and the arm's state is read back. The Panda
-//! implements it; a second arm (the PiPER) plugs in with an implementation of its own and a
-//! case in [`of`], and the skills stay as they are.
+//! implements it, and so does the PiPER of the §4.4 study (its own IK turns the pose target
+//! into the joint-delta action it takes); [`of`] gives the scene's arm, and the skills stay
+//! as they are.
 
 use vifo_robots::action::Action;
-use vifo_robots::spatial::{Mat3, Pose, Vec3, axis_angle, rotation_vector};
-use vifo_scenes::sim::Sim;
+use vifo_robots::osc::OscGoal;
+use vifo_robots::spatial::{Mat3, Pose, Vec3, axis_angle, rotation_from_axis_angle_vector, rotation_vector};
+use vifo_scenes::sim::{Robot, RobotControl, Sim};
 
 /// A gripper pose the expert wants: grip-site position and orientation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,9 +85,12 @@ pub trait Arm {
     }
 }
 
-/// The arm of the scene (the simulator holds a Panda).
-pub fn of(sim: &Sim) -> impl Arm + '_ {
-    Panda { sim }
+/// The arm of the scene.
+pub fn of(sim: &Sim) -> Box<dyn Arm + '_> {
+    match (&sim.model().robot, sim.control()) {
+        (Robot::Piper(piper), RobotControl::Piper(control)) => Box::new(Piper { sim, piper, control }),
+        _ => Box::new(Panda { sim }),
+    }
 }
 
 /// The Franka Panda under robosuite's OSC_POSE controller, as LIBERO drives it.
@@ -102,18 +107,18 @@ impl Arm for Panda<'_> {
     }
 
     fn finger_gap(&self) -> f64 {
-        let q = self.sim.model().robot.joints(self.sim.world()).q;
-        q[7] - q[8]
+        let (_, fingers) = self.sim.model().robot.joint_positions(self.sim.world());
+        fingers[0] - fingers[1]
     }
 
     fn base(&self) -> Vec3 {
-        self.sim.model().robot.arm().base().pos
+        self.sim.model().robot.base().pos
     }
 
     /// The turn about the approach axis is joint 7's own.
     fn wrist_after(&self, rot: &Mat3) -> f64 {
         let ee = self.grip_site();
-        let q7 = self.sim.model().robot.joints(self.sim.world()).q[6];
+        let q7 = self.sim.model().robot.joint_positions(self.sim.world()).0[6];
         q7 + rotation_vector(&(rot * ee.rot.transpose())).dot(&(ee.rot * Vec3::z()))
     }
 
@@ -131,5 +136,65 @@ impl Arm for Panda<'_> {
         let t = |v: f64| v.clamp(-servo.max_speed, servo.max_speed);
         let r = |v: f64| v.clamp(-1.0, 1.0);
         Action([t(dp.x), t(dp.y), t(dp.z), r(err.x), r(err.y), r(err.z), grip])
+    }
+}
+
+/// The AgileX PiPER under its joint servos (§4.4 study).
+struct Piper<'a> {
+    sim: &'a Sim,
+    piper: &'a vifo_robots::piper::Piper,
+    control: &'a vifo_robots::piper::PiperControl,
+}
+
+/// Joint 6's limit (±2.0944 rad) less a margin for the servo's overshoot.
+const PIPER_WRIST_LIMIT: f64 = 1.95;
+/// How far one step moves the commanded pose at full speed (`Servo::max_speed` 1).
+const PIPER_STEP: f64 = 0.02;
+/// The largest turn of the commanded pose in one step (rad).
+const PIPER_TURN: f64 = 0.1;
+/// The commanded pose leads the measured one by this multiple of the remaining error (at most
+/// the step and turn above): the whole error, since the joint servos (with their integral
+/// term) reach their targets within a few steps; more would overshoot.
+const PIPER_LEAD: f64 = 1.0;
+
+impl Arm for Piper<'_> {
+    fn grip_site(&self) -> Pose {
+        self.piper.tcp_pose(self.sim.world())
+    }
+
+    /// The fingers slide apart symmetrically, each from 0 to 0.035 m.
+    fn finger_gap(&self) -> f64 {
+        let q = self.piper.joints(self.sim.world()).q;
+        q[6] + q[7]
+    }
+
+    fn base(&self) -> Vec3 {
+        self.piper.arm().base().pos
+    }
+
+    /// The turn about the approach axis is joint 6's, whose axis is the flange's −z.
+    fn wrist_after(&self, rot: &Mat3) -> f64 {
+        let ee = self.grip_site();
+        let q6 = self.piper.joints(self.sim.world()).q[5];
+        q6 - rotation_vector(&(rot * ee.rot.transpose())).dot(&(ee.rot * Vec3::z()))
+    }
+
+    fn wrist_limit(&self) -> f64 {
+        PIPER_WRIST_LIMIT
+    }
+
+    /// Leads the measured pose toward `target` ([`PIPER_LEAD`] times the error, at most
+    /// `max_speed` × 2 cm and 0.1 rad), turns that pose into joint targets with the PiPER's IK
+    /// and sends the joint-delta action from the current targets.
+    fn command(&self, target: &Waypoint, servo: &Servo, grip: f64) -> Action {
+        let ee = self.grip_site();
+        let lead = servo.max_speed * PIPER_STEP;
+        let dp = ((target.pos - ee.pos) * PIPER_LEAD).map(|v| v.clamp(-lead, lead));
+        let turn = rotation_vector(&(target.rot * ee.rot.transpose())) * PIPER_LEAD;
+        let turn = if turn.norm() > PIPER_TURN { turn * (PIPER_TURN / turn.norm()) } else { turn };
+        let goal = OscGoal::new(ee.pos + dp, rotation_from_axis_angle_vector(&turn) * ee.rot);
+        let q = self.piper.solve_ik(&self.control.joint_targets, &goal);
+        let d = |i: usize| (q[i] - self.control.joint_targets[i]).clamp(-1.0, 1.0);
+        Action([d(0), d(1), d(2), d(3), d(4), d(5), grip])
     }
 }

@@ -6,7 +6,7 @@ use vifo_robots::spatial::{Pose, Vec3};
 use vifo_scenes::catalog::ColliderShape;
 use vifo_scenes::sim::Sim;
 
-use crate::arm::{self, Arm};
+use crate::arm;
 
 /// Widest object the Panda's fingers can straddle (open gap 0.079 m) with some margin.
 pub const MAX_GRASP_WIDTH: f64 = 0.068;

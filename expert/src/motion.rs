@@ -5,7 +5,7 @@ use vifo_robots::spatial::{Pose, Vec3, rotation_vector};
 use vifo_scenes::sim::Sim;
 
 pub use crate::arm::{Servo, Waypoint, orientation};
-use crate::arm::{self, Arm};
+use crate::arm;
 
 /// Yaw of the current finger axis.
 pub fn current_yaw(ee: &Pose) -> f64 {

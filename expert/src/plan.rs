@@ -8,7 +8,8 @@ use vifo_scenes::sim::Sim;
 use vifo_scenes::task::{Atom, Predicate};
 
 use crate::geometry;
-use crate::skills::{self, Door, Drawer, DrawerGoal, Insert, Knob, PARTLY_OPEN, PickPlace, Placement, Push, Skill, Spot, drawer_of};
+use crate::skills::{self, Door, Drawer, DrawerGoal, Insert, Knob, PARTLY_OPEN, PickPlace, Placement, Push, Skill, Spot, Stack, drawer_of};
+use vifo_scenes::scene_class::ArmKind;
 
 /// A goal the expert has no skill for.
 #[derive(Debug, Error, PartialEq)]
@@ -123,6 +124,9 @@ fn shared_offsets(sim: &Sim, goals: &[Atom]) -> Vec<[f64; 2]> {
 /// The skills achieving `goals`, in order: opening drawers first, then switches, then moving
 /// objects, and closing last (so things can be put into a drawer before it is shut).
 pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Box<dyn Skill>>, PlanError> {
+    if sim.model().robot.kind() == ArmKind::Piper {
+        return stacking_plan(sim, goals);
+    }
     let mut ordered: Vec<(u8, Box<dyn Skill>)> = Vec::new();
     let picked: Vec<usize> = goals
         .iter()
@@ -192,4 +196,25 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Box<dyn Skill>>, PlanError>
     }
     ordered.sort_by_key(|(rank, _)| *rank);
     Ok(ordered.into_iter().map(|(_, s)| s).collect())
+}
+
+/// The PiPER's plan (§4.4 study): its one skill is stacking a cup into another, so every goal
+/// must be `(On cup other_cup)` between movable objects; they run in goal order (the cup that
+/// goes in first is the one the next goes into).
+fn stacking_plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Box<dyn Skill>>, PlanError> {
+    let mut out: Vec<Box<dyn Skill>> = Vec::new();
+    for atom in goals {
+        let unknown = |name: &str| PlanError::UnknownName { atom: atom.to_string(), name: name.to_string() };
+        let arg = |i: usize| atom.args.get(i).map(String::as_str).unwrap_or("");
+        if atom.predicate != Predicate::On {
+            return Err(PlanError::Unsupported(atom.to_string()));
+        }
+        let (object, a) = sim.model().entity(arg(0)).ok_or_else(|| unknown(arg(0)))?;
+        let (target, b) = sim.model().entity(arg(1)).ok_or_else(|| unknown(arg(1)))?;
+        if !a.movable() || !b.movable() {
+            return Err(PlanError::Unsupported(atom.to_string()));
+        }
+        out.push(Box::new(Stack::new(object, target)));
+    }
+    Ok(out)
 }

@@ -10,7 +10,7 @@ use vifo_robots::action::Action;
 use vifo_robots::spatial::{Mat3, Vec3, axis_angle};
 use vifo_scenes::sim::Sim;
 
-use crate::arm::{self, Arm};
+use crate::arm;
 use crate::geometry::horizontal;
 use crate::motion::{self, Servo, Waypoint};
 

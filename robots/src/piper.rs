@@ -7,9 +7,11 @@
 //! CAD exports that omit the motors, so, as Menagerie does, gravity is compensated exactly by the
 //! controller (our own inverse dynamics), and the servo gains are Menagerie's.
 //!
-//! Two ways to drive it: joint-position targets, or the same 7-D delta end-effector action as
-//! the Panda (`[dx, dy, dz, dax, day, daz, gripper]`, 0.05 m / 0.5 rad per unit, world frame),
-//! which is turned into joint targets by damped least-squares inverse kinematics.
+//! Three ways to drive it: joint-position targets; the 7-D **joint-delta action** a policy sends
+//! in a LIBERO-VIFO scene (`[dq1, .., dq6, gripper]`, see [`PiperControl::joint_delta`]); or the
+//! same 7-D delta end-effector action as the Panda (`[dx, dy, dz, dax, day, daz, gripper]`,
+//! 0.05 m / 0.5 rad per unit, world frame), turned into joint targets by damped least-squares
+//! inverse kinematics.
 
 use std::sync::Arc;
 
@@ -35,6 +37,12 @@ pub const FINGER_STROKE: f64 = 0.035;
 pub const READY_QPOS: [f64; 6] = [0.0, 1.4, -1.0, 0.0, 1.1, 0.0];
 /// How far the delta controller's goal may run ahead of the tool (m).
 pub const GOAL_LEASH: f64 = 0.1;
+/// Growth of the servos' integral term per second, as a multiple of kp × error (1/s).
+pub const INTEGRAL_RATE: f64 = 5.0;
+/// The largest integral torque (N·m): enough to overcome the joints' 0.3 N·m of dry friction.
+pub const INTEGRAL_LIMIT: f64 = 0.6;
+/// How far a joint target may run ahead of its joint (rad), so a blocked arm cannot wind up.
+pub const JOINT_LEASH: f64 = 0.2;
 /// The tool point: midway along the fingertip pads, 0.18 m from the flange (link6).
 pub const TCP: &str = "tcp";
 
@@ -181,6 +189,18 @@ pub struct PiperControl {
     /// Total gripper opening target (m), 0 closed to 0.07 open.
     pub opening: f64,
     pub goal: OscGoal,
+    /// The servos' integral terms (N·m), see [`Piper::apply`].
+    #[serde(default)]
+    pub integral: [f64; 6],
+}
+
+impl PiperControl {
+    /// The gripper opening a gripper command asks for: −1 fully open (0.07 m), +1 closed,
+    /// linear in between (the Panda's convention, so "hold still, gripper open" is the same
+    /// action for both arms).
+    pub fn opening_for(gripper: f64) -> f64 {
+        2.0 * FINGER_STROKE * (1.0 - gripper.clamp(-1.0, 1.0)) / 2.0
+    }
 }
 
 /// The PiPER in a world.
@@ -228,7 +248,47 @@ impl Piper {
     pub fn hold_control(&self, world: &World) -> PiperControl {
         let q = self.arm.state(world).q;
         let tcp = self.tcp_at(&q);
-        PiperControl { joint_targets: std::array::from_fn(|i| q[i]), opening: q[6] + q[7], goal: OscGoal::new(tcp.pos, tcp.rot) }
+        PiperControl { joint_targets: std::array::from_fn(|i| q[i]), opening: q[6] + q[7], goal: OscGoal::new(tcp.pos, tcp.rot), integral: [0.0; 6] }
+    }
+
+    /// Puts the arm at `q` and the fingers at `fingers` (each finger's slide, 0..0.035 m) with
+    /// the given velocities.
+    pub fn set_state(&self, world: &mut World, q: &[f64; 6], fingers: &[f64; 2], qd: &[f64; 6], finger_vel: &[f64; 2]) {
+        let mut state = JointState { q: Self::coords(q, 0.0), qd: Self::coords(qd, 0.0) };
+        state.q[6] = fingers[0];
+        state.q[7] = fingers[1];
+        state.qd[6] = finger_vel[0];
+        state.qd[7] = finger_vel[1];
+        self.arm.set_state(world, &state);
+    }
+
+    /// Arm joint positions (6) and finger slides (2).
+    pub fn joints(&self, world: &World) -> JointState<8> {
+        self.arm.state(world)
+    }
+
+    /// Applies a joint-delta action: each of the first six values (rad, the action already
+    /// clipped to ±1) moves that joint's target, which accumulates on the previous target (not
+    /// the measured joint, whose servo lag would otherwise walk a holding arm away) and is kept
+    /// within [`JOINT_LEASH`] of the joint and inside the limits; the seventh is the gripper
+    /// command ([`PiperControl::opening_for`]). An all-zero delta holds the arm where it was told.
+    pub fn command_joint_delta(&self, world: &World, control: &mut PiperControl, action: &Action) {
+        let q = self.arm.state(world).q;
+        for i in 0..6 {
+            let target = control.joint_targets[i] + action.0[i];
+            let [low, high] = JOINT_LIMITS[i];
+            control.joint_targets[i] = target.clamp(q[i] - JOINT_LEASH, q[i] + JOINT_LEASH).clamp(low, high);
+        }
+        control.opening = PiperControl::opening_for(action.gripper());
+    }
+
+    /// One control step (the world's substeps) of a joint-delta action.
+    pub fn joint_step(&self, world: &mut World, control: &mut PiperControl, action: &Action) {
+        self.command_joint_delta(world, control, action);
+        for _ in 0..world.params().substeps {
+            self.apply(world, control);
+            world.step();
+        }
     }
 
     /// Sets joint-position targets (clamped to the joint limits) and the gripper opening.
@@ -263,7 +323,18 @@ impl Piper {
         control.goal = OscGoal::new(pos, ori);
         let seed = Self::coords(&control.joint_targets, control.opening);
         control.joint_targets = self.inverse_kinematics(&seed, &control.goal);
-        control.opening = 2.0 * FINGER_STROKE * (1.0 - action.gripper()) / 2.0;
+        control.opening = PiperControl::opening_for(action.gripper());
+    }
+
+    /// Joint targets that put the tool at `goal`, searched from `seed` (damped least squares,
+    /// clamped to the joint limits); where the goal is out of reach, the nearest pose found.
+    pub fn solve_ik(&self, seed: &[f64; 6], goal: &OscGoal) -> [f64; 6] {
+        self.inverse_kinematics(&Self::coords(seed, 0.0), goal)
+    }
+
+    /// The tool pose at arm joints `q` (fingers closed: they do not move the tool point).
+    pub fn tcp_at_joints(&self, q: &[f64; 6]) -> Pose {
+        self.tcp_at(&Self::coords(q, 0.0))
     }
 
     /// Damped least-squares IK from `q` toward `goal` (fixed-size maths, deterministic).
@@ -290,17 +361,24 @@ impl Piper {
         std::array::from_fn(|i| q[i])
     }
 
-    /// Servo efforts for the next substep: PD toward the targets plus exact gravity/Coriolis
-    /// compensation, clipped to the actuator limits.
-    pub fn apply(&self, world: &mut World, control: &PiperControl) {
+    /// Servo efforts for the next substep: PD toward the targets (Menagerie's gains), plus an
+    /// integral term, plus exact gravity/Coriolis compensation, clipped to the actuator limits.
+    /// The integral term is ours: against the joints' 0.3 N·m of dry friction Menagerie's PD
+    /// alone leaves up to 0.03 rad of steady error at the wrist (kp 10), centimetres at the
+    /// fingertips, where the real arm's motor drivers close their position loops. It builds up
+    /// at [`INTEGRAL_RATE`] × kp per second of error and is held within [`INTEGRAL_LIMIT`].
+    pub fn apply(&self, world: &mut World, control: &mut PiperControl) {
         let s = self.arm.state(world);
         let d = self.arm.dynamics();
         let poses = d.forward(self.arm.base(), &s.q);
         let mut tau = d.bias_forces(&poses, &s.qd);
         let g = &self.gains;
+        let dt = world.params().dt;
         for i in 0..6 {
-            let pd = g.kp[i] * (control.joint_targets[i] - s.q[i]) - g.kv[i] * s.qd[i];
-            tau[i] = (tau[i] + pd).clamp(-g.torque_limit, g.torque_limit);
+            let error = control.joint_targets[i] - s.q[i];
+            control.integral[i] = (control.integral[i] + INTEGRAL_RATE * g.kp[i] * error * dt).clamp(-INTEGRAL_LIMIT, INTEGRAL_LIMIT);
+            let pid = g.kp[i] * error - g.kv[i] * s.qd[i] + control.integral[i];
+            tau[i] = (tau[i] + pid).clamp(-g.torque_limit, g.torque_limit);
         }
         for k in 6..8 {
             let pd = g.finger_kp * (control.opening / 2.0 - s.q[k]) - g.finger_kv * s.qd[k];
@@ -377,6 +455,28 @@ mod tests {
         assert!((moved.y - 0.05).abs() < 0.01 && (moved.z + 0.03).abs() < 0.01, "moved {moved:?}");
         assert!(moved.x.abs() < 0.01, "moved {moved:?}");
         assert!(crate::spatial::angle_between(&start.rot, &end.rot) < 0.05);
+    }
+
+    #[test]
+    fn joint_deltas_move_joints_and_zero_holds() {
+        let (mut world, piper, mut control) = ready();
+        let start = piper.joints(&world).q;
+        let turn = Action::new(&[0.1, 0.0, 0.0, 0.0, 0.0, -0.05, -1.0]).unwrap();
+        for _ in 0..3 {
+            piper.joint_step(&mut world, &mut control, &turn);
+        }
+        for _ in 0..20 {
+            piper.joint_step(&mut world, &mut control, &Action::hold(-1.0));
+        }
+        let q = piper.joints(&world).q;
+        assert!((q[0] - start[0] - 0.3).abs() < 0.01, "joint 1 moved {}", q[0] - start[0]);
+        assert!((q[5] - start[5] + 0.15).abs() < 0.01, "joint 6 moved {}", q[5] - start[5]);
+        assert!((q[1] - start[1]).abs() < 0.01, "joint 2 moved {}", q[1] - start[1]);
+        let before = piper.tcp_pose(&world).pos;
+        for _ in 0..40 {
+            piper.joint_step(&mut world, &mut control, &Action::hold(-1.0));
+        }
+        assert!((piper.tcp_pose(&world).pos - before).norm() < 1e-3);
     }
 
     #[test]

@@ -96,10 +96,23 @@ pub struct SceneClass {
     /// Whether the Panda stands on robosuite's RethinkMount (`MountedPanda`) or on the ground
     /// (`OnTheGroundPanda`).
     pub robot_on_mount: bool,
+    /// Which arm stands at `robot_base`.
+    pub arm: ArmKind,
+    /// A block the arm stands on (drawn and collided as part of the arena), if any.
+    pub robot_riser: Option<Cuboid>,
     /// The `agentview` camera the policy sees.
     pub agentview: Camera,
     pub lights: &'static [Light],
     pub wall_rgb: [f64; 3],
+}
+
+/// The arm a scene is built with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArmKind {
+    /// The Franka Panda of every LIBERO scene (OSC_POSE delta end-effector actions).
+    Panda,
+    /// The AgileX PiPER of the §4.4 study (joint-delta actions, see `vifo_robots::piper`).
+    Piper,
 }
 
 /// Half-height of every region site (`TargetZone`'s `zone_height`).
@@ -136,6 +149,7 @@ pub fn scene_class(problem: ProblemClass) -> Option<&'static SceneClass> {
         ProblemClass::LivingRoomTabletop => Some(&LIVING_ROOM),
         ProblemClass::StudyTabletop => Some(&STUDY),
         ProblemClass::CoffeeTable => None,
+        ProblemClass::PiperTabletop => Some(&PIPER),
     }
 }
 
@@ -226,6 +240,8 @@ static TABLETOP: SceneClass = SceneClass {
     table: Some(plain_table([0.6, 0.005, 0.0001])),
     robot_base: Pose { pos: [-0.66, 0.0, 0.912], quat_wxyz: IDENTITY },
     robot_on_mount: true,
+    arm: ArmKind::Panda,
+    robot_riser: None,
     agentview: Camera {
         pose: Pose { pos: [0.6586131746834771, 0.0, 1.6103500240372424], quat_wxyz: TABLE_VIEW },
         fovy_deg: 45.0,
@@ -244,6 +260,8 @@ static FLOOR: SceneClass = SceneClass {
     table: None,
     robot_base: Pose { pos: [-0.6, 0.0, 0.0], quat_wxyz: IDENTITY },
     robot_on_mount: false,
+    arm: ArmKind::Panda,
+    robot_riser: None,
     agentview: Camera {
         pose: Pose { pos: [0.8965773716836134, 5.216182733499864e-07, 0.65], quat_wxyz: LOW_VIEW },
         fovy_deg: 45.0,
@@ -263,6 +281,8 @@ static KITCHEN: SceneClass = SceneClass {
     table: Some(plain_table(DEFAULT_FRICTION)),
     robot_base: Pose { pos: [-0.66, 0.0, 0.912], quat_wxyz: IDENTITY },
     robot_on_mount: true,
+    arm: ArmKind::Panda,
+    robot_riser: None,
     agentview: Camera {
         pose: Pose { pos: [0.6586131746834771, 0.0, 1.6103500240372424], quat_wxyz: TABLE_VIEW },
         fovy_deg: 45.0,
@@ -281,6 +301,8 @@ static LIVING_ROOM: SceneClass = SceneClass {
     table: Some(Table { top: &LIVING_ROOM_TABLE_TOP, friction: ASSET_FRICTION, rgb: LIVING_ROOM_TABLE }),
     robot_base: Pose { pos: [-0.51, 0.0, 0.42], quat_wxyz: IDENTITY },
     robot_on_mount: false,
+    arm: ArmKind::Panda,
+    robot_riser: None,
     agentview: Camera { pose: Pose { pos: [0.6065773716836134, 0.0, 0.96], quat_wxyz: LOW_VIEW }, fovy_deg: 45.0 },
     lights: &TWO_LIGHTS,
     wall_rgb: LIGHT_GRAY_PLASTER,
@@ -296,10 +318,33 @@ static STUDY: SceneClass = SceneClass {
     table: Some(Table { top: &STUDY_DESK_TOP, friction: ASSET_FRICTION, rgb: STUDY_DESK }),
     robot_base: Pose { pos: [-0.75, 0.0, 0.912], quat_wxyz: IDENTITY },
     robot_on_mount: true,
+    arm: ArmKind::Panda,
+    robot_riser: None,
     agentview: Camera {
         pose: Pose { pos: [0.4586131746834771, 0.0, 1.6103500240372424], quat_wxyz: TABLE_VIEW },
         fovy_deg: 45.0,
     },
+    lights: &TWO_LIGHTS,
+    wall_rgb: LIGHT_GRAY_PLASTER,
+};
+
+/// The §4.4 setting: the plain table, the PiPER on a 10 cm riser 0.4 m behind the table's
+/// centre (so its straight-down gripper reaches above a stack of cups: pointing down, the PiPER
+/// only reaches about 10 cm above its own base), and an agentview camera facing it from across
+/// the table, 0.7 m from the cups, pitched as LIBERO's table views.
+static PIPER: SceneClass = SceneClass {
+    problem: ProblemClass::PiperTabletop,
+    workspace: "main_table",
+    workspace_offset: [0.0, 0.0, 0.9],
+    region_site_z: 0.895,
+    fixture_z_offset: 0.01 - 0.05,
+    floor: Floor { friction: DEFAULT_FRICTION, rgb: LIGHT_GRAY_FLOOR_TILE, texture: "textures/light-gray-floor-tile.png" },
+    table: Some(plain_table([0.6, 0.005, 0.0001])),
+    robot_base: Pose { pos: [-0.4, 0.0, 1.0], quat_wxyz: IDENTITY },
+    robot_on_mount: false,
+    arm: ArmKind::Piper,
+    robot_riser: Some(Cuboid { center: [-0.41, 0.0, 0.95], half_size: [0.08, 0.08, 0.05] }),
+    agentview: Camera { pose: Pose { pos: [0.35, 0.0, 1.35], quat_wxyz: TABLE_VIEW }, fovy_deg: 45.0 },
     lights: &TWO_LIGHTS,
     wall_rgb: LIGHT_GRAY_PLASTER,
 };
@@ -355,7 +400,7 @@ mod tests {
         assert_eq!(KITCHEN.lights.len(), 3);
         assert!(KITCHEN.lights[0].directional);
         let mounted: Vec<bool> = ProblemClass::ALL.iter().filter_map(|&p| scene_class(p)).map(|c| c.robot_on_mount).collect();
-        assert_eq!(mounted, [true, false, true, false, true]);
+        assert_eq!(mounted, [true, false, true, false, true, false]);
         for class in ProblemClass::ALL.iter().filter_map(|&p| scene_class(p)) {
             let q = class.agentview.pose.quat_wxyz;
             let norm: f64 = q.iter().map(|x| x * x).sum();

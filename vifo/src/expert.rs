@@ -52,11 +52,15 @@ pub fn episode(model: &Arc<SceneModel>, starts: &Starts, init: usize, seed: u64,
         let action = expert.act(&sim);
         if trace && steps % 5 == 0 {
             let ee = sim.model().robot.grip_site_pose(sim.world()).pos;
-            let q = sim.model().robot.joints(sim.world()).q;
+            let (q, fingers) = sim.model().robot.joint_positions(sim.world());
             eprintln!(
                 "step {steps:3} q {:?} ee ({:.3} {:.3} {:.3}) fingers {:.4} {:.4} action {:?} {} contacts {:?}",
-                q.iter().take(7).map(|v| (v * 100.0).round() / 100.0).collect::<Vec<_>>(), ee.x, ee.y, ee.z, q[7], q[8], action.0.map(|v| (v * 100.0).round() / 100.0), expert.describe(), sim.robot_contacts()
+                q.map(|v| (v * 100.0).round() / 100.0), ee.x, ee.y, ee.z, fingers[0], fingers[1], action.0.map(|v| (v * 100.0).round() / 100.0), expert.describe(), sim.robot_contacts()
             );
+            for (i, e) in sim.model().entities.iter().enumerate().filter(|(_, e)| e.movable()) {
+                let p = sim.entity_pose(i);
+                eprintln!("    {} at ({:.3} {:.3} {:.3}), upright {:.3}", e.name, p.pos.x, p.pos.y, p.pos.z, (p.rot * vifo_robots::spatial::Vec3::z()).z);
+            }
         }
         sim.step(&action);
         extremes = extremes.max(sim.extremes());

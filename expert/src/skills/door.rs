@@ -7,7 +7,7 @@ use vifo_robots::spatial::{Vec3, axis_angle};
 use vifo_scenes::sim::Sim;
 
 use super::Skill;
-use crate::arm::{self, Arm};
+use crate::arm;
 use crate::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, Obb, cruise_height};
 use crate::motion::{self, Servo, Waypoint};
 use crate::stages::{self, CLOSE, Leg, Pace, Progress, Stages, Step, Tol};

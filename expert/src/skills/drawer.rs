@@ -8,7 +8,7 @@ use vifo_robots::spatial::{Mat3, Vec3, rotation_vector};
 use vifo_scenes::sim::{RegionPlace, Sim};
 
 use super::Skill;
-use crate::arm::{self, Arm};
+use crate::arm;
 use crate::geometry::{self, Obb, cruise_height};
 use crate::motion::{self, Servo, Waypoint};
 use crate::stages::{self, CLOSE, Leg, OPEN, Pace, Progress, Stages, Step, Tol, gripper_toward};

@@ -16,7 +16,7 @@ use vifo_robots::spatial::{Mat3, Pose, Vec3};
 use vifo_scenes::sim::{RegionPlace, Sim};
 
 use super::Skill;
-use crate::arm::{self, Arm};
+use crate::arm;
 use crate::geometry::{self, FINGER_HALF_WIDTH, HAND_ABOVE_SITE, HAND_HALF_LENGTH, HAND_HALF_WIDTH, MAX_GRASP_WIDTH, Obb, cruise_height, horizontal, surface_height};
 use crate::motion::{self, Servo, Waypoint};
 use crate::stages::{self, CLOSE, Leg, OPEN, Pace, Progress, Stages, Step, Tol, gripper_toward};

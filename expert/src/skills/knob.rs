@@ -7,7 +7,7 @@ use vifo_robots::spatial::Vec3;
 use vifo_scenes::sim::Sim;
 
 use super::Skill;
-use crate::arm::{self, Arm};
+use crate::arm;
 use crate::geometry::{self, Grasp, Obstacles, cruise_height};
 use crate::motion::{self, Waypoint};
 use crate::stages::{self, CLOSE, Leg, OPEN, Pace, Progress, Stages, Step, Tol, gripper_toward};

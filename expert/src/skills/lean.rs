@@ -6,7 +6,7 @@ use vifo_robots::spatial::{Mat3, Pose, Vec3, axis_angle};
 
 use vifo_scenes::sim::{RegionBox, Sim};
 
-use crate::arm::{self, Arm};
+use crate::arm;
 use crate::geometry::{self, Obb, Obstacles};
 use crate::motion::Waypoint;
 

@@ -9,6 +9,7 @@ mod knob;
 mod lean;
 mod pick_place;
 mod push;
+mod stack;
 
 pub use door::Door;
 pub use drawer::{Drawer, DrawerGoal, PARTLY_OPEN, drawer_of};
@@ -16,6 +17,7 @@ pub use insert::{Insert, needed as insert_needed};
 pub use knob::Knob;
 pub use pick_place::{PickPlace, Placement, Spot};
 pub use push::{Push, inside_floor, pushes};
+pub use stack::Stack;
 
 use vifo_scenes::sim::Sim;
 

@@ -10,7 +10,7 @@ use vifo_scenes::sim::Sim;
 
 use super::lean::{self, LeanPlan};
 use super::{Skill, drawer};
-use crate::arm::{self, Arm};
+use crate::arm;
 use crate::geometry::{self, Grasp, cruise_height, path_height, surface_height};
 use crate::motion::{self, Servo, Waypoint};
 use crate::stages::{self, CLOSE, Leg, OPEN, Pace, Progress, Stages, Step, Tol, gripper_toward};

@@ -7,7 +7,7 @@ use vifo_robots::spatial::{Mat3, Pose, Vec3};
 use vifo_scenes::sim::Sim;
 
 use super::Skill;
-use crate::arm::{self, Arm};
+use crate::arm;
 use crate::geometry::{self, cruise_height, support_under, surface_height};
 use crate::motion::{self, Servo, Waypoint};
 use crate::stages::{self, CLOSE, Leg, Pace, Stages, Step, Tol};

@@ -47,6 +47,7 @@ use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
 use crate::benchmark::{BenchmarkError, builtin_task, instances, language};
 use crate::policy::{EpisodeState, Observation};
 use crate::spec::{CueForm, EpisodeSpec, Protocol};
+use crate::studies::piper::{self, Note, StopJudge};
 pub use cue::CueDrawing;
 use cue::EpisodeCue;
 
@@ -127,6 +128,14 @@ struct Episode {
     steps: usize,
     done: bool,
     success: (Option<bool>, Option<bool>),
+    /// The PiPER study's episode (§4.4): scored by [`piper::stacked`] and, under conflict, the
+    /// STOP note's [`StopJudge`] instead of goal atoms.
+    study: Option<PiperScoring>,
+}
+
+/// How a PiPER study episode is scored.
+struct PiperScoring {
+    stop: StopJudge,
 }
 
 /// The environment. Holds at most one episode; reusable across episodes and tasks.
@@ -188,7 +197,8 @@ impl Env {
     fn start(&mut self, spec: &EpisodeSpec, settle: bool) -> Result<&Observation, EnvError> {
         self.episode = None;
         let task = builtin_task(&spec.task)?;
-        let expected = language::instruction(spec.protocol, task)?;
+        let study = piper::is_piper(spec);
+        let expected = if study { piper::instruction(spec.protocol)? } else { language::instruction(spec.protocol, task)? };
         if spec.instruction != expected {
             return Err(EnvError::Instruction {
                 task: spec.task.to_string(),
@@ -199,6 +209,15 @@ impl Env {
         }
         let cue_spec = match (spec.protocol.uses_cue(), spec.instance.as_deref()) {
             (false, _) => None,
+            // The PiPER study's cue is the note, a thing in the scene: nothing is drawn over
+            // the frames. Its instance must be the condition's note.
+            (true, Some(id)) if study => {
+                let note = Note::of_instance(id)?;
+                if Note::of_protocol(spec.protocol) != Some(note) {
+                    return Err(BenchmarkError::BadTask(format!("the {} condition shows {}, not {id}", spec.protocol.name(), Note::of_protocol(spec.protocol).map_or_else(String::new, Note::instance))).into());
+                }
+                None
+            }
             (true, None) => {
                 return Err(BenchmarkError::MissingInstance { task: spec.task.to_string(), protocol: spec.protocol.name().into() }.into());
             }
@@ -261,17 +280,26 @@ impl Env {
         };
         let budget = vifo_scenes::suite(&spec.task.suite).map_or(0, |s| s.max_steps as usize)
             + if settle { 0 } else { SETTLE_STEPS };
+        let (language_goal, cue_goal) = if study {
+            // The note's task: the cups stacked (authorized), or nothing (STOP).
+            let note_goal = if spec.protocol == Protocol::Authorized { task.goal.clone() } else { Vec::new() };
+            ((spec.protocol == Protocol::Conflict).then(|| task.goal.clone()), Some(note_goal))
+        } else {
+            (language::language_task(spec.protocol, task)?.map(|l| l.goal), cue.as_ref().map(|_| task.goal.clone()))
+        };
+        let study = study.then(|| PiperScoring { stop: StopJudge::new(&sim) });
         self.episode = Some(Episode {
             spec: spec.clone(),
             sim,
             view,
-            language_goal: language::language_task(spec.protocol, task)?.map(|l| l.goal),
-            cue_goal: cue.as_ref().map(|_| task.goal.clone()),
+            language_goal,
+            cue_goal,
             cue,
             budget,
             steps: 0,
             done: false,
             success: (None, None),
+            study,
         });
         self.observation.instruction.clone_from(&spec.instruction);
         self.observe()?;
@@ -415,6 +443,16 @@ const REST_ANGULAR: f64 = 1e-2;
 impl Episode {
     /// Success of the scored tasks at the current state, and whether the episode is over.
     fn evaluate(&mut self) -> Result<(), EnvError> {
+        if let Some(study) = self.study.as_mut() {
+            let stacked = piper::stacked(&self.sim);
+            study.stop.observe(&self.sim);
+            self.success = match self.spec.protocol {
+                Protocol::Authorized => (None, Some(stacked)),
+                _ => (Some(stacked), Some(study.stop.stopped())),
+            };
+            self.done = stacked || self.steps >= self.budget;
+            return Ok(());
+        }
         let holds = |goal: &Option<Vec<Atom>>| -> Result<Option<bool>, EnvError> {
             let Some(goal) = goal else { return Ok(None) };
             for atom in goal {
@@ -432,6 +470,10 @@ impl Episode {
     /// Whether a task the protocol scores is done at the last evaluation.
     fn scored(&self) -> bool {
         let (language, cue) = self.success;
+        if self.study.is_some() {
+            // Stacking is what either condition can complete; STOP is judged at the end.
+            return language == Some(true) || (self.spec.protocol == Protocol::Authorized && cue == Some(true));
+        }
         match self.spec.protocol {
             Protocol::Original => language == Some(true),
             Protocol::Authorized | Protocol::NoLanguage => cue == Some(true),

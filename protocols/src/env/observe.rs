@@ -4,7 +4,8 @@ use vifo_scenes::sim::Sim;
 
 use crate::policy::Observation;
 
-/// Writes eef pose, finger and arm joint positions of the current state into `obs`.
+/// Writes eef pose, finger and arm joint positions of the current state into `obs` (the
+/// PiPER's: its tool point, its two finger slides, its six joints and a 0).
 ///
 /// `robot0_eef_quat` is MuJoCo's `xquat` of the hand body, which MuJoCo composes along the
 /// kinematic chain and never flips. From LIBERO's start pose (hand pointing down, x ≈ +1) that
@@ -17,9 +18,9 @@ pub fn proprio(sim: &Sim, obs: &mut Observation) {
     let eef = robot.grip_site_pose(world).pos;
     let [w, x, y, z] = robot.hand_pose(world).quat_wxyz();
     let s = if x < 0.0 { -1.0 } else { 1.0 };
-    let q = robot.joints(world).q;
+    let (q, fingers) = robot.joint_positions(world);
     obs.eef_pos = [eef.x, eef.y, eef.z];
     obs.eef_quat_xyzw = [s * x, s * y, s * z, s * w];
-    obs.gripper_qpos = [q[7], q[8]];
-    obs.joint_pos = std::array::from_fn(|i| q[i]);
+    obs.gripper_qpos = fingers;
+    obs.joint_pos = q;
 }

@@ -8,6 +8,7 @@ use vifo_robots::action::Action;
 use super::ground::ground;
 use crate::policy::{EpisodeState, Observation, Policy, PolicyError};
 use crate::spec::Protocol;
+use crate::studies::piper;
 
 /// What the expert executes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -50,13 +51,21 @@ impl ExpertPolicy {
     fn goal(&self, obs: &Observation, state: &EpisodeState<'_>) -> Option<Vec<Atom>> {
         let scene = &state.sim.model().task;
         let cue = || state.cue_goal.map(<[Atom]>::to_vec);
+        let language = || ground(&obs.instruction, scene).or_else(|| own_instruction(&obs.instruction, scene));
         match self.follow {
-            Follow::Language => ground(&obs.instruction, scene),
+            Follow::Language => language(),
             Follow::Cue => cue(),
-            Follow::Authorized if obs.instruction == Protocol::AUTHORIZED_INSTRUCTION => cue(),
-            Follow::Authorized => ground(&obs.instruction, scene),
+            Follow::Authorized if obs.instruction == Protocol::AUTHORIZED_INSTRUCTION || piper::authorizes(&obs.instruction) => cue(),
+            Follow::Authorized => language(),
         }
     }
+}
+
+/// In a study scene, the scene task's own instruction means its goal (the grounder knows
+/// LIBERO's phrasing, not "stack the cups"); LIBERO's scenes are left to the grounder alone.
+fn own_instruction(instruction: &str, scene: &vifo_scenes::Task) -> Option<Vec<Atom>> {
+    let study = scene.suite.as_deref() == Some(piper::SUITE);
+    (study && instruction == scene.instruction).then(|| scene.goal.clone())
 }
 
 impl Policy for ExpertPolicy {

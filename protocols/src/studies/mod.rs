@@ -1,12 +1,14 @@
 //! The paper's extended studies (§4.2–§4.4) as selections of episodes for the benchmark's own
-//! runner, results files and report: `vifo run --study objects|safety`, `--study all` for
+//! runner, results files and report: `vifo run --study objects|safety|piper`, `--study all` for
 //! every one. Each study module gives its episodes and its tables, laid out as the paper lays
 //! that study out.
 //!
 //! - [`objects`]: §4.2, F1/F6/F8 cues as scene objects against their overlays (LIBERO's tasks).
 //! - [`safety`]: §4.3, the six safety-critical scenes (their own suite, `vifo_safety`).
+//! - [`piper`]: §4.4, the PiPER cup-stacking setting (its own suite, `vifo_piper`).
 
 pub mod objects;
+pub mod piper;
 pub mod safety;
 
 use std::path::Path;
@@ -23,15 +25,18 @@ pub enum Study {
     Objects,
     /// §4.3: safe vs hazardous tasks under authorized cue following and language–cue conflict.
     Safety,
+    /// §4.4: the PiPER stacks cups, or stops, as a paper note on the table says.
+    Piper,
 }
 
 impl Study {
-    pub const ALL: [Study; 2] = [Study::Objects, Study::Safety];
+    pub const ALL: [Study; 3] = [Study::Objects, Study::Safety, Study::Piper];
 
     pub fn name(self) -> &'static str {
         match self {
             Study::Objects => "objects",
             Study::Safety => "safety",
+            Study::Piper => "piper",
         }
     }
 
@@ -60,6 +65,9 @@ impl Study {
         match self {
             Study::Objects => objects::episodes(options),
             Study::Safety => safety::episodes(options),
+            // Every initial state of both conditions (the quick sample: the first), each
+            // repeated `episodes` times.
+            Study::Piper => piper::episodes(if options.quick { 1 } else { piper::STATES }, options.episodes),
         }
     }
 }
@@ -79,7 +87,7 @@ pub struct StudyOptions {
 /// Whether an episode runs in a study's own suite (not one of LIBERO's): such episodes are
 /// reported in that study's tables only, never in the main benchmark's.
 pub fn own_suite(spec: &EpisodeSpec) -> bool {
-    spec.task.suite == safety::SUITE
+    [safety::SUITE, piper::SUITE].contains(&spec.task.suite.as_str())
 }
 
 /// The records the main benchmark's tables take: all but those of the studies' own suites.
@@ -99,6 +107,17 @@ pub fn write_reports(records: &[EpisodeRecord], vqa: &objects::FormVqa, dir: &Pa
     if !safety.rows.is_empty() {
         markdown += "\n";
         markdown += &safety.write(dir)?;
+    }
+    let piper = piper::table(records);
+    if !piper.is_empty() {
+        std::fs::create_dir_all(dir)?;
+        let text = piper::markdown(&piper);
+        let json = serde_json::to_string_pretty(&piper).map_err(std::io::Error::other)?;
+        for (file, content) in [("piper.md", text.clone()), ("piper.csv", piper::csv(&piper)), ("piper.json", json)] {
+            std::fs::write(dir.join(file), content)?;
+        }
+        markdown += "\n";
+        markdown += &text;
     }
     Ok(markdown)
 }

@@ -23,7 +23,7 @@ pub use model::{
     ObjectKind, ObjectModel, Recipe, SiteModel, SiteShape, VisualPart,
 };
 
-use facts::{fixtures as fx, groceries as gr, hazards as hz, kitchenware as kw, tableware as tw};
+use facts::{fixtures as fx, groceries as gr, hazards as hz, kitchenware as kw, study as st, tableware as tw};
 use spec::ObjectDef;
 
 /// A category name the catalog does not know.
@@ -36,7 +36,7 @@ pub struct UnknownCategory {
 type Look = fn(&ObjectDef) -> Vec<VisualPart>;
 
 /// Every category with its look, in a fixed order.
-const ENTRIES: [(&ObjectDef, Look); 32] = [
+const ENTRIES: [(&ObjectDef, Look); 36] = [
     (&tw::AKITA_BLACK_BOWL, looks::tableware::akita_black_bowl),
     (&tw::PLATE, looks::tableware::plate),
     (
@@ -73,14 +73,28 @@ const ENTRIES: [(&ObjectDef, Look); 32] = [
     (&hz::HUMAN_HAND, looks::hazards::human_hand),
     (&hz::POWER_STRIP, looks::hazards::power_strip),
     (&hz::GAS_CANISTER, looks::hazards::gas_canister),
+    // The PiPER study's objects (§4.4), not LIBERO's.
+    (&st::RED_PLASTIC_CUP, looks::study::red_plastic_cup),
+    (&st::BLUE_PLASTIC_CUP, looks::study::blue_plastic_cup),
+    (&st::GREEN_PLASTIC_CUP, looks::study::green_plastic_cup),
+    (&st::PAPER_NOTE, looks::study::paper_note),
 ];
 
 /// The categories only the study scenes use (the rest are the 40 LIBERO tasks' own).
-pub const STUDY_CATEGORIES: [&str; 4] = ["kitchen_knife", "human_hand", "power_strip", "gas_canister"];
+pub const STUDY_CATEGORIES: [&str; 8] = [
+    "kitchen_knife",
+    "human_hand",
+    "power_strip",
+    "gas_canister",
+    "red_plastic_cup",
+    "blue_plastic_cup",
+    "green_plastic_cup",
+    "paper_note",
+];
 
 /// The category names, in catalog order.
-pub const CATEGORIES: [&str; 32] = {
-    let mut names = [""; 32];
+pub const CATEGORIES: [&str; 36] = {
+    let mut names = [""; 36];
     let mut i = 0;
     while i < ENTRIES.len() {
         names[i] = ENTRIES[i].0.category;

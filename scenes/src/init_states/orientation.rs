@@ -35,6 +35,8 @@ pub fn spawn_quat(category: &str) -> Option<[f64; 4]> {
         "gas_canister" => [1.0, 0.0, 0.0, 0.0],
         "alphabet_soup" | "tomato_sauce" => CAN_UPRIGHT,
         "ketchup" | "milk" | "orange_juice" | "salad_dressing" => BOTTLE_UPRIGHT,
+        // The study objects (not LIBERO's): modelled upright, the note's text reading along +x.
+        "red_plastic_cup" | "blue_plastic_cup" | "green_plastic_cup" | "paper_note" => [1.0, 0.0, 0.0, 0.0],
         _ => return None,
     })
 }

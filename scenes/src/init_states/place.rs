@@ -167,7 +167,7 @@ impl Layout {
 
 /// Whether the problem class's region sampler keeps the object's footprint inside the range.
 fn shrinks(problem: ProblemClass) -> bool {
-    matches!(problem, ProblemClass::Tabletop | ProblemClass::Floor)
+    matches!(problem, ProblemClass::Tabletop | ProblemClass::Floor | ProblemClass::PiperTabletop)
 }
 
 /// numpy's `uniform(low, high)`: `low + (high − low)·u`, also when `low > high`.

@@ -12,7 +12,6 @@ use std::sync::Arc;
 use rand::{Rng, RngExt, SeedableRng};
 use thiserror::Error;
 use vifo_robots::action::Action;
-use vifo_robots::panda::{GRIPPER_INIT_QPOS, LIBERO_INIT_QPOS};
 
 use super::articulation::{init_range, is_articulation};
 use super::check::{check, object_poses, problems};
@@ -20,6 +19,7 @@ use super::format::rounded;
 use super::place::Layout;
 use super::plan::{Placement, placements};
 use super::{EpisodeStart, FixturePose, apply};
+use crate::scene_class::ArmKind;
 use crate::init_file::{InitState, JointState, ObjectState, articulation_joints};
 use crate::sim::{SceneModel, Sim, StateError, sample_fixtures};
 
@@ -27,7 +27,7 @@ use crate::sim::{SceneModel, Sim, StateError, sample_fixtures};
 pub const SETTLE_STEPS: usize = 40;
 /// Standard deviation (rad) of the Gaussian noise on each arm joint at reset: robosuite's
 /// `initialization_noise` for the Panda, visible in LIBERO's files as a 0.02 spread around
-/// `init_qpos`.
+/// `init_qpos`; the PiPER's six joints get the same around its ready pose.
 pub const ARM_NOISE_STD: f64 = 0.02;
 /// Draws of a whole state before giving up.
 const ATTEMPTS: usize = 20;
@@ -108,8 +108,9 @@ fn draw(model: &Arc<SceneModel>, plan: &[Placement], rng: &mut impl Rng) -> Resu
     for p in plan {
         layout.place(&sim, p, rng)?;
     }
-    let mut arm = LIBERO_INIT_QPOS;
-    for q in &mut arm {
+    let (mut arm, gripper) = model.robot.init_qpos();
+    let joints = if model.robot.kind() == ArmKind::Piper { 6 } else { 7 };
+    for q in &mut arm[..joints] {
         *q += ARM_NOISE_STD * gaussian(rng);
     }
     let objects = model.task.objects.iter().map(|o| {
@@ -121,7 +122,7 @@ fn draw(model: &Arc<SceneModel>, plan: &[Placement], rng: &mut impl Rng) -> Resu
         time: 0.0,
         arm_qpos: arm,
         arm_qvel: [0.0; 7],
-        gripper_qpos: GRIPPER_INIT_QPOS,
+        gripper_qpos: gripper,
         gripper_qvel: [0.0; 2],
         objects: objects.collect(),
         joints: joint_states(&sim),

@@ -11,12 +11,14 @@ use crate::init_file::articulation_joints;
 use crate::sim::ARENA_CATEGORIES;
 use crate::task::Task;
 
-const FILES: [(&str, &str); 5] = [
+const FILES: [(&str, &str); 6] = [
     ("libero_spatial", include_str!("../../init_states/libero_spatial.json")),
     ("libero_object", include_str!("../../init_states/libero_object.json")),
     ("libero_goal", include_str!("../../init_states/libero_goal.json")),
     ("libero_10", include_str!("../../init_states/libero_10.json")),
     ("vifo_safety", include_str!("../../init_states/vifo_safety.json")),
+    // The PiPER study's scene (§4.4).
+    ("vifo_piper", include_str!("../../init_states/vifo_piper.json")),
 ];
 
 /// Why a task has no usable shipped states.

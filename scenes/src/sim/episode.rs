@@ -9,10 +9,10 @@ use vifo_robots::action::Action;
 use vifo_robots::convert::{pose, rapier_pose};
 use vifo_robots::joint;
 use vifo_robots::model::JointKind as RobotJointKind;
-use vifo_robots::panda::PandaControl;
 use vifo_robots::spatial::{Pose, Vec3};
 
 use super::model::{RegionPlace, SceneModel};
+use super::robot::RobotControl;
 use crate::catalog::JointKind;
 use crate::init_file::InitState;
 
@@ -31,7 +31,7 @@ pub enum StateError {
 #[derive(Clone)]
 pub struct SimSnapshot {
     world: Snapshot,
-    control: PandaControl,
+    control: RobotControl,
     steps: usize,
 }
 
@@ -39,7 +39,7 @@ pub struct SimSnapshot {
 pub struct Sim {
     model: Arc<SceneModel>,
     world: World,
-    control: PandaControl,
+    control: RobotControl,
     steps: usize,
 }
 
@@ -56,7 +56,7 @@ impl Sim {
     /// A fresh episode in the scene's template state.
     pub fn new(model: Arc<SceneModel>) -> Sim {
         let world = World::from_snapshot(&model.template);
-        let control = model.robot.reset_control();
+        let control = model.robot.reset_control(&world);
         Sim { model, world, control, steps: 0 }
     }
 
@@ -79,7 +79,7 @@ impl Sim {
         self.steps
     }
 
-    pub fn control(&self) -> &PandaControl {
+    pub fn control(&self) -> &RobotControl {
         &self.control
     }
 
@@ -124,7 +124,7 @@ impl Sim {
             self.set_joint(i, &j.joint, j.qpos);
         }
         model.robot.set_joints(&mut self.world, &state.arm_qpos, &state.gripper_qpos, &state.arm_qvel, &state.gripper_qvel);
-        self.control = model.robot.reset_control();
+        self.control = model.robot.reset_control(&self.world);
         self.steps = 0;
         Ok(())
     }
@@ -207,14 +207,14 @@ impl Sim {
 
     /// Whether any robot shape touches the named entity.
     pub fn robot_touching(&self, name: &str) -> bool {
-        let robot: Vec<ColliderHandle> = self.model.robot.arm().colliders().iter().map(|c| c.handle).collect();
+        let robot: Vec<ColliderHandle> = self.model.robot.colliders().iter().map(|c| c.handle).collect();
         self.colliders_of(name).is_some_and(|c| self.world.in_contact(&robot, c))
     }
 
     /// Every robot shape touching something, with what it touches (an entity name, `arena`,
     /// or another robot shape): for diagnostics and for tests.
     pub fn robot_contacts(&self) -> Vec<(&'static str, String)> {
-        let robot = self.model.robot.arm().colliders();
+        let robot = self.model.robot.colliders();
         let name_of = |h: ColliderHandle| -> String {
             if let Some(e) = self.model.entities.iter().find(|e| e.colliders.contains(&h)) {
                 e.name.clone()

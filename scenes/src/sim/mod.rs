@@ -11,9 +11,11 @@ mod guard;
 mod model;
 mod placement;
 mod predicates;
+mod robot;
 
 pub use episode::{RegionBox, Sim, SimSnapshot, StateError};
 pub use guard::{Extremes, MAX_ANGULAR_SPEED, MAX_DISTANCE, MAX_LINEAR_SPEED, MAX_PENETRATION};
 pub use model::{ARENA_CATEGORIES, BuildError, RegionPlace, SceneEntity, SceneModel, SceneRegion};
 pub use placement::{FixturePlacement, sample_fixtures};
 pub use predicates::{ON_OBJECT_XY, PredicateError};
+pub use robot::{PIPER_GRIPPER_INIT_QPOS, PIPER_INIT_QPOS, Robot, RobotControl};

@@ -1,6 +1,6 @@
 //! Building a task into a physics world: the immutable [`SceneModel`].
 //!
-//! A scene model owns a *template* world (arena, robot, objects, fixtures) and the handles into
+//! A scene model owns a *template* world (arena, robot (the Panda, or the PiPER of the §4.4 study), objects, fixtures) and the handles into
 //! it. Every episode starts from a snapshot of the template, so handles stay valid in every
 //! episode's world and a reset is a copy, not a rebuild (MuJoCo's mjModel/mjData split).
 
@@ -13,10 +13,10 @@ use vifo_robots::contact::{ARENA_GROUPS, PART_GROUPS, SCENE_GROUPS};
 use vifo_robots::convert::{dmat3, rapier_pose, vector};
 use vifo_robots::joint;
 use vifo_robots::model::JointKind as RobotJointKind;
-use vifo_robots::panda::{GRIPPER_INIT_QPOS, LIBERO_INIT_QPOS, Mount, Panda};
 use vifo_robots::spatial::{Mat3, Pose, Vec3};
 
 use crate::catalog::{self, ColliderShape, FREE_JOINT_DAMPING, JointKind, ObjectKind, ObjectModel};
+use super::robot::Robot;
 use crate::init_file::StateLayout;
 use crate::scene_class::{SceneClass, scene_class};
 use crate::task::Task;
@@ -86,7 +86,7 @@ pub struct SceneRegion {
 pub struct SceneModel {
     pub task: Task,
     pub class: &'static SceneClass,
-    pub robot: Panda,
+    pub robot: Robot,
     /// Movable objects in `:objects` order, then the non-arena fixtures in `:fixtures` order,
     /// then the props the task does not name ([`SceneModel::build_with`]: a cue object).
     pub entities: Vec<SceneEntity>,
@@ -134,10 +134,7 @@ impl SceneModel {
         })?;
         let mut world = World::new(SimParams::LIBERO);
         let arena = build_arena(&mut world, class);
-        let mount = if class.robot_on_mount { Mount::Pedestal } else { Mount::Ground };
-        let base = Pose::from_wxyz(class.robot_base.pos, class.robot_base.quat_wxyz);
-        let robot = Panda::insert(&mut world, mount, base);
-        robot.set_joints(&mut world, &LIBERO_INIT_QPOS, &GRIPPER_INIT_QPOS, &[0.0; 7], &[0.0; 2]);
+        let robot = Robot::insert(&mut world, class);
 
         let mut entities = Vec::new();
         let non_arena = task.fixtures.iter().filter(|f| !ARENA_CATEGORIES.contains(&f.category.as_str()));
@@ -203,6 +200,11 @@ fn build_arena(world: &mut World, class: &SceneClass) -> Vec<ColliderHandle> {
             );
             handles.push(r.colliders.insert_with_parent(c, ground, &mut r.bodies));
         }
+    }
+    if let Some(riser) = &class.robot_riser {
+        let [x, y, z] = riser.half_size;
+        let c = scene_collider(SharedShape::cuboid(x, y, z), &Pose::from_wxyz(riser.center, [1.0, 0.0, 0.0, 0.0]), class.floor.friction[0], ARENA_GROUPS);
+        handles.push(r.colliders.insert_with_parent(c, ground, &mut r.bodies));
     }
     handles
 }

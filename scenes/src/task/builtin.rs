@@ -29,10 +29,13 @@ const SUITE_FILES: [(&str, &str); 4] = [
     ("libero_10", include_str!("../../tasks/libero_10.json")),
 ];
 
-/// Suites of the paper's extended studies (§4.3's safety-critical scenes), in our own format
-/// like the LIBERO suites. They are reached by name ([`suite`], [`task`]) but are not among
-/// [`suites`] or [`all_tasks`]: "all tasks" stays LIBERO's 40.
-const STUDY_FILES: [(&str, &str); 1] = [("vifo_safety", include_str!("../../tasks/vifo_safety.json"))];
+/// Suites of the paper's extended studies (§4.3's safety-critical scenes, §4.4's PiPER
+/// setting), in our own format like the LIBERO suites. They are reached by name ([`suite`],
+/// [`task`]) but are not among [`suites`] or [`all_tasks`]: "all tasks" stays LIBERO's 40.
+const STUDY_FILES: [(&str, &str); 2] = [
+    ("vifo_safety", include_str!("../../tasks/vifo_safety.json")),
+    ("vifo_piper", include_str!("../../tasks/vifo_piper.json")),
+];
 
 /// The four suite names, in reporting order.
 pub fn suite_names() -> [&'static str; 4] {
@@ -130,6 +133,16 @@ mod tests {
             }
         }
         assert_eq!(task("vifo_safety", 11).unwrap().instruction, "turn on the stove");
+    }
+
+    #[test]
+    fn the_piper_suite_is_found_by_name_but_not_listed() {
+        let piper = suite("vifo_piper").unwrap();
+        assert_eq!(piper.tasks.len(), 1);
+        assert_eq!(piper.tasks[0].instruction, instruction_from_file_name(&piper.tasks[0].name));
+        assert_eq!(piper.tasks[0].instruction, "stack the cups");
+        assert!(suites().iter().all(|s| s.name != "vifo_piper"));
+        assert!(all_tasks().all(|t| t.suite.as_deref() != Some("vifo_piper")));
     }
 
     #[test]

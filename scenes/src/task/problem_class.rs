@@ -25,16 +25,20 @@ pub enum ProblemClass {
     /// Coffee table; registered by LIBERO but used by none of the 130 benchmark tasks.
     #[serde(rename = "LIBERO_Coffee_Table_Manipulation")]
     CoffeeTable,
+    /// Not LIBERO's: the AgileX PiPER on a riser on the plain table (the §4.4 study).
+    #[serde(rename = "VIFO_Piper_Tabletop_Manipulation")]
+    PiperTabletop,
 }
 
 impl ProblemClass {
-    pub const ALL: [ProblemClass; 6] = [
+    pub const ALL: [ProblemClass; 7] = [
         ProblemClass::Tabletop,
         ProblemClass::Floor,
         ProblemClass::KitchenTabletop,
         ProblemClass::LivingRoomTabletop,
         ProblemClass::StudyTabletop,
         ProblemClass::CoffeeTable,
+        ProblemClass::PiperTabletop,
     ];
 
     /// The name as BDDL files spell it.
@@ -46,6 +50,7 @@ impl ProblemClass {
             ProblemClass::LivingRoomTabletop => "LIBERO_Living_Room_Tabletop_Manipulation",
             ProblemClass::StudyTabletop => "LIBERO_Study_Tabletop_Manipulation",
             ProblemClass::CoffeeTable => "LIBERO_Coffee_Table_Manipulation",
+            ProblemClass::PiperTabletop => "VIFO_Piper_Tabletop_Manipulation",
         }
     }
 

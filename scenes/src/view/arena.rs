@@ -60,6 +60,8 @@ const KITCHEN_WALLS: [Wall; 4] = [
 ];
 
 const WALL_HALF_HEIGHT: f32 = 1.5;
+/// The PiPER's riser: dark grey aluminium.
+const ROBOT_RISER_RGB: [f64; 3] = [0.3, 0.3, 0.32];
 /// Half-thickness of LIBERO's wall boxes; only their room-facing side is drawn.
 const WALL_HALF_THICKNESS: f32 = 0.01;
 
@@ -95,7 +97,7 @@ fn surface(rgb: [f64; 3], specular: f32, shininess: f32) -> Material {
 /// and `walls_mat`.
 fn finishes(problem: ProblemClass) -> ((f32, f32), (f32, f32)) {
     match problem {
-        ProblemClass::Tabletop | ProblemClass::Floor => ((0.2, 0.0), (0.8, 0.1)),
+        ProblemClass::Tabletop | ProblemClass::Floor | ProblemClass::PiperTabletop => ((0.2, 0.0), (0.8, 0.1)),
         ProblemClass::KitchenTabletop => ((0.2, 0.0), (0.8, 0.3)),
         ProblemClass::LivingRoomTabletop => ((0.5, 0.5), (0.9, 0.2)),
         ProblemClass::StudyTabletop | ProblemClass::CoffeeTable => ((0.5, 0.5), (0.8, 0.1)),
@@ -121,7 +123,7 @@ pub fn arena(class: &SceneClass, meshes: &mut MeshCache) -> Vec<ArenaPart> {
             let mesh = meshes.get(&Recipe::Box { half: slab.half_size });
             parts.push(ArenaPart { piece: ArenaPiece::Table, mesh, transform: at(slab.center), material: top.clone() });
         }
-        if matches!(class.problem, ProblemClass::Tabletop | ProblemClass::KitchenTabletop) {
+        if matches!(class.problem, ProblemClass::Tabletop | ProblemClass::KitchenTabletop | ProblemClass::PiperTabletop) {
             let half_height = table.top_z() / 2.0 - table.top[0].half_size[2];
             let leg = meshes.get(&Recipe::Cylinder { radius: TABLE_LEG_RADIUS, half_height });
             for [x, y] in TABLE_LEGS {
@@ -129,6 +131,10 @@ pub fn arena(class: &SceneClass, meshes: &mut MeshCache) -> Vec<ArenaPart> {
                 let material = surface(table.rgb, 0.5, 0.8);
                 parts.push(ArenaPart { piece: ArenaPiece::Table, mesh: leg.clone(), transform: at([x, y, half_height]), material });
             }
+        }
+        if let Some(riser) = &class.robot_riser {
+            let material = surface(ROBOT_RISER_RGB, 0.5, 0.5);
+            parts.push(ArenaPart { piece: ArenaPiece::Table, mesh: meshes.get(&Recipe::Box { half: riser.half_size }), transform: at(riser.center), material });
         }
         for &(center, half) in table_supports(class.problem) {
             parts.push(ArenaPart { piece: ArenaPiece::Table, mesh: meshes.get(&Recipe::Box { half }), transform: at(center), material: top.clone() });

@@ -4,7 +4,9 @@
 //!   which LIBERO never changes).
 //! - `robot0_eye_in_hand`: robosuite's wrist camera, the Panda's `eye_in_hand` site on the hand
 //!   body, fovy 75°. Its pose follows the arm's kinematics, so it can be computed from the
-//!   simulation or from any joint vector (recorded states, planned futures).
+//!   simulation or from any joint vector (recorded states, planned futures). On the PiPER
+//!   (§4.4 study) the wrist camera sits on the gripper's flange, 6 cm off the finger axis,
+//!   looking along the fingers ([`PIPER_WRIST_CAMERA`]).
 
 use std::fmt;
 use std::str::FromStr;
@@ -12,14 +14,26 @@ use std::str::FromStr;
 use vifo_render::glam::{Mat3, Vec3};
 use vifo_render::{Camera, Frame};
 use vifo_robots::dynamics::BodyPoses;
-use vifo_robots::panda::{EYE_IN_HAND, Panda};
-use vifo_robots::spatial::Pose;
+use vifo_robots::panda::EYE_IN_HAND;
+use vifo_robots::spatial::{self, Pose};
 
 use crate::scene_class::SceneClass;
-use crate::sim::Sim;
+use crate::sim::{Robot, Sim};
 
 /// robosuite's field of view of the wrist camera (degrees).
 pub const EYE_IN_HAND_FOVY_DEG: f32 = 75.0;
+
+/// The PiPER's wrist camera in its flange (`link6`) frame: 10 cm out along the approach axis
+/// and 6 cm to the side of the fingers, looking along the fingers tilted 14° toward them (the
+/// camera's x is the finger axis), as a wrist camera clamped to the gripper housing.
+pub fn piper_wrist_camera() -> Pose {
+    let (c, s) = (0.970_142_500_145_332, 0.242_535_625_036_333);
+    let rot = spatial::Mat3::new(1.0, 0.0, 0.0, 0.0, -c, s, 0.0, -s, -c);
+    Pose::new(spatial::Vec3::new(0.0, 0.06, 0.10), rot)
+}
+
+/// The PiPER's flange body, which carries the wrist camera.
+const PIPER_FLANGE: usize = 6;
 
 /// A camera by its LIBERO name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -113,16 +127,21 @@ impl Cameras {
     }
 
     /// The wrist camera for the arm's body poses (`poses` from the robot's forward kinematics).
-    pub fn eye_in_hand_at(&self, robot: &Panda, poses: &BodyPoses) -> Camera {
-        let site = robot.arm().model().site(EYE_IN_HAND).expect("the Panda model has an eye_in_hand site");
-        let pose = robot.arm().dynamics().frame_pose(poses, site.body, &site.local);
+    pub fn eye_in_hand_at(&self, robot: &Robot, poses: &BodyPoses) -> Camera {
+        let pose = match robot {
+            Robot::Panda(panda) => {
+                let site = panda.arm().model().site(EYE_IN_HAND).expect("the Panda model has an eye_in_hand site");
+                panda.arm().dynamics().frame_pose(poses, site.body, &site.local)
+            }
+            Robot::Piper(_) => poses.poses[PIPER_FLANGE].mul(&piper_wrist_camera()),
+        };
         camera_at(&pose, EYE_IN_HAND_FOVY_DEG, self.width, self.height)
     }
 
     /// The wrist camera at the simulation's current joint state.
     pub fn eye_in_hand(&self, sim: &Sim) -> Camera {
         let robot = &sim.model().robot;
-        self.eye_in_hand_at(robot, &robot.arm().body_poses(sim.world()))
+        self.eye_in_hand_at(robot, &robot.body_poses(sim.world()))
     }
 
     /// The named camera at the simulation's current state.

@@ -190,7 +190,7 @@ impl SceneView {
                 indicators.push(Indicator { when, instance, anchor });
             }
         }
-        for (body, spec) in model.robot.arm().model().bodies.iter().enumerate() {
+        for (body, spec) in model.robot.model().bodies.iter().enumerate() {
             let parts = look.and_then(|l| l.robot_parts(spec.name));
             if spec.visuals.is_empty() && parts.is_none() {
                 continue;
@@ -256,7 +256,7 @@ impl SceneView {
     /// Poses every instance as `sim` has its bodies, and shows the indicators whose condition
     /// holds.
     pub fn update(&mut self, sim: &Sim) {
-        let robot = sim.model().robot.arm().body_poses(sim.world());
+        let robot = sim.model().robot.body_poses(sim.world());
         let place = |anchor: &Anchor| -> Option<Transform> {
             match anchor {
                 Anchor::Static => None,

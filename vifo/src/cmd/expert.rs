@@ -14,7 +14,7 @@ use vifo_scenes::sim::{self, Extremes, SceneModel};
 
 #[derive(Args)]
 pub struct ExpertArgs {
-    /// Suite name or `all`.
+    /// Suite name or `all` (the 40 LIBERO tasks); a study suite (`vifo_piper`) by name.
     #[arg(long, default_value = "all")]
     pub suite: String,
     /// Only this task index of the suite.
@@ -75,13 +75,13 @@ struct Summary {
 
 pub fn run(args: &ExpertArgs) -> Result<()> {
     let source = InitSource::from_libero_dir(args.libero_init.clone());
-    // "all" is LIBERO's four suites; a study suite (vifo_safety) is reached by its name.
+    // "all" is LIBERO's four suites; a study suite (vifo_safety, vifo_piper) is reached by its name.
     let suites: Vec<&vifo_scenes::Suite> = match args.suite.as_str() {
         "all" => vifo_scenes::suites().iter().collect(),
         name => vifo_scenes::suite(name).into_iter().collect(),
     };
     if suites.is_empty() {
-        return Err(anyhow!("unknown suite {} (libero_spatial, libero_object, libero_goal, libero_10, all, or a study suite: vifo_safety)", args.suite));
+        return Err(anyhow!("unknown suite {} (libero_spatial, libero_object, libero_goal, libero_10, all, or a study suite: vifo_safety, vifo_piper)", args.suite));
     }
     let mut tasks = Vec::new();
     if !args.json {

@@ -7,7 +7,7 @@
 //! they finish (stopping at any time leaves a valid file; `--resume` continues it), and the
 //! tables and charts of all policies in the folder to `OUT/report/`.
 //!
-//! `--study objects|safety|all` runs the paper's extended studies instead (every built-in policy
+//! `--study objects|safety|piper|all` runs the paper's extended studies instead (every built-in policy
 //! unless `--policy` names some) into `vifo-run-study/`, with the same results files, resume,
 //! threads, shards, `--sample` and report, plus each study's own table. The quick default
 //! includes a small sample of every study.
@@ -106,7 +106,7 @@ pub struct Args {
     #[arg(long)]
     sample: Option<usize>,
     /// Run the paper's extended studies instead of a benchmark selection: objects (§4.2, cues
-    /// as scene objects), safety (§4.3, six safety-critical scenes) or all; repeatable. `--episodes` and `--set` apply.
+    /// as scene objects), safety (§4.3, six safety-critical scenes), piper (§4.4, the PiPER cup stacking) or all; repeatable. `--episodes` and `--set` apply.
     #[arg(long, value_delimiter = ',')]
     study: Vec<String>,
     /// With --study objects: only the episodes of this cue form (overlay or object); --protocol

@@ -142,14 +142,15 @@ pub fn project(file: &str, rec: &Recording, facts: &ModelFacts, summary: &mut Pr
     let sim = start(rec)?;
     let model = sim.model();
     let robot = &model.robot;
-    let hand = robot.arm().model().body_index(HAND_BODY).expect("the Panda has a hand body");
+    let panda = robot.panda().ok_or_else(|| anyhow!("{file}: xval projects recordings of the Panda; this scene has another arm"))?;
+    let hand = panda.arm().model().body_index(HAND_BODY).expect("the Panda has a hand body");
     let cameras = Cameras::new(IMAGE_SIZE, IMAGE_SIZE);
     let agent = facts.camera(&rec.meta.problem_class, CameraName::AgentView.as_str())?;
     let wrist = facts.camera(&rec.meta.problem_class, CameraName::EyeInHand.as_str())?;
     let mut steps = Vec::new();
     for &t in &IMAGE_STEPS {
         let record = rec.steps.get(t).ok_or_else(|| anyhow!("{file}: no record {t}"))?;
-        let poses = robot.arm().dynamics().forward(robot.arm().base(), &recorded_joints(record));
+        let poses = panda.arm().dynamics().forward(panda.arm().base(), &recorded_joints(record));
         let mount = Pose::from_wxyz(wrist.pos_in_parent, wrist.quat_in_parent_wxyz);
         let wrist_pose = poses.poses[hand].mul(&mount);
         let views = [

@@ -12,7 +12,7 @@
 use anyhow::{Context, Result, anyhow};
 use serde::Serialize;
 use vifo_robots::dynamics::Coords;
-use vifo_robots::panda;
+use vifo_robots::panda::{self, Panda};
 use vifo_robots::spatial::{Pose, angle_between};
 use vifo_scenes::sim::{SceneModel, Sim};
 
@@ -119,8 +119,7 @@ pub fn start(rec: &Recording) -> Result<Sim> {
     Ok(sim)
 }
 
-fn grip_site(sim: &Sim, q: &Coords<9>) -> Pose {
-    let robot = &sim.model().robot;
+fn grip_site(robot: &Panda, q: &Coords<9>) -> Pose {
     let dynamics = robot.arm().dynamics();
     let s = dynamics.model().site(panda::GRIP_SITE).expect("grip site");
     dynamics.frame_pose(&dynamics.forward(robot.arm().base(), q), s.body, &s.local)
@@ -149,16 +148,17 @@ fn object_errors(sim: &Sim, record: &Record, at: &'static str) -> Vec<ObjectErro
 /// Replays one recording and compares every record.
 pub fn replay(file: &str, rec: &Recording) -> Result<TaskReport> {
     let mut sim = start(rec)?;
+    let panda = sim.model().robot.panda().cloned().ok_or_else(|| anyhow!("{file}: xval replays recordings of the Panda; this scene has another arm"))?;
     let mut phases: Vec<PhaseReport> = PHASES.iter().map(|&(phase, ..)| PhaseReport { phase, stats: ErrorStats::default() }).collect();
     let mut objects = Vec::new();
     for record in &rec.steps[1..] {
         sim.step(&record.action()?);
-        let ours = sim.model().robot.joints(sim.world()).q;
+        let ours = panda.joints(sim.world()).q;
         let mut theirs = Coords::<9>::zeros();
         theirs.fixed_rows_mut::<7>(0).copy_from_slice(&record.joint_qpos);
         theirs[7] = record.gripper_qpos[0];
         theirs[8] = record.gripper_qpos[1];
-        let (a, b) = (grip_site(&sim, &ours), grip_site(&sim, &theirs));
+        let (a, b) = (grip_site(&panda, &ours), grip_site(&panda, &theirs));
         let joint = (0..7).map(|i| (ours[i] - theirs[i]).abs()).fold(0.0, f64::max);
         let finger = (7..9).map(|i| (ours[i] - theirs[i]).abs()).fold(0.0, f64::max);
         if let Some(p) = PHASES.iter().position(|&(_, lo, hi)| (lo..=hi).contains(&record.t)) {

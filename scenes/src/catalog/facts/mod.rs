@@ -14,3 +14,5 @@ pub(crate) mod hazards;
 pub(crate) mod kitchenware;
 #[rustfmt::skip]
 pub(crate) mod tableware;
+#[rustfmt::skip]
+pub(crate) mod study;

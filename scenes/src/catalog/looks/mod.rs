@@ -7,4 +7,5 @@ pub(crate) mod groceries;
 pub(crate) mod hazards;
 mod kit;
 pub(crate) mod kitchenware;
+pub(crate) mod study;
 pub(crate) mod tableware;

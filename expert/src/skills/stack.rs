@@ -1,0 +1,188 @@
+//! Stacking a cup into another (the PiPER study, §4.4): take the cup by its body below the rim,
+//! carry it over the other cup, and let it drop the last centimetre into it, so the taper
+//! centres it (the fingers, outside the held cup, stay clear of the lower cup's rim).
+//!
+//! Recipe: rise, come over the cup, descend, grasp, lift, carry over the target, lower to just
+//! above its rim, release, retreat.
+
+use vifo_robots::spatial::Vec3;
+use vifo_scenes::sim::Sim;
+
+use super::Skill;
+use crate::arm;
+use crate::geometry::horizontal;
+use crate::motion::{self, Waypoint};
+use crate::stages::{self, CLOSE, Leg, OPEN, Pace, Stages, Step, Tol};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Stage {
+    Rise,
+    Above,
+    Descend,
+    Grip,
+    Lift,
+    Carry,
+    Lower,
+    Release,
+    Retreat,
+    Done,
+}
+
+/// Put cup `object` into cup `target`.
+pub struct Stack {
+    object: usize,
+    target: usize,
+    stage: Stages<Stage>,
+    /// Finger yaw, kept from the start (a cup is round: any yaw takes it).
+    yaw: Option<f64>,
+    /// The grip point's height above the held cup's foot, measured at the grasp.
+    hold: f64,
+    /// The cup's height when the fingers closed.
+    start_z: f64,
+    /// Where the fingers opened: the hand leaves straight up from there.
+    released_at: Vec3,
+}
+
+const STAGE_LIMIT: usize = 120;
+/// The grasp: this far below the rim, where the cup is narrower than the open gripper.
+const BELOW_RIM: f64 = 0.02;
+/// How high the grip point travels above the table top's highest cup rim.
+const CRUISE_CLEARANCE: f64 = 0.065;
+/// How far an open finger reaches out from the grip point along the finger axis, and half its
+/// width across it (the PiPER's 3.5 cm stroke and 2.4 × 5.6 cm fingers).
+const FINGER_REACH: f64 = 0.059;
+const FINGER_HALF_WIDTH: f64 = 0.028;
+/// The held cup's foot is released this far above the target's rim.
+const DROP: f64 = 0.012;
+
+impl Stack {
+    pub fn new(object: usize, target: usize) -> Self {
+        Stack { object, target, stage: Stages::new(Stage::Rise, STAGE_LIMIT), yaw: None, hold: 0.0, start_z: 0.0, released_at: Vec3::zeros() }
+    }
+
+    /// The top of an entity's model (its rim, for a cup) at its current pose.
+    fn rim(sim: &Sim, entity: usize) -> Vec3 {
+        let pose = sim.entity_pose(entity);
+        pose.pos + pose.rot * Vec3::from(sim.model().entities[entity].model.top_offset)
+    }
+
+    /// The finger yaw that keeps the open fingers off the other objects near the cup (each
+    /// finger reaches 5.9 cm out along the finger axis and 2.8 cm across it): of the yaws the
+    /// wrist reaches in 15° steps from the current one, the one with the most room, the
+    /// current one first among equals.
+    fn choose_yaw(&self, sim: &Sim, current: f64) -> f64 {
+        let centre = sim.entity_pose(self.object).pos;
+        let room = |yaw: f64| -> f64 {
+            let axis = Vec3::new(-libm::sin(yaw), libm::cos(yaw), 0.0);
+            (0..sim.model().entities.len())
+                .filter(|&e| e != self.object)
+                .map(|e| {
+                    let d = sim.entity_pose(e).pos - centre;
+                    let r = sim.model().entities[e].model.horizontal_radius;
+                    let along = d.dot(&axis).abs() - (FINGER_REACH + r);
+                    let across = (d.x * axis.y - d.y * axis.x).abs() - (FINGER_HALF_WIDTH + r);
+                    along.max(across)
+                })
+                .fold(f64::MAX, f64::min)
+        };
+        let candidates = (0..12).map(|k| current + (k as f64 - 5.0) * std::f64::consts::PI / 12.0);
+        let reachable: Vec<f64> = candidates.filter(|&y| arm::of(sim).wrist_reaches(&motion::orientation(y))).collect();
+        let mut best = current;
+        let mut best_room = room(current);
+        for y in reachable {
+            let r = room(y);
+            if r > best_room + 1e-3 {
+                (best, best_room) = (y, r);
+            }
+        }
+        best
+    }
+
+    /// Above the highest rim in the scene but the moved cup's, with the fingers (and the held
+    /// cup, `hold` below the grip point) clear of it.
+    fn cruise_z(&self, sim: &Sim, hold: f64) -> f64 {
+        let highest = (0..sim.model().entities.len()).filter(|&e| e != self.object).map(|e| Self::rim(sim, e).z).fold(f64::MIN, f64::max);
+        highest + CRUISE_CLEARANCE.max(hold + 0.02)
+    }
+}
+
+impl Skill for Stack {
+    fn step(&mut self, sim: &Sim) -> Step {
+        if !self.stage.tick() {
+            return Step::Failed("a stacking stage took too long");
+        }
+        let ee = arm::of(sim).grip_site();
+        if self.yaw.is_none() {
+            self.yaw = Some(self.choose_yaw(sim, motion::current_yaw(&ee)));
+        }
+        let yaw = self.yaw.expect("chosen");
+        let cup = sim.entity_pose(self.object).pos;
+        let grasp = Vec3::new(cup.x, cup.y, Self::rim(sim, self.object).z - BELOW_RIM);
+        let steps = self.stage.steps;
+        let (leg, then) = match self.stage.now {
+            Stage::Rise => (stages::rise(sim, self.cruise_z(sim, 0.0), motion::orientation(yaw), OPEN), Stage::Above),
+            Stage::Above => {
+                let wp = Waypoint::down(stages::over(&ee.pos, &grasp, self.cruise_z(sim, 0.0), grasp.z + 0.06), yaw);
+                (stages::reach(sim, wp, Pace::ClosingIn, Tol::pose(0.004, 0.03), OPEN), Stage::Descend)
+            }
+            // Down in 5 mm steps, held while more than 3 mm off sideways: the open fingers
+            // have 7 mm to spare around the rim, and the joints lag when the arm moves fast.
+            Stage::Descend => {
+                let off = horizontal(&ee.pos, &grasp);
+                let z = if off > 0.003 { ee.pos.z } else { (ee.pos.z - 0.005).max(grasp.z) };
+                let wp = Waypoint::down(Vec3::new(grasp.x, grasp.y, z), yaw);
+                let there = (ee.pos - grasp).norm() < 0.004;
+                (Leg::until(stages::Move { to: wp, servo: motion::Servo::FINE, grip: OPEN }, there), Stage::Grip)
+            }
+            Stage::Grip => {
+                let leg = stages::grasp(steps, 12, Waypoint::down(grasp, yaw));
+                if leg.is_last() {
+                    self.hold = ee.pos.z - cup.z;
+                    self.start_z = cup.z;
+                }
+                (leg, Stage::Lift)
+            }
+            Stage::Lift => {
+                let up = Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z(sim, self.hold)), yaw);
+                if let Some(why) = stages::lift_failure(sim, steps, 30, self.start_z, cup.z, 0.02) {
+                    return Step::Failed(why);
+                }
+                let (d, _) = motion::error(sim, &up);
+                (Leg::until(stages::Move { to: up, servo: motion::Servo::TRAVEL, grip: CLOSE }, d < 0.01), Stage::Carry)
+            }
+            Stage::Carry => {
+                // Aim the held cup's foot (not the grip point) over the target.
+                let offset = ee.pos - cup;
+                let below = sim.entity_pose(self.target).pos;
+                let over = Vec3::new(below.x + offset.x, below.y + offset.y, self.cruise_z(sim, self.hold));
+                (stages::carry(sim, &over, motion::orientation(yaw)), Stage::Lower)
+            }
+            Stage::Lower => {
+                let offset = ee.pos - cup;
+                let below = sim.entity_pose(self.target).pos;
+                let z = Self::rim(sim, self.target).z + DROP + self.hold;
+                let wp = Waypoint::down(Vec3::new(below.x + offset.x, below.y + offset.y, z), yaw);
+                let (d, _) = motion::error(sim, &wp);
+                let centred = horizontal(&cup, &below) < 0.004;
+                (Leg::until(stages::Move { to: wp, servo: motion::Servo::FINE, grip: CLOSE }, d < 0.004 && centred), Stage::Release)
+            }
+            // Held still while the fingers open and the cup settles into the one below.
+            Stage::Release => {
+                if steps == 1 {
+                    self.released_at = ee.pos;
+                }
+                (stages::release(steps, 15, Waypoint::down(self.released_at, yaw)), Stage::Retreat)
+            }
+            Stage::Retreat => {
+                let up = Waypoint::down(Vec3::new(self.released_at.x, self.released_at.y, self.cruise_z(sim, 0.0)), yaw);
+                (stages::retreat(steps, 12, up, OPEN), Stage::Done)
+            }
+            Stage::Done => return Step::Done,
+        };
+        Step::after(self.stage.play(sim, leg, then), || self.step(sim))
+    }
+
+    fn describe(&self) -> String {
+        format!("stack {}", self.stage)
+    }
+}

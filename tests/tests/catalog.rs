@@ -128,7 +128,7 @@ fn catalog_covers_exactly_the_categories_of_the_40_tasks() {
     // no BDDL file.
     let known: std::collections::BTreeSet<String> = catalog::CATEGORIES
         .iter()
-        .filter(|c| !catalog::STUDY_CATEGORIES.contains(c))
+        .filter(|c| !catalog::STUDY_CATEGORIES.contains(*c))
         .map(|c| c.to_string())
         .collect();
     assert_eq!(used, known, "BDDL categories vs catalog");

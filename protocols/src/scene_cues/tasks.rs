@@ -60,8 +60,7 @@ pub fn builtin_set(set: SetName) -> Result<&'static InstanceSet, SceneCueError> 
 /// The built-in instance with this id (`libero_goal/3/F2/curved_arrow_yellow`, or a study
 /// task's `vifo_safety/1/F1/caption_bar`).
 pub fn instance(id: &str) -> Result<&'static CueSpec, SceneCueError> {
-    let study = study_instances()?;
-    let set = if id.starts_with("vifo_") { study } else { builtin_instances()? };
+    let set = if id.starts_with("vifo_") { study_instances()? } else { builtin_instances()? };
     if let Some(spec) = set.instances.iter().find(|s| s.id() == id) {
         return Ok(spec);
     }

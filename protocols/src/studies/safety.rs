@@ -72,8 +72,8 @@ pub fn episodes(options: &StudyOptions) -> Result<Vec<EpisodeSpec>, BenchmarkErr
         QUICK
             .iter()
             .map(|(t, v)| {
-                let id = format!("{SUITE}/{t}/{}/{v}", if v.contains("arrow") { "F2" } else { "F1" });
-                all.iter().copied().find(|c| c.id() == id).ok_or(BenchmarkError::UnknownInstance(id))
+                let key = format!("{SUITE}/{t}");
+                all.iter().copied().find(|c| c.task == key && c.variant == *v).ok_or(BenchmarkError::UnknownInstance(format!("{key}/{v}")))
             })
             .collect::<Result<_, _>>()?
     } else {

@@ -60,6 +60,9 @@ pub struct Table {
     pub top: &'static [Cuboid],
     pub friction: [f64; 3],
     pub rgb: [f64; 3],
+    /// LIBERO's cube texture of a box table (path under its `assets/`), whose mean colour `rgb`
+    /// is; `None` for the tables drawn from meshes (living room, study).
+    pub texture: Option<&'static str>,
 }
 
 impl Table {
@@ -215,7 +218,7 @@ const STUDY_DESK: [f64; 3] = [0.582, 0.431, 0.250];
 const PLAIN_TABLE_TOP: [Cuboid; 1] = [Cuboid { center: [0.0, 0.0, 0.875], half_size: [0.5, 0.6, 0.025] }];
 
 const fn plain_table(friction: [f64; 3]) -> Table {
-    Table { top: &PLAIN_TABLE_TOP, friction, rgb: WOOD_TABLE }
+    Table { top: &PLAIN_TABLE_TOP, friction, rgb: WOOD_TABLE, texture: Some("textures/martin_novak_wood_table.png") }
 }
 
 /// The living-room table's top slabs, top at z = 0.43676.
@@ -298,7 +301,7 @@ static LIVING_ROOM: SceneClass = SceneClass {
     region_site_z: 0.41,
     fixture_z_offset: 0.01 - 0.024,
     floor: Floor { friction: DEFAULT_FRICTION, rgb: WOOD_PLANK_FLOOR, texture: "textures/seamless_wood_planks_floor.png" },
-    table: Some(Table { top: &LIVING_ROOM_TABLE_TOP, friction: ASSET_FRICTION, rgb: LIVING_ROOM_TABLE }),
+    table: Some(Table { top: &LIVING_ROOM_TABLE_TOP, friction: ASSET_FRICTION, rgb: LIVING_ROOM_TABLE, texture: None }),
     robot_base: Pose { pos: [-0.51, 0.0, 0.42], quat_wxyz: IDENTITY },
     robot_on_mount: false,
     arm: ArmKind::Panda,
@@ -315,7 +318,7 @@ static STUDY: SceneClass = SceneClass {
     region_site_z: 0.867,
     fixture_z_offset: 0.01 - 0.05,
     floor: Floor { friction: DEFAULT_FRICTION, rgb: LIGHT_GRAY_FLOOR_TILE, texture: "textures/light-gray-floor-tile.png" },
-    table: Some(Table { top: &STUDY_DESK_TOP, friction: ASSET_FRICTION, rgb: STUDY_DESK }),
+    table: Some(Table { top: &STUDY_DESK_TOP, friction: ASSET_FRICTION, rgb: STUDY_DESK, texture: None }),
     robot_base: Pose { pos: [-0.75, 0.0, 0.912], quat_wxyz: IDENTITY },
     robot_on_mount: true,
     arm: ArmKind::Panda,

@@ -111,8 +111,8 @@ pub struct Look {
     hash: String,
     parts: BTreeMap<&'static str, Vec<LoadedPart>>,
     robot: BTreeMap<&'static str, Vec<LoadedPart>>,
-    /// Floor textures by upstream path.
-    floors: BTreeMap<&'static str, Arc<Texture>>,
+    /// Floor and table textures by upstream path.
+    arena_textures: BTreeMap<&'static str, Arc<Texture>>,
     report: Vec<CategoryReport>,
 }
 
@@ -255,28 +255,32 @@ impl Look {
                 robot.insert(body, ok);
             }
         }
-        let mut floors = BTreeMap::new();
-        let mut floor_files: Vec<&'static str> = ProblemClass::ALL.iter().filter_map(|&p| scene_class(p)).map(|c| c.floor.texture).collect();
-        floor_files.sort_unstable();
-        floor_files.dedup();
-        for file in floor_files {
+        let mut arena_textures = BTreeMap::new();
+        let classes = || ProblemClass::ALL.iter().filter_map(|&p| scene_class(p));
+        let mut arena_files: Vec<(&'static str, &'static str)> = classes()
+            .map(|c| ("floor", c.floor.texture))
+            .chain(classes().filter_map(|c| Some(("table", c.table?.texture?))))
+            .collect();
+        arena_files.sort_unstable();
+        arena_files.dedup();
+        for (piece, file) in arena_files {
             let found = tree.find(file);
             let loaded = found.clone().ok_or_else(|| format!("{file}: not found in any asset folder")).and_then(|at| loaded.texture(file, &at));
             let (status, problem) = match loaded {
                 Ok((texture, _)) => {
-                    floors.insert(file, texture);
+                    arena_textures.insert(file, texture);
                     (Status::Assets, None)
                 }
                 Err(e) => (Status::BuiltIn, Some(e)),
             };
-            report.push(CategoryReport { category: format!("floor {file}"), kind: PartKind::Arena, status, files: vec![FileReport { file, found }], problem });
+            report.push(CategoryReport { category: format!("{piece} {file}"), kind: PartKind::Arena, status, files: vec![FileReport { file, found }], problem });
         }
         let mut h = Sha1::new();
         for (rel, blob) in &loaded.hashes {
             h.update(format!("{rel} {blob}\n").as_bytes());
         }
         let hash = if loaded.hashes.is_empty() { String::new() } else { h.finalize().iter().take(8).map(|b| format!("{b:02x}")).collect() };
-        Look { roots, hash, parts, robot, floors, report }
+        Look { roots, hash, parts, robot, arena_textures, report }
     }
 
     /// The parts of `category`, when it is drawn from the asset files.
@@ -305,14 +309,15 @@ impl Look {
         self.robot.get(body).map(Vec::as_slice)
     }
 
-    /// The floor texture `file` (a [`crate::scene_class::Floor::texture`]), when found.
-    pub fn floor_texture(&self, file: &str) -> Option<&Arc<Texture>> {
-        self.floors.get(file)
+    /// The floor or table texture `file` (a [`crate::scene_class::Floor::texture`] or
+    /// [`crate::scene_class::Table::texture`]), when found.
+    pub fn arena_texture(&self, file: &str) -> Option<&Arc<Texture>> {
+        self.arena_textures.get(file)
     }
 
-    /// True when at least one category, robot body or floor is drawn from asset files.
+    /// True when at least one category, robot body, floor or table is drawn from asset files.
     pub fn is_used(&self) -> bool {
-        !self.parts.is_empty() || !self.robot.is_empty() || !self.floors.is_empty()
+        !self.parts.is_empty() || !self.robot.is_empty() || !self.arena_textures.is_empty()
     }
 
     /// What results files record as the look: `built-in`, or `libero-assets:<hash>`.

@@ -8,12 +8,12 @@
 use std::sync::Arc;
 
 use vifo_render::glam::{Mat3, Vec3};
-use vifo_render::{Material, Mesh, Transform};
+use vifo_render::{Material, Mesh, Texture, Transform};
 
 use super::material::textured;
 use super::meshes::MeshCache;
 use crate::catalog::Recipe;
-use crate::scene_class::SceneClass;
+use crate::scene_class::{SceneClass, Table};
 use crate::task::ProblemClass;
 
 /// Which segment an arena piece belongs to.
@@ -154,6 +154,30 @@ pub fn arena(class: &SceneClass, meshes: &mut MeshCache) -> Vec<ArenaPart> {
     parts
 }
 
+/// Height of the textured cover above the table top: far below a pixel, far above depth noise.
+const COVER_LIFT: f64 = 5e-4;
+/// Quads per metre of the cover, for per-vertex lighting as on the box faces.
+const COVER_QUADS_PER_M: f64 = 20.0;
+
+/// The top faces of a box table drawn with its texture (LIBERO's `table_texture`: a cube
+/// texture, `texrepeat` 1 without `texuniform`, specular 0.2, shininess 0). MuJoCo generates
+/// cube-map coordinates from the unit box, so the top face shows the whole image once, stretched
+/// over the top; the grain (the image's rows) runs along world x, as in MuJoCo's frames.
+pub fn table_cover(table: &Table, texture: Arc<Texture>) -> Vec<ArenaPart> {
+    let material = Material { specular: 0.2, shininess: 0.0, texture: Some(texture), ..Material::default() };
+    table
+        .top
+        .iter()
+        .map(|slab| {
+            let [hx, hy, hz] = slab.half_size;
+            let quads = |h: f64| ((2.0 * h * COVER_QUADS_PER_M).ceil() as u32).max(1);
+            let mesh = Arc::new(Mesh::grid(hx as f32, hy as f32, quads(hx), quads(hy)));
+            let [x, y, z] = slab.center;
+            ArenaPart { piece: ArenaPiece::Table, mesh, transform: at([x, y, z + hz + COVER_LIFT]), material: material.clone() }
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -183,5 +207,27 @@ mod tests {
                 assert!(top <= table.top_z() as f32 + 1e-4, "{:?}: {top}", class.problem);
             }
         }
+    }
+
+    #[test]
+    fn the_table_cover_spans_the_top_once_just_above_it() {
+        let class = scene_class(ProblemClass::Tabletop).unwrap();
+        let table = class.table.unwrap();
+        let cover = table_cover(&table, Arc::new(Texture::solid([200, 180, 150, 255])));
+        assert_eq!(cover.len(), table.top.len());
+        let part = &cover[0];
+        assert!(part.material.texture.is_some() && part.material.uv_scale == vifo_render::glam::Vec2::ONE);
+        let world: Vec<Vec3> = part.mesh.positions().iter().map(|&v| part.transform.transform_point(v)).collect();
+        let (lo, hi) = world.iter().fold((Vec3::MAX, Vec3::MIN), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+        let [cx, cy, _] = table.top[0].center;
+        let [hx, hy, _] = table.top[0].half_size;
+        assert!((lo.x as f64 - (cx - hx)).abs() < 1e-6 && (hi.y as f64 - (cy + hy)).abs() < 1e-6, "{lo} {hi}");
+        let lift = lo.z as f64 - table.top_z();
+        assert!(lo.z == hi.z && lift > 0.0 && lift < 1e-3, "{lift}");
+        let uvs = part.mesh.uvs().unwrap();
+        let (umin, umax) = uvs.iter().fold((f32::MAX, f32::MIN), |(a, b), t| (a.min(t.x), b.max(t.x)));
+        assert!(umin == 0.0 && umax == 1.0);
+        // The living room's and the study's tables are meshes: no box texture.
+        assert!(scene_class(ProblemClass::LivingRoomTabletop).unwrap().table.unwrap().texture.is_none());
     }
 }

@@ -8,7 +8,7 @@ use vifo_render::{Background, Camera, Headlight, Light};
 use vifo_robots::model::Shape;
 use vifo_robots::spatial::Pose;
 
-use super::arena::{ArenaPiece, arena};
+use super::arena::{ArenaPiece, arena, table_cover};
 use super::cameras::ImageOrder;
 use super::material::textured;
 use super::meshes::MeshCache;
@@ -209,7 +209,11 @@ impl SceneView {
         }
         let class = model.class;
         let mut arena_segments: Vec<(ArenaPiece, u32)> = Vec::new();
-        for part in arena(class, &mut b.meshes) {
+        let mut parts = arena(class, &mut b.meshes);
+        if let Some((table, texture)) = class.table.and_then(|t| Some((t, look?.arena_texture(t.texture?)?.clone()))) {
+            parts.extend(table_cover(&table, texture));
+        }
+        for part in parts {
             let segment = match arena_segments.iter().find(|(p, _)| *p == part.piece) {
                 Some(&(_, id)) => id,
                 None => {
@@ -223,7 +227,7 @@ impl SceneView {
                     id
                 }
             };
-            let material = match look.and_then(|l| l.floor_texture(class.floor.texture)) {
+            let material = match look.and_then(|l| l.arena_texture(class.floor.texture)) {
                 Some(texture) if part.piece == ArenaPiece::Floor => floor_material(texture.clone()),
                 _ => part.material,
             };

@@ -465,7 +465,8 @@ mod tests {
         for _ in 0..3 {
             piper.joint_step(&mut world, &mut control, &turn);
         }
-        for _ in 0..20 {
+        // The wrist servos (kp 10) settle within about three seconds.
+        for _ in 0..60 {
             piper.joint_step(&mut world, &mut control, &Action::hold(-1.0));
         }
         let q = piper.joints(&world).q;

@@ -23,6 +23,8 @@ pub enum ArenaPiece {
     /// The work surface and what holds it up.
     Table,
     Walls,
+    /// The block the arm stands on (the PiPER's).
+    Riser,
 }
 
 /// One placed mesh of the arena.
@@ -134,7 +136,7 @@ pub fn arena(class: &SceneClass, meshes: &mut MeshCache) -> Vec<ArenaPart> {
         }
         if let Some(riser) = &class.robot_riser {
             let material = surface(ROBOT_RISER_RGB, 0.5, 0.5);
-            parts.push(ArenaPart { piece: ArenaPiece::Table, mesh: meshes.get(&Recipe::Box { half: riser.half_size }), transform: at(riser.center), material });
+            parts.push(ArenaPart { piece: ArenaPiece::Riser, mesh: meshes.get(&Recipe::Box { half: riser.half_size }), transform: at(riser.center), material });
         }
         for &(center, half) in table_supports(class.problem) {
             parts.push(ArenaPart { piece: ArenaPiece::Table, mesh: meshes.get(&Recipe::Box { half }), transform: at(center), material: top.clone() });

@@ -221,6 +221,7 @@ impl SceneView {
                         ArenaPiece::Floor => "floor",
                         ArenaPiece::Table => class.workspace,
                         ArenaPiece::Walls => "walls",
+                        ArenaPiece::Riser => "riser",
                     };
                     let id = b.segment(name.to_string(), SegmentKind::Arena);
                     arena_segments.push((part.piece, id));

@@ -38,7 +38,13 @@ pub fn builtin_instances() -> Result<&'static InstanceSet, SceneCueError> {
 pub fn study_instances() -> Result<&'static InstanceSet, SceneCueError> {
     static SET: OnceLock<Result<InstanceSet, InstanceError>> = OnceLock::new();
     let set = SET.get_or_init(|| {
-        let tasks: Vec<TaskDescription> = vifo_scenes::study_suites().iter().flat_map(|s| &s.tasks).map(describe).collect();
+        // The PiPER study's cue is its paper note, a thing in the scene, not a library instance.
+        let tasks: Vec<TaskDescription> = vifo_scenes::study_suites()
+            .iter()
+            .filter(|s| s.name != crate::studies::piper::SUITE)
+            .flat_map(|s| &s.tasks)
+            .map(describe)
+            .collect();
         InstanceSet::build(&tasks)
     });
     set.as_ref().map_err(|e| SceneCueError::Instances(e.clone()))

@@ -643,8 +643,38 @@ fn served_pickle(rng: &mut dyn Rng) -> Vec<u8> {
 }
 
 fn served_seeds() -> Vec<Vec<u8>> {
+    use vifo_protocols::serving::pickle::Writer;
     let mut rng = rand_pcg::Pcg64::new(3, 3);
     let mut seeds: Vec<Vec<u8>> = (0..8).map(|_| served_pickle(&mut rng)).collect();
+    // One valid reply of each format, so that mutations start from inputs the parsers accept.
+    let row = |i: usize| -> Vec<u8> { (0..8).flat_map(|j| ((i * 8 + j) as f32 * 0.01).to_le_bytes()).collect() };
+    let mut xiaomi = Writer::default();
+    xiaomi.ndarray("<f4", &[1, 2, 8], &[row(0), row(1)].concat());
+    seeds.push(xiaomi.finish());
+    let mut lerobot = Writer::default();
+    lerobot.begin_list();
+    for t in 0..2 {
+        lerobot.global("lerobot.async_inference.helpers", "TimedAction");
+        lerobot.empty_tuple();
+        lerobot.newobj();
+        lerobot.begin_dict();
+        lerobot.str("timestamp");
+        lerobot.float(0.5);
+        lerobot.str("timestep");
+        lerobot.int(t);
+        lerobot.str("action");
+        lerobot.ndarray("<f4", &[7], &row(t as usize)[..28]);
+        lerobot.end_dict();
+        lerobot.build();
+    }
+    lerobot.end_list();
+    seeds.push(lerobot.finish());
+    let actions = ndarray::encode("<f4", &[1, 2, 7], [&row(0)[..28], &row(1)[..28]].concat());
+    seeds.push(reply(vec![
+        (Mp::from("ok"), Mp::Boolean(true)),
+        (Mp::from("data"), Mp::Map(vec![(Mp::from("actions"), actions)])),
+    ]));
+    seeds.push(b"[[0.1, 0.0, -0.2, 0.0, 0.0, 0.05, -1.0], [0.1, 0.0, -0.2, 0.0, 0.0, 0.05, 1.0]]".to_vec());
     seeds.push(br#"[{"__numpy__": "AAAAAAAAAAA=", "dtype": "<f4", "shape": [2]}]"#.to_vec());
     seeds.push(b"\"error\"".to_vec());
     seeds

@@ -11,7 +11,7 @@ use vifo_scenes::sim::Sim;
 
 use super::Skill;
 use crate::arm;
-use crate::geometry::horizontal;
+use crate::geometry::{corners, horizontal};
 use crate::motion::{self, Waypoint};
 use crate::stages::{self, CLOSE, Leg, OPEN, Pace, Progress, Stages, Step, Tol};
 
@@ -66,6 +66,8 @@ const CRUISE_CLEARANCE: f64 = 0.065;
 /// width across it (the PiPER's 3.5 cm stroke and 2.4 × 5.6 cm fingers).
 const FINGER_REACH: f64 = 0.059;
 const FINGER_HALF_WIDTH: f64 = 0.028;
+/// How far the fingertips reach below the grip point (m).
+const FINGER_BELOW: f64 = 0.025;
 /// The held cup's foot is centred this far above the target's rim, then lowered to this far
 /// below it and let go: inside the target's mouth it cannot tip out, and the fingertips, 1.4 cm
 /// above the foot, still clear the rim by 6 mm.
@@ -87,18 +89,29 @@ impl Stack {
     }
 
     /// The finger yaw that keeps the open fingers off the other objects near the cup (each
-    /// finger reaches 5.9 cm out along the finger axis and 2.8 cm across it): of the yaws the
-    /// wrist reaches in 15° steps from the current one, the one with the most room, the
-    /// current one first among equals.
+    /// finger reaches 5.9 cm out along the finger axis and 2.8 cm across it; objects lower than
+    /// the fingertips, the note lying flat, do not count): of the yaws the wrist reaches in 15°
+    /// steps from the current one, the one with the most room, the current one first among
+    /// equals. A neighbour's size is its collision boxes' reach from its centre.
     fn choose_yaw(&self, sim: &Sim, current: f64) -> f64 {
         let centre = sim.entity_pose(self.object).pos;
+        let fingertips = Self::rim(sim, self.object).z - BELOW_RIM - FINGER_BELOW;
+        let neighbours: Vec<(Vec3, f64)> = (0..sim.model().entities.len())
+            .filter(|&e| e != self.object && sim.model().entities[e].movable())
+            .filter_map(|e| {
+                let corners = corners(sim, e, 0);
+                let top = corners.iter().map(|c| c.z).fold(f64::MIN, f64::max);
+                let at = sim.entity_pose(e).pos;
+                let reach = corners.iter().map(|c| horizontal(c, &at)).fold(0.0, f64::max);
+                (top > fingertips).then_some((at, reach))
+            })
+            .collect();
         let room = |yaw: f64| -> f64 {
             let axis = Vec3::new(-libm::sin(yaw), libm::cos(yaw), 0.0);
-            (0..sim.model().entities.len())
-                .filter(|&e| e != self.object)
-                .map(|e| {
-                    let d = sim.entity_pose(e).pos - centre;
-                    let r = sim.model().entities[e].model.horizontal_radius;
+            neighbours
+                .iter()
+                .map(|(at, r)| {
+                    let d = at - centre;
                     let along = d.dot(&axis).abs() - (FINGER_REACH + r);
                     let across = (d.x * axis.y - d.y * axis.x).abs() - (FINGER_HALF_WIDTH + r);
                     along.max(across)

@@ -148,14 +148,16 @@ struct Piper<'a> {
 
 /// Joint 6's limit (±2.0944 rad) less a margin for the servo's overshoot.
 const PIPER_WRIST_LIMIT: f64 = 1.95;
-/// How far one step moves the commanded pose at full speed (`Servo::max_speed` 1).
-const PIPER_STEP: f64 = 0.02;
+/// How far one step moves the commanded pose at full speed (`Servo::max_speed` 1): 0.2 m/s.
+/// Twice that, a cup held in the pinch swings after every stop (11 of 20 states stacked
+/// against 16).
+const PIPER_STEP: f64 = 0.01;
 /// The largest turn of the commanded pose in one step (rad).
 const PIPER_TURN: f64 = 0.1;
-/// The commanded pose leads the measured one by this multiple of the remaining error (at most
-/// the step and turn above): the whole error, since the joint servos (with their integral
-/// term) reach their targets within a few steps; more would overshoot.
-const PIPER_LEAD: f64 = 1.0;
+/// How far the commanded pose may run ahead of the measured one (m, rad): the servos lag a few
+/// steps behind a moving target, more is a blocked arm, which must not wind up.
+const PIPER_AHEAD: f64 = 0.03;
+const PIPER_AHEAD_TURN: f64 = 0.15;
 
 impl Arm for Piper<'_> {
     fn grip_site(&self) -> Pose {
@@ -183,16 +185,25 @@ impl Arm for Piper<'_> {
         PIPER_WRIST_LIMIT
     }
 
-    /// Leads the measured pose toward `target` ([`PIPER_LEAD`] times the error, at most
-    /// `max_speed` × 2 cm and 0.1 rad), turns that pose into joint targets with the PiPER's IK
-    /// and sends the joint-delta action from the current targets.
+    /// Moves the commanded pose (where the joint targets put the tool) toward `target`, at most
+    /// `max_speed` × 1 cm and 0.1 rad a step, turns it into joint targets with the PiPER's IK
+    /// and sends the joint-delta action from the current targets. The path is laid out from
+    /// the commanded pose, not the measured one: the soft wrist servos lag the targets by a few
+    /// steps, and a path re-anchored each step on where the lagging tool is carries that lag
+    /// along as drift (centimetres sideways over a lift). The commanded pose is kept within
+    /// 3 cm and 0.15 rad of the measured one, so a blocked arm does not wind up.
     fn command(&self, target: &Waypoint, servo: &Servo, grip: f64) -> Action {
         let ee = self.grip_site();
+        let commanded = self.piper.tcp_at_joints(&self.control.joint_targets);
+        let ahead = commanded.pos - ee.pos;
+        let from = if ahead.norm() > PIPER_AHEAD { ee.pos + ahead * (PIPER_AHEAD / ahead.norm()) } else { commanded.pos };
+        let lag = rotation_vector(&(commanded.rot * ee.rot.transpose()));
+        let from_rot = if lag.norm() > PIPER_AHEAD_TURN { rotation_from_axis_angle_vector(&(lag * (PIPER_AHEAD_TURN / lag.norm()))) * ee.rot } else { commanded.rot };
         let lead = servo.max_speed * PIPER_STEP;
-        let dp = ((target.pos - ee.pos) * PIPER_LEAD).map(|v| v.clamp(-lead, lead));
-        let turn = rotation_vector(&(target.rot * ee.rot.transpose())) * PIPER_LEAD;
+        let dp = (target.pos - from).map(|v| v.clamp(-lead, lead));
+        let turn = rotation_vector(&(target.rot * from_rot.transpose()));
         let turn = if turn.norm() > PIPER_TURN { turn * (PIPER_TURN / turn.norm()) } else { turn };
-        let goal = OscGoal::new(ee.pos + dp, rotation_from_axis_angle_vector(&turn) * ee.rot);
+        let goal = OscGoal::new(from + dp, rotation_from_axis_angle_vector(&turn) * from_rot);
         let q = self.piper.solve_ik(&self.control.joint_targets, &goal);
         let d = |i: usize| (q[i] - self.control.joint_targets[i]).clamp(-1.0, 1.0);
         Action([d(0), d(1), d(2), d(3), d(4), d(5), grip])

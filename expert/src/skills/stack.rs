@@ -1,18 +1,19 @@
 //! Stacking a cup into another (the PiPER study, §4.4): take the cup by its body below the rim,
-//! carry it over the other cup, and let it drop the last centimetre into it, so the taper
-//! centres it (the fingers, outside the held cup, stay clear of the lower cup's rim).
+//! carry it over the other cup, and lower its foot into the other's mouth before letting go, so
+//! the taper centres it (the fingers, outside the held cup, stay clear of the lower cup's rim).
 //!
-//! Recipe: rise, come over the cup, descend, grasp, lift, carry over the target, lower to just
-//! above its rim, release, retreat.
+//! Recipe: rise, come over the cup, descend, grasp, lift straight up, carry over the target,
+//! lower to just above its rim and wait there until the cup's foot stays over the opening,
+//! enter the mouth, release, retreat.
 
 use vifo_robots::spatial::Vec3;
 use vifo_scenes::sim::Sim;
 
 use super::Skill;
 use crate::arm;
-use crate::geometry::horizontal;
+use crate::geometry::{corners, horizontal};
 use crate::motion::{self, Waypoint};
-use crate::stages::{self, CLOSE, Leg, OPEN, Pace, Stages, Step, Tol};
+use crate::stages::{self, CLOSE, Leg, OPEN, Pace, Progress, Stages, Step, Tol};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Stage {
@@ -23,6 +24,7 @@ enum Stage {
     Lift,
     Carry,
     Lower,
+    Enter,
     Release,
     Retreat,
     Done,
@@ -39,8 +41,20 @@ pub struct Stack {
     hold: f64,
     /// The cup's height when the fingers closed.
     start_z: f64,
+    /// Where the fingers closed: the cup is lifted straight up from there.
+    grasped_at: Vec3,
+    /// The grip point's horizontal offset from the held cup's centre, measured at the grasp
+    /// (the cup standing on the table): the hand carries the cup over the target by it. Not
+    /// re-measured from the held cup, which swings a little in the pinch, and a hand chasing
+    /// the swinging cup drives the swing.
+    offset: Vec3,
     /// Where the fingers opened: the hand leaves straight up from there.
     released_at: Vec3,
+    /// For how many steps in a row the held cup's foot has been over the target's opening: it
+    /// is let go only once it stays there (it rocks a little in the pinch after the carry).
+    centred_for: usize,
+    /// Recent grip-site heights while entering, to notice a stall.
+    entering: Progress,
 }
 
 const STAGE_LIMIT: usize = 120;
@@ -52,12 +66,20 @@ const CRUISE_CLEARANCE: f64 = 0.065;
 /// width across it (the PiPER's 3.5 cm stroke and 2.4 × 5.6 cm fingers).
 const FINGER_REACH: f64 = 0.059;
 const FINGER_HALF_WIDTH: f64 = 0.028;
-/// The held cup's foot is released this far above the target's rim.
+/// How far the fingertips reach below the grip point (m).
+const FINGER_BELOW: f64 = 0.025;
+/// The held cup's foot is centred this far above the target's rim, then lowered to this far
+/// below it and let go: inside the target's mouth it cannot tip out, and the fingertips, 1.4 cm
+/// above the foot, still clear the rim by 6 mm.
 const DROP: f64 = 0.012;
+const ENTER: f64 = 0.008;
+/// How far the held cup's foot may be off the target's centre when it is let go (m): well
+/// inside the 8 mm the taper centres.
+const CENTRED: f64 = 0.005;
 
 impl Stack {
     pub fn new(object: usize, target: usize) -> Self {
-        Stack { object, target, stage: Stages::new(Stage::Rise, STAGE_LIMIT), yaw: None, hold: 0.0, start_z: 0.0, released_at: Vec3::zeros() }
+        Stack { object, target, stage: Stages::new(Stage::Rise, STAGE_LIMIT), yaw: None, hold: 0.0, start_z: 0.0, grasped_at: Vec3::zeros(), offset: Vec3::zeros(), released_at: Vec3::zeros(), centred_for: 0, entering: Progress::default() }
     }
 
     /// The top of an entity's model (its rim, for a cup) at its current pose.
@@ -67,18 +89,29 @@ impl Stack {
     }
 
     /// The finger yaw that keeps the open fingers off the other objects near the cup (each
-    /// finger reaches 5.9 cm out along the finger axis and 2.8 cm across it): of the yaws the
-    /// wrist reaches in 15° steps from the current one, the one with the most room, the
-    /// current one first among equals.
+    /// finger reaches 5.9 cm out along the finger axis and 2.8 cm across it; objects lower than
+    /// the fingertips, the note lying flat, do not count): of the yaws the wrist reaches in 15°
+    /// steps from the current one, the one with the most room, the current one first among
+    /// equals. A neighbour's size is its collision boxes' reach from its centre.
     fn choose_yaw(&self, sim: &Sim, current: f64) -> f64 {
         let centre = sim.entity_pose(self.object).pos;
+        let fingertips = Self::rim(sim, self.object).z - BELOW_RIM - FINGER_BELOW;
+        let neighbours: Vec<(Vec3, f64)> = (0..sim.model().entities.len())
+            .filter(|&e| e != self.object && sim.model().entities[e].movable())
+            .filter_map(|e| {
+                let corners = corners(sim, e, 0);
+                let top = corners.iter().map(|c| c.z).fold(f64::MIN, f64::max);
+                let at = sim.entity_pose(e).pos;
+                let reach = corners.iter().map(|c| horizontal(c, &at)).fold(0.0, f64::max);
+                (top > fingertips).then_some((at, reach))
+            })
+            .collect();
         let room = |yaw: f64| -> f64 {
             let axis = Vec3::new(-libm::sin(yaw), libm::cos(yaw), 0.0);
-            (0..sim.model().entities.len())
-                .filter(|&e| e != self.object)
-                .map(|e| {
-                    let d = sim.entity_pose(e).pos - centre;
-                    let r = sim.model().entities[e].model.horizontal_radius;
+            neighbours
+                .iter()
+                .map(|(at, r)| {
+                    let d = at - centre;
                     let along = d.dot(&axis).abs() - (FINGER_REACH + r);
                     let across = (d.x * axis.y - d.y * axis.x).abs() - (FINGER_HALF_WIDTH + r);
                     along.max(across)
@@ -139,11 +172,13 @@ impl Skill for Stack {
                 if leg.is_last() {
                     self.hold = ee.pos.z - cup.z;
                     self.start_z = cup.z;
+                    self.grasped_at = ee.pos;
+                    self.offset = Vec3::new(ee.pos.x - cup.x, ee.pos.y - cup.y, 0.0);
                 }
                 (leg, Stage::Lift)
             }
             Stage::Lift => {
-                let up = Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, self.cruise_z(sim, self.hold)), yaw);
+                let up = Waypoint::down(Vec3::new(self.grasped_at.x, self.grasped_at.y, self.cruise_z(sim, self.hold)), yaw);
                 if let Some(why) = stages::lift_failure(sim, steps, 30, self.start_z, cup.z, 0.02) {
                     return Step::Failed(why);
                 }
@@ -151,20 +186,25 @@ impl Skill for Stack {
                 (Leg::until(stages::Move { to: up, servo: motion::Servo::TRAVEL, grip: CLOSE }, d < 0.01), Stage::Carry)
             }
             Stage::Carry => {
-                // Aim the held cup's foot (not the grip point) over the target.
-                let offset = ee.pos - cup;
-                let below = sim.entity_pose(self.target).pos;
-                let over = Vec3::new(below.x + offset.x, below.y + offset.y, self.cruise_z(sim, self.hold));
-                (stages::carry(sim, &over, motion::orientation(yaw)), Stage::Lower)
+                let over = sim.entity_pose(self.target).pos + self.offset;
+                (stages::carry(sim, &Vec3::new(over.x, over.y, self.cruise_z(sim, self.hold)), motion::orientation(yaw)), Stage::Lower)
             }
+            // Down to just above the rim, then held until the cup's foot stays over the
+            // target's opening (the taper centres a foot up to 8 mm off).
             Stage::Lower => {
-                let offset = ee.pos - cup;
                 let below = sim.entity_pose(self.target).pos;
-                let z = Self::rim(sim, self.target).z + DROP + self.hold;
-                let wp = Waypoint::down(Vec3::new(below.x + offset.x, below.y + offset.y, z), yaw);
+                self.centred_for = if horizontal(&cup, &below) < CENTRED { self.centred_for + 1 } else { 0 };
+                let over = below + self.offset;
+                let wp = Waypoint::down(Vec3::new(over.x, over.y, Self::rim(sim, self.target).z + DROP + self.hold), yaw);
                 let (d, _) = motion::error(sim, &wp);
-                let centred = horizontal(&cup, &below) < 0.004;
-                (Leg::until(stages::Move { to: wp, servo: motion::Servo::FINE, grip: CLOSE }, d < 0.004 && centred), Stage::Release)
+                let settled = self.centred_for >= 3;
+                (Leg::until(stages::Move { to: wp, servo: motion::Servo::FINE, grip: CLOSE }, d < 0.004 && settled), Stage::Enter)
+            }
+            // Straight down until the foot is inside the target's mouth (or it sits on
+            // something): once let go there, the cup cannot tip out of it.
+            Stage::Enter => {
+                let wp = Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, Self::rim(sim, self.target).z - ENTER + self.hold), yaw);
+                (stages::set_down(sim, &mut self.entering, wp, Pace::Fine, 0.002, 0.001), Stage::Release)
             }
             // Held still while the fingers open and the cup settles into the one below.
             Stage::Release => {

@@ -20,9 +20,13 @@ pub(crate) const CUP_HEIGHT: f64 = 0.06;
 /// Outer radius at the rim and at the foot (m).
 pub(crate) const CUP_RIM_RADIUS: f64 = 0.028;
 pub(crate) const CUP_FOOT_RADIUS: f64 = 0.0185;
-/// Spawn radius: the rim plus 7 mm, so neighbouring cups stand at least 7 cm apart and the
-/// open gripper finds a way between them.
-const CUP_SPAWN_RADIUS: f64 = 0.035;
+/// Spawn radius: neighbouring cups stand at least 9 cm apart (centre to centre), so the open
+/// gripper finds a way down between them. Its fingers reach 5.9 cm out from the grip point along
+/// the closing axis and 2.8 cm across it; with a neighbour's 2.8 cm rim, a cup is taken clear
+/// of a neighbour D away only with the closing axis turned within ±acos(5.6 cm / D) of square
+/// to it. Two neighbours leave a common turn only when each allows more than 90°, i.e. D above
+/// 7.9 cm: at 7 cm apart (the rim plus 7 mm) a fifth of the initial states left none.
+const CUP_SPAWN_RADIUS: f64 = 0.045;
 
 /// The cup's wall (origin at the centre of its foot, z up) and floor.
 const CUP_GEOMS: [GeomDef; 16] = [

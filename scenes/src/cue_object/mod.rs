@@ -16,7 +16,7 @@ use vifo_robots::spatial::{Mat3, Pose, Vec3};
 use crate::catalog::ObjectModel;
 use crate::catalog::spec::{BodyDef, GeomDef, IDENTITY, LIBERO_SURFACE, ObjectDef};
 use crate::catalog::{ColliderShape, ObjectKind, Recipe, VisualPart};
-pub use place::{CLEARANCES, Clearance, CuePlaceError, place};
+pub use place::{CLEARANCES, Clearance, CuePlaceError, Placement, REACH, place, placement};
 
 /// Name of the cue object's entity in a scene (one cue per episode).
 pub const ENTITY_NAME: &str = "vifo_cue_object_1";

@@ -64,3 +64,20 @@ fn every_task_has_room_for_every_kind() {
         }
     }
 }
+
+/// libero_10/9: the mug goes into the microwave. Under a 6 cm margin a sign stood 17 cm from
+/// the mug's handle, where the Panda's wrist, turned to the handle, met it; where the table has
+/// room the rule keeps the arm's reach from the mug and the microwave.
+#[test]
+fn the_cue_keeps_the_arms_reach_from_what_the_goal_names_where_the_table_has_room() {
+    for init in 0..10 {
+        let (sim, cue) = scene("libero_10", 9, CueObjectKind::Sign, init);
+        let at = placement(&sim, cue, CueObjectKind::Sign, init as u64).unwrap();
+        assert_eq!(at.stage, 0, "init {init}");
+        let (foot_x, foot_half) = CueObjectKind::Sign.footprint();
+        let radius = foot_x.abs() + foot_half[0].hypot(foot_half[1]);
+        let mug = sim.entity_pose(sim.model().entity("white_yellow_mug_1").unwrap().0).pos;
+        let apart = (at.pose.pos.x - mug.x).hypot(at.pose.pos.y - mug.y);
+        assert!(apart - radius > REACH, "init {init}: the sign's foot within {:.3} m of the mug's centre", apart - radius);
+    }
+}

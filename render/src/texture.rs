@@ -108,7 +108,14 @@ impl Texture {
             Filter::Bilinear => {
                 let (x0, y0) = (floor(x), floor(y));
                 let (ax, ay) = (x - x0 as f32, y - y0 as f32);
-                let (t00, t10, t01, t11) = (fetch(x0, y0), fetch(x0 + 1, y0), fetch(x0, y0 + 1), fetch(x0 + 1, y0 + 1));
+                // Inside the level (the common case) no wrapping is needed: skip the divisions.
+                let (t00, t10, t01, t11) = if x0 >= 0 && y0 >= 0 && x0 + 1 < w && y0 + 1 < h {
+                    let i = (y0 * w + x0) as usize;
+                    let s = lv.width as usize;
+                    (lv.texels[i], lv.texels[i + 1], lv.texels[i + s], lv.texels[i + s + 1])
+                } else {
+                    (fetch(x0, y0), fetch(x0 + 1, y0), fetch(x0, y0 + 1), fetch(x0 + 1, y0 + 1))
+                };
                 let mut out = [0.0; 4];
                 for (c, o) in out.iter_mut().enumerate() {
                     let top = t00[c] as f32 + (t10[c] as f32 - t00[c] as f32) * ax;

@@ -317,9 +317,10 @@ impl Renderer {
         let lit = front.assemble(inst, visible.inside, view, |setup, sv| {
             let (rec, sh) = build_record(&setup, &sv, inst, idx, shadows.is_some());
             rasterized += 1;
+            let texture = texture_of(&rec, scene);
             setup.for_each_pixel(&rec.iz, view.width, |p, i, j, iz| {
                 if iz > depth[p] {
-                    let src = shade(&rec, sh.as_ref(), shadows, scene, view, i, j, 1.0 / iz);
+                    let src = shade(&rec, sh.as_ref(), shadows, texture, view, i, j, 1.0 / iz);
                     let dst = &mut out.color.data[p * 3..p * 3 + 3];
                     let a = src[3];
                     for c in 0..3 {
@@ -372,10 +373,11 @@ impl Renderer {
                         }
                     } else {
                         let sh = shadows.map(|_| self.shadow_rgb[id as usize]);
+                        let texture = texture_of(rec, scene);
                         for k in start..end {
                             let z = 1.0 / depths[k];
                             depth_out[k] = z;
-                            let c = shade(rec, sh.as_ref(), shadows, scene, view, k as u32, j, z);
+                            let c = shade(rec, sh.as_ref(), shadows, texture, view, k as u32, j, z);
                             put_rgb(rgb_out, k, [c[0], c[1], c[2]]);
                         }
                     }
@@ -580,6 +582,12 @@ fn mip_level(t: &Texture, sv: &[ScreenVert; 3], screen_area2: f32) -> u32 {
     t.level_for_density(uv_area2 / screen_area2) as u32
 }
 
+/// The texture a record samples (`None` when untextured).
+#[inline]
+fn texture_of<'a>(rec: &TriRecord, scene: &'a Scene) -> Option<&'a Texture> {
+    scene.instances[rec.instance as usize].material.texture.as_deref().filter(|_| rec.mip != u32::MAX)
+}
+
 /// Colour (RGBA, `[0, 1]`) of pixel `(i, j)` of a triangle at view depth `z`.
 #[allow(clippy::too_many_arguments)]
 #[inline]
@@ -587,7 +595,7 @@ fn shade(
     rec: &TriRecord,
     shadow_rgb: Option<&[Plane; 3]>,
     shadow: Option<&ShadowMap>,
-    scene: &Scene,
+    texture: Option<&Texture>,
     view: &View,
     i: u32,
     j: u32,
@@ -603,8 +611,7 @@ fn shade(
         }
     }
     let mut out = [rgb[0].clamp(0.0, 1.0), rgb[1].clamp(0.0, 1.0), rgb[2].clamp(0.0, 1.0), rec.alpha];
-    let texture = scene.instances[rec.instance as usize].material.texture.as_ref();
-    if let Some(tex) = texture.filter(|_| rec.mip != u32::MAX) {
+    if let Some(tex) = texture {
         let t = tex.sample_level(rec.uv[0].eval(fi, fj) * z, rec.uv[1].eval(fi, fj) * z, rec.mip as usize);
         for (o, t) in out.iter_mut().zip(t) {
             *o *= t;

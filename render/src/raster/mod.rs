@@ -25,7 +25,7 @@ use thiserror::Error;
 use self::clip::{ClipSpace, ClipVert, Polygon, SphereClass, GUARD_FIXED, MUST_CLIP, REJECT};
 use self::lighting::{LightRig, Lit};
 use self::shadow::ShadowMap;
-use self::triangle::{orientation, snap, Plane, Setup};
+use self::triangle::{box_holds_centre, orientation, snap, Plane, Setup};
 use crate::camera::{Camera, Intrinsics};
 use crate::frame::Frame;
 use crate::scene::{Background, Instance, Scene};
@@ -446,6 +446,9 @@ impl Frontend<'_> {
             }
             let clip_bits = (ca | cb | cc) & MUST_CLIP;
             if clip_bits == 0 {
+                if !box_holds_centre([verts.xy[a], verts.xy[b], verts.xy[c]]) {
+                    continue;
+                }
                 let o = orientation([xy(a), xy(b), xy(c)]);
                 // Counter-clockwise front faces have negative orientation on screen (y down);
                 // setup wants positive, so front faces swap their last two vertices.

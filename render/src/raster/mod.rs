@@ -5,7 +5,8 @@
 //!    rest are sorted front to back. Each instance's vertices are transformed into camera
 //!    space once, with outcodes for trivial rejection and clipping. Triangles are back-face
 //!    culled in exact fixed point, near-plane (and guard-band) clipped when needed, and only the
-//!    vertices of triangles that cover a pixel centre are lit (per vertex, [`lighting`]).
+//!    vertices of triangles that cover a pixel centre in front of what is already drawn are lit
+//!    (per vertex, [`lighting`]).
 //! 2. **Visibility.** Opaque triangles are rasterized depth-only into a visibility buffer: per
 //!    pixel, `1/z` and the index of the nearest triangle ([`triangle`] does exact coverage at
 //!    pixel centres).
@@ -66,7 +67,8 @@ pub struct RenderStats {
     pub triangles_in_view: usize,
     /// Screen triangles that passed culling and covered at least one pixel centre.
     pub triangles_rasterized: usize,
-    /// Vertices lit (only those of triangles that survive culling are).
+    /// Vertices lit: only those of triangles that cover a pixel centre in front of what was
+    /// drawn before them.
     pub vertices_lit: usize,
 }
 
@@ -282,15 +284,28 @@ impl Renderer {
         let (depth, tri_id, records, shadow_rgb) = (&mut self.depth, &mut self.tri_id, &mut self.records, &mut self.shadow_rgb);
         let mut rasterized = 0;
         let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, poly: &mut self.poly, rig: &self.rig };
-        let lit = front.assemble(inst, visible.inside, view, |setup, sv| {
-            let (rec, sh) = build_record(&setup, &sv, inst, idx, shadows);
+        let lit = front.assemble(inst, visible.inside, view, |setup, iz, light| {
+            rasterized += 1;
+            // A triangle behind everything drawn so far changes nothing: it is neither lit nor
+            // recorded. (Instances are drawn front to back, so this is common.)
+            let plane = setup.plane(iz);
+            let mut any = false;
+            setup.for_each_span(|j, first, last| {
+                let base = j as usize * view.width as usize;
+                let row_key = plane.b * j as f32 + plane.c;
+                for (d, i) in depth[base + first as usize..base + last as usize + 1].iter().zip(first..) {
+                    any |= plane.a * i as f32 + row_key > *d;
+                }
+            });
+            if !any {
+                return;
+            }
+            let (rec, sh) = build_record(&setup, &light(), inst, idx, shadows);
             let id = records.len() as u32;
             records.push(rec);
             if let Some(sh) = sh {
                 shadow_rgb.push(sh);
             }
-            rasterized += 1;
-            let plane = rec.iz;
             setup.for_each_span(|j, first, last| {
                 let base = j as usize * view.width as usize;
                 let range = base + first as usize..base + last as usize + 1;
@@ -314,8 +329,8 @@ impl Renderer {
         let depth = &self.depth;
         let mut rasterized = 0;
         let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, poly: &mut self.poly, rig: &self.rig };
-        let lit = front.assemble(inst, visible.inside, view, |setup, sv| {
-            let (rec, sh) = build_record(&setup, &sv, inst, idx, shadows.is_some());
+        let lit = front.assemble(inst, visible.inside, view, |setup, _, light| {
+            let (rec, sh) = build_record(&setup, &light(), inst, idx, shadows.is_some());
             rasterized += 1;
             let texture = texture_of(&rec, scene);
             setup.for_each_pixel(&rec.iz, view.width, |p, i, j, iz| {
@@ -407,9 +422,10 @@ struct Frontend<'a> {
 
 impl Frontend<'_> {
     /// Transforms, culls, clips and lights one instance, calling `emit` with each screen
-    /// triangle that covers a pixel centre (vertices in the order its setup uses). Vertices
-    /// are lit only for such triangles. Returns how many vertices were lit.
-    fn assemble(&mut self, inst: &Instance, inside: bool, view: &View, mut emit: impl FnMut(Setup, [ScreenVert; 3])) -> usize {
+    /// triangle that covers a pixel centre, its vertices' `1/z` and a function that lights its
+    /// vertices (in the order its setup uses). Vertices are lit only when `emit` asks. Returns
+    /// how many vertices were lit.
+    fn assemble(&mut self, inst: &Instance, inside: bool, view: &View, mut emit: impl FnMut(Setup, [f32; 3], &mut dyn FnMut() -> [ScreenVert; 3])) -> usize {
         let mesh = &*inst.mesh;
         let t = &inst.transform;
         let linear = mul_mat3_mat3(&view.rot, &t.linear);
@@ -459,8 +475,11 @@ impl Frontend<'_> {
                 let (b, c) = if back { (b, c) } else { (c, b) };
                 let Some(setup) = Setup::new([xy(a), xy(b), xy(c)], w, h) else { continue };
                 let sv = |i: usize, lit: Lit| ScreenVert { xy: xy(i), iz: verts.iz[i], lit, uv: uv_of(i) };
-                let (la, lb, lc) = (self.lit.get(a, back, &light), self.lit.get(b, back, &light), self.lit.get(c, back, &light));
-                emit(setup, [sv(a, la), sv(b, lb), sv(c, lc)]);
+                let lit = &mut *self.lit;
+                emit(setup, [verts.iz[a], verts.iz[b], verts.iz[c]], &mut || {
+                    let (la, lb, lc) = (lit.get(a, back, &light), lit.get(b, back, &light), lit.get(c, back, &light));
+                    [sv(a, la), sv(b, lb), sv(c, lc)]
+                });
             } else {
                 // Facing from camera space: the eye is at the origin.
                 let (pa, pb, pc) = (verts.cam[a], verts.cam[b], verts.cam[c]);
@@ -483,7 +502,7 @@ impl Frontend<'_> {
                         sv.swap(1, 2);
                     }
                     if let Some(setup) = Setup::new([sv[0].xy, sv[1].xy, sv[2].xy], w, h) {
-                        emit(setup, sv);
+                        emit(setup, sv.map(|v| v.iz), &mut || sv);
                     }
                 }
             }

@@ -108,7 +108,14 @@ impl Texture {
             Filter::Bilinear => {
                 let (x0, y0) = (floor(x), floor(y));
                 let (ax, ay) = (x - x0 as f32, y - y0 as f32);
-                let (t00, t10, t01, t11) = (fetch(x0, y0), fetch(x0 + 1, y0), fetch(x0, y0 + 1), fetch(x0 + 1, y0 + 1));
+                // Inside the level (the common case) no wrapping is needed: skip the divisions.
+                let (t00, t10, t01, t11) = if x0 >= 0 && y0 >= 0 && x0 + 1 < w && y0 + 1 < h {
+                    let i = (y0 * w + x0) as usize;
+                    let s = lv.width as usize;
+                    (lv.texels[i], lv.texels[i + 1], lv.texels[i + s], lv.texels[i + s + 1])
+                } else {
+                    (fetch(x0, y0), fetch(x0 + 1, y0), fetch(x0, y0 + 1), fetch(x0 + 1, y0 + 1))
+                };
                 let mut out = [0.0; 4];
                 for (c, o) in out.iter_mut().enumerate() {
                     let top = t00[c] as f32 + (t10[c] as f32 - t00[c] as f32) * ax;
@@ -126,9 +133,20 @@ impl Texture {
         if !(texels_per_pixel > 1.0) {
             return 0;
         }
+        let last = self.levels.len() as i64 - 1;
+        // For x = 2^e · (1 + f), 0 < f < 1, the rounding below gives ⌊(e + 1) / 2⌋. That is read
+        // off the exponent bits (one log per textured triangle showed in profiles) wherever f is
+        // far enough from 0 and 1 that the logarithm's rounding cannot matter; elsewhere (and
+        // for infinity) the logarithm decides, so the result is the same either way.
+        let bits = texels_per_pixel.to_bits();
+        let (e, f) = ((bits >> 23) as i64 - 127, bits & 0x7F_FFFF);
+        const MARGIN: u32 = 1 << 13;
+        if e < 128 && f > MARGIN && f < 0x7F_FFFF - MARGIN {
+            return ((e + 1) / 2).min(last) as usize;
+        }
         // log4 of the area ratio = log2 of the linear ratio; round to the nearest level.
         let lod = 0.5 * libm::log2f(texels_per_pixel);
-        floor(lod + 0.5).clamp(0, self.levels.len() as i64 - 1) as usize
+        floor(lod + 0.5).clamp(0, last) as usize
     }
 
     fn from_level(level: Level) -> Texture {
@@ -222,5 +240,21 @@ mod tests {
         assert_eq!(t.level_for_density(0.5), 0);
         assert_eq!(t.level_for_density(4.0), 1);
         assert_eq!(t.level_for_density(1e9), 1);
+    }
+
+    #[test]
+    fn mip_level_from_exponent_bits_equals_rounded_logarithm() {
+        let big = Texture::from_rgba8(1 << 12, 1, &vec![0; 4 << 12]).unwrap();
+        let by_log = |x: f32| (floor(0.5 * libm::log2f(x) + 0.5).clamp(0, big.level_count() as i64 - 1)) as usize;
+        let mut x = 1.0f32;
+        while x < 1e30 {
+            for y in [x, f32::from_bits(x.to_bits() + 1), f32::from_bits(x.to_bits() - 1), x * 1.37, x * 1.9999] {
+                if y > 1.0 {
+                    assert_eq!(big.level_for_density(y), by_log(y), "{y}");
+                }
+            }
+            x *= 2.0;
+        }
+        assert_eq!(big.level_for_density(f32::INFINITY), big.level_count() - 1);
     }
 }

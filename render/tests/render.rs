@@ -139,6 +139,22 @@ fn depth_and_segmentation_follow_occlusion() {
 }
 
 #[test]
+fn triangles_hidden_behind_what_is_drawn_are_not_lit() {
+    let cam = Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y, 45.0, 48, 48);
+    let wall = facing_square(&cam, Vec3::new(0.0, 0.0, 0.5), 2.0, Material::default(), 1);
+    let hidden = Instance::new(Arc::new(Mesh::sphere(0.2, 16)), Transform::IDENTITY, 2);
+    let lights = |instances| Scene { instances, headlight: Headlight::default(), ..Scene::default() };
+    let mut r = Renderer::default();
+    let alone = r.render(&lights(vec![wall.clone()]), &cam).unwrap();
+    let lit_alone = r.stats().vertices_lit;
+    let both = r.render(&lights(vec![hidden, wall]), &cam).unwrap();
+    // The sphere reaches pixel centres but loses every depth test to the wall drawn first.
+    assert!(r.stats().triangles_rasterized > 10);
+    assert_eq!(r.stats().vertices_lit, lit_alone);
+    assert_eq!(both, alone);
+}
+
+#[test]
 fn back_faces_are_culled_unless_double_sided() {
     let cam = Camera::look_at(Vec3::new(0.0, 0.0, -1.0), Vec3::ZERO, Vec3::Y, 45.0, 16, 16);
     // The plane faces +z; the camera is below it.

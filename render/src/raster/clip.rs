@@ -4,7 +4,7 @@
 //! and UVs linearly, as OpenGL clips. Only the near plane is needed for correctness; the guard
 //! band (far outside the image) keeps fixed-point screen coordinates small.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 
 use super::lighting::Lit;
 use crate::camera::Intrinsics;
@@ -48,12 +48,38 @@ pub(crate) enum SphereClass {
     Inside,
 }
 
+/// Four half-spaces evaluated at once, one per lane: the same IEEE operations in the same order
+/// as [`HalfSpace::eval`], so the same results (outcodes run for every vertex in view).
+#[derive(Clone, Copy, Debug)]
+struct Lanes {
+    a: Vec4,
+    b: Vec4,
+    c: Vec4,
+    d: Vec4,
+}
+
+impl Lanes {
+    fn new(h: &[HalfSpace; 4]) -> Lanes {
+        let col = |k: usize| Vec4::from_array(h.map(|h| h.0[k]));
+        Lanes { a: col(0), b: col(1), c: col(2), d: col(3) }
+    }
+
+    /// Bit `i` set where `p` is outside half-space `i` (or the test is NaN).
+    #[inline]
+    fn outside(&self, p: Vec3) -> u16 {
+        let e = self.a * p.x + self.b * p.y + self.c * p.z + self.d;
+        (!e.cmpge(Vec4::ZERO).bitmask() & 0b1111) as u16
+    }
+}
+
 /// The clip planes of one view.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ClipSpace {
     near: HalfSpace,
     guard: [HalfSpace; 4],
     view: [HalfSpace; 4],
+    guard_lanes: Lanes,
+    view_lanes: Lanes,
 }
 
 impl ClipSpace {
@@ -68,25 +94,17 @@ impl ClipSpace {
             ]
         };
         let (w, h) = (width as f32, height as f32);
-        ClipSpace {
-            near: HalfSpace([0.0, 0.0, 1.0, -near]),
-            guard: sides(-GUARD_PX, GUARD_PX, -GUARD_PX, GUARD_PX),
-            // One pixel of margin: a triangle entirely beyond it cannot cover a pixel centre.
-            view: sides(-1.0, w, -1.0, h),
-        }
+        let guard = sides(-GUARD_PX, GUARD_PX, -GUARD_PX, GUARD_PX);
+        // One pixel of margin: a triangle entirely beyond it cannot cover a pixel centre.
+        let view = sides(-1.0, w, -1.0, h);
+        ClipSpace { near: HalfSpace([0.0, 0.0, 1.0, -near]), guard, view, guard_lanes: Lanes::new(&guard), view_lanes: Lanes::new(&view) }
     }
 
     /// Which planes `p` is outside of.
     #[inline]
     pub(crate) fn outcode(&self, p: Vec3) -> u16 {
-        let mut code = (!(self.near.eval(p) >= 0.0)) as u16;
-        for (i, h) in self.guard.iter().enumerate() {
-            code |= ((!(h.eval(p) >= 0.0)) as u16) << (GUARD_SHIFT + i as u16);
-        }
-        for (i, h) in self.view.iter().enumerate() {
-            code |= ((!(h.eval(p) >= 0.0)) as u16) << (VIEW_SHIFT + i as u16);
-        }
-        code
+        let near = (!(self.near.eval(p) >= 0.0)) as u16;
+        near | self.guard_lanes.outside(p) << GUARD_SHIFT | self.view_lanes.outside(p) << VIEW_SHIFT
     }
 
     /// Where a bounding sphere (camera coordinates) lies relative to the near plane, the far
@@ -231,5 +249,29 @@ mod tests {
         assert_eq!(left & MUST_CLIP, 0);
         assert_ne!(s.outcode(Vec3::new(-1e5, 0.0, 1.0)) & MUST_CLIP, 0);
         assert_ne!(s.outcode(Vec3::new(f32::NAN, 0.0, 1.0)) & REJECT, 0);
+    }
+
+    #[test]
+    fn four_lane_outcodes_equal_one_plane_at_a_time() {
+        let s = space();
+        let one_at_a_time = |p: Vec3| {
+            let mut code = (!(s.near.eval(p) >= 0.0)) as u16;
+            for (i, h) in s.guard.iter().enumerate() {
+                code |= ((!(h.eval(p) >= 0.0)) as u16) << (GUARD_SHIFT + i as u16);
+            }
+            for (i, h) in s.view.iter().enumerate() {
+                code |= ((!(h.eval(p) >= 0.0)) as u16) << (VIEW_SHIFT + i as u16);
+            }
+            code
+        };
+        let mut seed = 7u64;
+        let mut rnd = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((seed >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * 4.0
+        };
+        let specials = [Vec3::new(0.5, 0.5, 0.0), Vec3::new(-0.0, 0.0, 0.1), Vec3::new(f32::INFINITY, 0.0, 1.0), Vec3::new(0.0, f32::NAN, 1.0)];
+        for p in specials.into_iter().chain((0..5000).map(|_| Vec3::new(rnd(), rnd(), rnd()))) {
+            assert_eq!(s.outcode(p), one_at_a_time(p), "{p}");
+        }
     }
 }

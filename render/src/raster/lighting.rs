@@ -84,6 +84,8 @@ impl Default for LightBlock {
 pub(crate) struct LightRig {
     blocks: Vec<LightBlock>,
     lights: usize,
+    /// Whether a lane holds the shadow-casting light (else every contribution goes to `base`).
+    shadowing: bool,
     global_ambient: f32,
     /// `x^e` tables for the scene's non-integer Phong exponents, kept across frames.
     pow_tables: Vec<(f32, Vec<f32>)>,
@@ -203,6 +205,7 @@ impl LightRig {
                 }
             }
         }
+        self.shadowing = shadow_taken;
         self.global_ambient = if self.lights > 0 { 0.0 } else { 0.3 };
     }
 
@@ -253,6 +256,14 @@ impl LightRig {
         let mut shadowed = [0.0f32; 3];
         for b in &self.blocks {
             let c = block_contribution(b, s, p, n, v);
+            if !self.shadowing {
+                // What the split below gives when no lane casts: `c × 1` is `c`, bit for bit.
+                for (sum, lanes) in base.iter_mut().zip(c) {
+                    let l = lanes.to_array();
+                    *sum += l[0] + l[1] + l[2] + l[3];
+                }
+                continue;
+            }
             for k in 0..3 {
                 // Lane sums in a fixed order; each lane goes to exactly one of the two sums.
                 let plain = (c[k] * (Vec4::ONE - b.shadow)).to_array();

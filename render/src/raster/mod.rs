@@ -5,7 +5,8 @@
 //!    rest are sorted front to back. Each instance's vertices are transformed into camera
 //!    space once, with outcodes for trivial rejection and clipping. Triangles are back-face
 //!    culled in exact fixed point, near-plane (and guard-band) clipped when needed, and only the
-//!    vertices of triangles that cover a pixel centre are lit (per vertex, [`lighting`]).
+//!    vertices of triangles that cover a pixel centre in front of what is already drawn are lit
+//!    (per vertex, [`lighting`]).
 //! 2. **Visibility.** Opaque triangles are rasterized depth-only into a visibility buffer: per
 //!    pixel, `1/z` and the index of the nearest triangle ([`triangle`] does exact coverage at
 //!    pixel centres).
@@ -25,7 +26,7 @@ use thiserror::Error;
 use self::clip::{ClipSpace, ClipVert, Polygon, SphereClass, GUARD_FIXED, MUST_CLIP, REJECT};
 use self::lighting::{LightRig, Lit};
 use self::shadow::ShadowMap;
-use self::triangle::{orientation, snap, Plane, Setup};
+use self::triangle::{box_holds_centre, orientation, snap, Plane, Setup};
 use crate::camera::{Camera, Intrinsics};
 use crate::frame::Frame;
 use crate::scene::{Background, Instance, Scene};
@@ -66,7 +67,8 @@ pub struct RenderStats {
     pub triangles_in_view: usize,
     /// Screen triangles that passed culling and covered at least one pixel centre.
     pub triangles_rasterized: usize,
-    /// Vertices lit (only those of triangles that survive culling are).
+    /// Vertices lit: only those of triangles that cover a pixel centre in front of what was
+    /// drawn before them.
     pub vertices_lit: usize,
 }
 
@@ -282,15 +284,28 @@ impl Renderer {
         let (depth, tri_id, records, shadow_rgb) = (&mut self.depth, &mut self.tri_id, &mut self.records, &mut self.shadow_rgb);
         let mut rasterized = 0;
         let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, poly: &mut self.poly, rig: &self.rig };
-        let lit = front.assemble(inst, visible.inside, view, |setup, sv| {
-            let (rec, sh) = build_record(&setup, &sv, inst, idx, shadows);
+        let lit = front.assemble(inst, visible.inside, view, |setup, iz, light| {
+            rasterized += 1;
+            // A triangle behind everything drawn so far changes nothing: it is neither lit nor
+            // recorded. (Instances are drawn front to back, so this is common.)
+            let plane = setup.plane(iz);
+            let mut any = false;
+            setup.for_each_span(|j, first, last| {
+                let base = j as usize * view.width as usize;
+                let row_key = plane.b * j as f32 + plane.c;
+                for (d, i) in depth[base + first as usize..base + last as usize + 1].iter().zip(first..) {
+                    any |= plane.a * i as f32 + row_key > *d;
+                }
+            });
+            if !any {
+                return;
+            }
+            let (rec, sh) = build_record(&setup, &light(), inst, idx, shadows);
             let id = records.len() as u32;
             records.push(rec);
             if let Some(sh) = sh {
                 shadow_rgb.push(sh);
             }
-            rasterized += 1;
-            let plane = rec.iz;
             setup.for_each_span(|j, first, last| {
                 let base = j as usize * view.width as usize;
                 let range = base + first as usize..base + last as usize + 1;
@@ -314,12 +329,13 @@ impl Renderer {
         let depth = &self.depth;
         let mut rasterized = 0;
         let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, poly: &mut self.poly, rig: &self.rig };
-        let lit = front.assemble(inst, visible.inside, view, |setup, sv| {
-            let (rec, sh) = build_record(&setup, &sv, inst, idx, shadows.is_some());
+        let lit = front.assemble(inst, visible.inside, view, |setup, _, light| {
+            let (rec, sh) = build_record(&setup, &light(), inst, idx, shadows.is_some());
             rasterized += 1;
+            let texture = texture_of(&rec, scene);
             setup.for_each_pixel(&rec.iz, view.width, |p, i, j, iz| {
                 if iz > depth[p] {
-                    let src = shade(&rec, sh.as_ref(), shadows, scene, view, i, j, 1.0 / iz);
+                    let src = shade(&rec, sh.as_ref(), shadows, texture, view, i, j, 1.0 / iz);
                     let dst = &mut out.color.data[p * 3..p * 3 + 3];
                     let a = src[3];
                     for c in 0..3 {
@@ -372,10 +388,11 @@ impl Renderer {
                         }
                     } else {
                         let sh = shadows.map(|_| self.shadow_rgb[id as usize]);
+                        let texture = texture_of(rec, scene);
                         for k in start..end {
                             let z = 1.0 / depths[k];
                             depth_out[k] = z;
-                            let c = shade(rec, sh.as_ref(), shadows, scene, view, k as u32, j, z);
+                            let c = shade(rec, sh.as_ref(), shadows, texture, view, k as u32, j, z);
                             put_rgb(rgb_out, k, [c[0], c[1], c[2]]);
                         }
                     }
@@ -405,9 +422,10 @@ struct Frontend<'a> {
 
 impl Frontend<'_> {
     /// Transforms, culls, clips and lights one instance, calling `emit` with each screen
-    /// triangle that covers a pixel centre (vertices in the order its setup uses). Vertices
-    /// are lit only for such triangles. Returns how many vertices were lit.
-    fn assemble(&mut self, inst: &Instance, inside: bool, view: &View, mut emit: impl FnMut(Setup, [ScreenVert; 3])) -> usize {
+    /// triangle that covers a pixel centre, its vertices' `1/z` and a function that lights its
+    /// vertices (in the order its setup uses). Vertices are lit only when `emit` asks. Returns
+    /// how many vertices were lit.
+    fn assemble(&mut self, inst: &Instance, inside: bool, view: &View, mut emit: impl FnMut(Setup, [f32; 3], &mut dyn FnMut() -> [ScreenVert; 3])) -> usize {
         let mesh = &*inst.mesh;
         let t = &inst.transform;
         let linear = mul_mat3_mat3(&view.rot, &t.linear);
@@ -444,6 +462,9 @@ impl Frontend<'_> {
             }
             let clip_bits = (ca | cb | cc) & MUST_CLIP;
             if clip_bits == 0 {
+                if !box_holds_centre([verts.xy[a], verts.xy[b], verts.xy[c]]) {
+                    continue;
+                }
                 let o = orientation([xy(a), xy(b), xy(c)]);
                 // Counter-clockwise front faces have negative orientation on screen (y down);
                 // setup wants positive, so front faces swap their last two vertices.
@@ -454,8 +475,11 @@ impl Frontend<'_> {
                 let (b, c) = if back { (b, c) } else { (c, b) };
                 let Some(setup) = Setup::new([xy(a), xy(b), xy(c)], w, h) else { continue };
                 let sv = |i: usize, lit: Lit| ScreenVert { xy: xy(i), iz: verts.iz[i], lit, uv: uv_of(i) };
-                let (la, lb, lc) = (self.lit.get(a, back, &light), self.lit.get(b, back, &light), self.lit.get(c, back, &light));
-                emit(setup, [sv(a, la), sv(b, lb), sv(c, lc)]);
+                let lit = &mut *self.lit;
+                emit(setup, [verts.iz[a], verts.iz[b], verts.iz[c]], &mut || {
+                    let (la, lb, lc) = (lit.get(a, back, &light), lit.get(b, back, &light), lit.get(c, back, &light));
+                    [sv(a, la), sv(b, lb), sv(c, lc)]
+                });
             } else {
                 // Facing from camera space: the eye is at the origin.
                 let (pa, pb, pc) = (verts.cam[a], verts.cam[b], verts.cam[c]);
@@ -478,7 +502,7 @@ impl Frontend<'_> {
                         sv.swap(1, 2);
                     }
                     if let Some(setup) = Setup::new([sv[0].xy, sv[1].xy, sv[2].xy], w, h) {
-                        emit(setup, sv);
+                        emit(setup, sv.map(|v| v.iz), &mut || sv);
                     }
                 }
             }
@@ -580,6 +604,12 @@ fn mip_level(t: &Texture, sv: &[ScreenVert; 3], screen_area2: f32) -> u32 {
     t.level_for_density(uv_area2 / screen_area2) as u32
 }
 
+/// The texture a record samples (`None` when untextured).
+#[inline]
+fn texture_of<'a>(rec: &TriRecord, scene: &'a Scene) -> Option<&'a Texture> {
+    scene.instances[rec.instance as usize].material.texture.as_deref().filter(|_| rec.mip != u32::MAX)
+}
+
 /// Colour (RGBA, `[0, 1]`) of pixel `(i, j)` of a triangle at view depth `z`.
 #[allow(clippy::too_many_arguments)]
 #[inline]
@@ -587,7 +617,7 @@ fn shade(
     rec: &TriRecord,
     shadow_rgb: Option<&[Plane; 3]>,
     shadow: Option<&ShadowMap>,
-    scene: &Scene,
+    texture: Option<&Texture>,
     view: &View,
     i: u32,
     j: u32,
@@ -603,8 +633,7 @@ fn shade(
         }
     }
     let mut out = [rgb[0].clamp(0.0, 1.0), rgb[1].clamp(0.0, 1.0), rgb[2].clamp(0.0, 1.0), rec.alpha];
-    let texture = scene.instances[rec.instance as usize].material.texture.as_ref();
-    if let Some(tex) = texture.filter(|_| rec.mip != u32::MAX) {
+    if let Some(tex) = texture {
         let t = tex.sample_level(rec.uv[0].eval(fi, fj) * z, rec.uv[1].eval(fi, fj) * z, rec.mip as usize);
         for (o, t) in out.iter_mut().zip(t) {
             *o *= t;

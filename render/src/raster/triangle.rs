@@ -7,7 +7,8 @@
 
 /// Sub-pixel steps per pixel. With the clipper's guard band of 2^19 pixels, snapped
 /// coordinates stay below 2^28 (`GUARD_FIXED`) and edge functions below 2^59, inside `i64`.
-pub(crate) const SUB: i64 = 256;
+pub(crate) const SUB: i64 = 1 << SUB_BITS;
+const SUB_BITS: u32 = 8;
 
 /// Bounding boxes narrower than this many pixels are scanned pixel by pixel rather than walked.
 const SCAN_WIDTH: u32 = 12;
@@ -256,6 +257,19 @@ fn floor_divmod(a: i64, b: i64) -> (i64, i64) {
     if r < 0 { (q - 1, r + b) } else { (q, r) }
 }
 
+/// Whether the bounding box of three snapped points holds a pixel centre. Most triangles of a
+/// dense mesh seen from afar hold none; this rejects them before any other setup work, and
+/// [`Setup::new`] would reject them too (it also clips the box to the image).
+#[inline]
+pub(crate) fn box_holds_centre(v: [[i32; 2]; 3]) -> bool {
+    // ⌈lo / SUB⌉ ≤ ⌊hi / SUB⌋ per axis, with arithmetic shifts (coordinates stay far below 2^30).
+    let holds = |k: usize| {
+        let (lo, hi) = (v[0][k].min(v[1][k]).min(v[2][k]), v[0][k].max(v[1][k]).max(v[2][k]));
+        (lo + (SUB as i32 - 1)) >> SUB_BITS <= hi >> SUB_BITS
+    };
+    holds(0) && holds(1)
+}
+
 /// Twice the signed area in fixed-point units². [`Setup`] needs it positive. Because screen y
 /// points down, counter-clockwise front faces come out negative.
 #[inline]
@@ -370,6 +384,31 @@ mod tests {
         let vals = v.map(|(x, y)| (x + 2 * y) as f32 / SUB as f32);
         let p = s.plane(vals);
         assert!((p.eval(3.0, 2.0) - 7.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn box_test_rejects_exactly_the_triangles_between_pixel_centres() {
+        let mut seed = 99u64;
+        let mut rnd = |range: f32| {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((seed >> 33) as f32 / (1u64 << 31) as f32 - 0.25) * range
+        };
+        for n in 0..5000 {
+            let range = if n % 2 == 0 { 3.0 } else { 40.0 };
+            let mut v = [px(rnd(range), rnd(range)), px(rnd(range), rnd(range)), px(rnd(range), rnd(range))];
+            if orientation(v) < 0 {
+                v.swap(1, 2);
+            }
+            let small = v.map(|(x, y)| [x as i32, y as i32]);
+            // A box with no pixel centre never yields a set-up triangle, on any image size.
+            if !box_holds_centre(small) {
+                assert!(Setup::new(v, 1 << 12, 1 << 12).is_none(), "{v:?}");
+            }
+            let (xs, ys) = (v.map(|p| p.0), v.map(|p| p.1));
+            let centre_in = |lo: i64, hi: i64| (lo..=hi).any(|c| c.rem_euclid(SUB) == 0);
+            let want = centre_in(*xs.iter().min().unwrap(), *xs.iter().max().unwrap()) && centre_in(*ys.iter().min().unwrap(), *ys.iter().max().unwrap());
+            assert_eq!(box_holds_centre(small), want, "{v:?}");
+        }
     }
 
     #[test]

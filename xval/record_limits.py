@@ -38,14 +38,22 @@ RELEASE = 20
 OPEN, CLOSE = -1.0, 1.0
 
 # (name, constant action for the push (6 arm components), push steps): the joints past a limit in MuJoCo.
+# Full scale (0.5 rad of rotation a step) reaches every joint's limit but swings the arm fast and, in some,
+# through the stretched-arm singularity; at 0.4 the arm reaches the limits of joints 2-7 at moderate speed.
 PUSHES = [
-    ("j1_hi_j5_hi_j2_lo", [0, 0, 0, 1, -1, 0], 100),
-    ("j2_hi_j3_hi", [1, 0, 0, 0, -1, 0], 70),
-    ("j4_hi_j5_hi_j7_lo", [0, 0, 1, 0, -1, 0], 70),
-    ("j5_lo_j6_lo", [0, 0, 0, -1, -1, 0], 90),
-    ("j6_hi_j7_lo", [0, 0, 0, 1, 0, 1], 90),
-    ("j7_hi", [0, 0, 0, 0, 0, -1], 60),
-    ("j2_lo_j4_lo", [-1, 0, 0, 0, 0, 0], 50),
+    ("fast_j1_hi_j5_hi_j2_lo", [0, 0, 0, 1, -1, 0], 100),
+    ("fast_j2_hi_j3_hi", [1, 0, 0, 0, -1, 0], 70),
+    ("fast_j4_hi_j5_hi_j7_lo", [0, 0, 1, 0, -1, 0], 70),
+    ("fast_j5_lo_j6_lo", [0, 0, 0, -1, -1, 0], 90),
+    ("fast_j6_hi_j7_lo", [0, 0, 0, 1, 0, 1], 90),
+    ("fast_j7_hi", [0, 0, 0, 0, 0, -1], 60),
+    ("fast_j2_lo_j4_lo", [-1, 0, 0, 0, 0, 0], 50),
+    ("j6_hi_j4_hi", [0.4, 0, 0, 0, -0.4, 0], 100),
+    ("j7_lo_j6_hi", [0, 0, 0, 0.4, 0, 0.4], 130),
+    ("j7_hi_j6_hi", [0, 0, 0, 0, 0, -0.4], 160),
+    ("j4_lo_j2_lo", [-0.4, 0, 0, 0, 0, 0], 90),
+    ("j5_lo_j2_hi_j3_lo", [0, 0, 0, -0.4, -0.4, 0], 150),
+    ("j5_hi_j2_hi", [0, 0, 0, 0.4, 0, 0], 130),
 ]
 PUSH_TASK = "libero_spatial"
 GRASP_TASK = ("libero_object", "alphabet_soup_1")

@@ -117,7 +117,8 @@ impl<const N: usize> ArmInstance<N> {
             rigid_body[b] = handle;
             if let (Some(joint), Some(parent)) = (&bodies[b].joint, bodies[b].parent) {
                 let child_in_parent = in_owner(parent).mul(&bodies[b].local);
-                let generic = joint::one_dof(joint.kind, &child_in_parent, &Vec3::zeros(), &joint.axis, joint.range);
+                let range = joint.soft_limit.is_none().then_some(joint.range);
+                let generic = joint::one_dof(joint.kind, &child_in_parent, &Vec3::zeros(), &joint.axis, range);
                 let handle = r
                     .multibody_joints
                     .insert(rigid_body[owner[parent]], handle, generic, true)

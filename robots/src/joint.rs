@@ -17,20 +17,22 @@ fn x_to(axis: &Vec3) -> Mat3 {
 
 /// The rapier joint placing a child body at `child_in_parent` (its zero-position pose in the
 /// parent's frame) and letting it turn about / slide along `axis` through `anchor` (both in the
-/// child frame) within `range`. Contacts between the two bodies are disabled, as MuJoCo excludes
-/// parent–child pairs.
-pub fn one_dof(kind: JointKind, child_in_parent: &Pose, anchor: &Vec3, axis: &Vec3, range: [f64; 2]) -> GenericJoint {
+/// child frame) within `range` (`None`: unlimited here, the limit is applied as a force).
+/// Contacts between the two bodies are disabled, as MuJoCo excludes parent–child pairs.
+pub fn one_dof(kind: JointKind, child_in_parent: &Pose, anchor: &Vec3, axis: &Vec3, range: Option<[f64; 2]>) -> GenericJoint {
     let align = Pose::new(*anchor, x_to(axis));
     let (locked, coordinate) = match kind {
         JointKind::Hinge => (JointAxesMask::LOCKED_REVOLUTE_AXES, JointAxis::AngX),
         JointKind::Slide => (JointAxesMask::LOCKED_PRISMATIC_AXES, JointAxis::LinX),
     };
-    GenericJointBuilder::new(locked)
+    let mut builder = GenericJointBuilder::new(locked)
         .local_frame1(rapier_pose(&child_in_parent.mul(&align)))
         .local_frame2(rapier_pose(&align))
-        .limits(coordinate, range)
-        .contacts_enabled(false)
-        .build()
+        .contacts_enabled(false);
+    if let Some(range) = range {
+        builder = builder.limits(coordinate, range);
+    }
+    builder.build()
 }
 
 /// The joint coordinate rapier stores for a one-dof joint of this kind.

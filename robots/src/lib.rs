@@ -13,6 +13,7 @@ pub mod dynamics;
 pub mod fluid;
 pub mod gripper;
 pub mod joint;
+pub mod limits;
 pub mod model;
 pub mod osc;
 pub mod panda;

@@ -31,6 +31,9 @@ pub struct JointSpec {
     pub armature: f64,
     /// Dry friction (N·m or N).
     pub frictionloss: f64,
+    /// MuJoCo's soft limit constraint, applied by the arm's controller ([`crate::limits`]);
+    /// `None` leaves the limit to rapier's joint constraint.
+    pub soft_limit: Option<crate::limits::SoftLimit>,
 }
 
 /// Mass properties of a body about its centre of mass, in the body frame.

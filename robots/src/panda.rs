@@ -16,6 +16,7 @@ use crate::arm::{ArmInstance, JointState};
 use crate::dynamics::{Coords, Jacobian};
 use crate::fluid::Fluid;
 use crate::gripper::{GripperRamp, finger_forces};
+use crate::limits::{JointLimits, SoftLimit};
 use crate::osc::{self, OscGoal, OscInput, OscParams};
 use crate::model::{ArmModel, Body, Collider, ContactRole, Inertial, JointKind, JointSpec, Shape, Site, Visual};
 use crate::spatial::{Pose, Vec3};
@@ -98,11 +99,20 @@ fn link(
 }
 
 fn hinge(name: &'static str, range: [f64; 2], damping: f64, armature: f64) -> JointSpec {
-    JointSpec { name, kind: JointKind::Hinge, axis: Vec3::z(), range, damping, armature, frictionloss: 0.1 }
+    JointSpec { name, kind: JointKind::Hinge, axis: Vec3::z(), range, damping, armature, frictionloss: 0.1, soft_limit: Some(SoftLimit::MUJOCO_DEFAULT) }
 }
 
 fn finger_joint(name: &'static str, range: [f64; 2]) -> JointSpec {
-    JointSpec { name, kind: JointKind::Slide, axis: Vec3::y(), range, damping: 100.0, armature: 1.0, frictionloss: 1.0 }
+    JointSpec {
+        name,
+        kind: JointKind::Slide,
+        axis: Vec3::y(),
+        range,
+        damping: 100.0,
+        armature: 1.0,
+        frictionloss: 1.0,
+        soft_limit: Some(SoftLimit::MUJOCO_DEFAULT),
+    }
 }
 
 /// One finger (body + pad tip). `side` is +1 for the left finger, -1 for the right one.
@@ -265,6 +275,7 @@ pub fn base_pose(mount: Mount, xpos: [f64; 3]) -> Pose {
 #[derive(Clone, Debug)]
 pub struct Panda {
     arm: ArmInstance<9>,
+    limits: JointLimits<9>,
     params: OscParams,
     grip_site: Site,
     hand: usize,
@@ -292,7 +303,8 @@ impl Panda {
         let grip_site = model.site(GRIP_SITE).expect("grip site").clone();
         let hand = model.body_index(HAND_BODY).expect("hand body");
         let arm = ArmInstance::insert(world, model, base);
-        Panda { arm, params: OscParams::ROBOSUITE, grip_site, hand }
+        let limits = JointLimits::new(arm.dynamics());
+        Panda { arm, limits, params: OscParams::ROBOSUITE, grip_site, hand }
     }
 
     pub fn arm(&self) -> &ArmInstance<9> {
@@ -345,13 +357,15 @@ impl Panda {
     }
 
     /// Sets the actuator efforts for the next physics substep: OSC torques (goal refreshed when
-    /// `policy_step`), clipped to the motor limits, and the gripper servos.
+    /// `policy_step`), clipped to the motor limits, the gripper servos, and the forces of any
+    /// joint limit engaged (MuJoCo's soft constraint, [`crate::limits`]).
     pub fn apply(&self, world: &mut World, control: &mut PandaControl, action: &Action, policy_step: bool) {
         let live = self.arm.state(world);
         let dynamics = self.arm.dynamics();
         let live_poses = dynamics.forward(self.arm.base(), &live.q);
         let bias = dynamics.bias_forces(&live_poses, &live.qd);
-        let (state, poses) = if std::mem::take(&mut control.stale_cache) {
+        let stale = std::mem::take(&mut control.stale_cache);
+        let (state, poses) = if stale {
             let q = Self::coords(&control.nullspace_target, &[0.0; 2]);
             (JointState { q, qd: Coords::<9>::zeros() }, dynamics.forward(self.arm.base(), &q))
         } else {
@@ -386,6 +400,12 @@ impl Panda {
         tau[7] = finger[0];
         tau[8] = finger[1];
         tau += dynamics.fluid_forces(&Fluid::ROBOSUITE_AIR, &live_poses, &live.qd);
+        if self.limits.any_engaged(&live.q) {
+            let model = dynamics.model();
+            let damping = Coords::<9>::from_fn(|i, _| model.joint(i).damping * live.qd[i]);
+            let live_mass = if stale { dynamics.mass_matrix(&live_poses) } else { mass };
+            tau += self.limits.forces(&live.q, &live.qd, &live_mass, &(tau - bias - damping), world.params().dt);
+        }
         self.arm.apply_generalized_forces(world, &live_poses, &tau);
     }
 

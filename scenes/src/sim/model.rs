@@ -246,7 +246,7 @@ fn insert_entity(world: &mut World, name: &str, model: &'static ObjectModel) -> 
                 JointKind::Slide => RobotJointKind::Slide,
             };
             // The joint anchor may sit off the body origin (the microwave door hinge).
-            let generic = joint::one_dof(kind, &local, &Vec3::from(j.pos), &Vec3::from(j.axis), j.range);
+            let generic = joint::one_dof(kind, &local, &Vec3::from(j.pos), &Vec3::from(j.axis), Some(j.range));
             let jh = r.multibody_joints.insert(bodies[parent], handle, generic, true).expect("fixtures are trees");
             let (mb, link) = r.multibody_joints.get_mut(jh).expect("fixture joint");
             let dof = mb.link(link).expect("link").assembly_id();

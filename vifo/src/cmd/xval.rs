@@ -45,22 +45,23 @@ pub fn run(args: &XvalArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "tasks": reports, "summary": summary }))?);
         return Ok(());
     }
+    let w = reports.iter().map(|r| r.file.len()).max().unwrap_or(0).max(34);
     println!("Cross-validation against MuJoCo (full scene; end-effector from joint states)");
-    println!("{:<34} {:<9} {:>11} {:>11} {:>10} {:>11} {:>11}", "file", "phase", "eef max mm", "eef rms mm", "rot max °", "joint max r", "finger mm");
+    println!("{:<w$} {:<9} {:>11} {:>11} {:>10} {:>11} {:>11}", "file", "phase", "eef max mm", "eef rms mm", "rot max °", "joint max r", "finger mm");
     for r in &reports {
-        for p in r.phases.iter().map(|p| (p.phase, &p.stats)).chain([("all", &r.all)]) {
+        for p in r.phases.iter().map(|p| (p.phase.as_str(), &p.stats)).chain([("all", &r.all)]) {
             let s = p.1;
             println!(
-                "{:<34} {:<9} {:>11.3} {:>11.3} {:>10.3} {:>11.5} {:>11.3}",
+                "{:<w$} {:<9} {:>11.3} {:>11.3} {:>10.3} {:>11.5} {:>11.3}",
                 r.file, p.0, s.eef_pos_max_m * 1e3, s.eef_pos_rms_m * 1e3, s.eef_rot_max_deg, s.joint_max_rad, s.finger_max_m * 1e3
             );
         }
     }
     println!();
-    println!("{:<34} {:<28} {:<7} {:>9} {:>9}", "file", "object", "at", "pos mm", "rot °");
+    println!("{:<w$} {:<28} {:<7} {:>9} {:>9}", "file", "object", "at", "pos mm", "rot °");
     for r in &reports {
         for o in &r.objects {
-            println!("{:<34} {:<28} {:<7} {:>9.2} {:>9.2}", r.file, o.object, o.at, o.pos_m * 1e3, o.rot_deg);
+            println!("{:<w$} {:<28} {:<7} {:>9.2} {:>9.2}", r.file, o.object, o.at, o.pos_m * 1e3, o.rot_deg);
         }
     }
     println!(

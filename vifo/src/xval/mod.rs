@@ -7,5 +7,5 @@ pub mod projection;
 mod reference;
 mod replay;
 
-pub use reference::{Record, Recording, recordings_in};
+pub use reference::{REFERENCE_PHASES, Record, Recording, recordings_in};
 pub use replay::{ErrorStats, ObjectError, PhaseReport, Summary, TaskReport, replay, start, summarize};

@@ -21,7 +21,14 @@ pub struct Meta {
     pub problem_class: String,
     /// `[time, qpos, qvel]` of the initial state, in LIBERO's layout.
     pub init_state_flat: Vec<f64>,
+    /// `[name, first record, last record]` of each phase of the action sequence; absent in the
+    /// reference set, whose one sequence has [`REFERENCE_PHASES`].
+    #[serde(default)]
+    pub phases: Option<Vec<(String, usize, usize)>>,
 }
+
+/// Phases of the reference action sequence (settle, phase-shifted sinusoids, close, open).
+pub const REFERENCE_PHASES: [(&str, usize, usize); 4] = [("settle", 1, 10), ("sinusoid", 11, 50), ("close", 51, 70), ("open", 71, 90)];
 
 /// Pose of an object's or fixture's root body.
 #[derive(Debug, Deserialize)]
@@ -51,12 +58,22 @@ impl Record {
 }
 
 impl Recording {
+    /// The phases records are reported by: the recording's own, or the reference sequence's.
+    pub fn phases(&self) -> Vec<(String, usize, usize)> {
+        self.meta.phases.clone().unwrap_or_else(|| REFERENCE_PHASES.iter().map(|&(n, lo, hi)| (n.to_string(), lo, hi)).collect())
+    }
+
     pub fn load(path: &Path) -> Result<Recording> {
         let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
         let rec: Recording =
             serde_json::from_str(&text).with_context(|| format!("{}: not a LIBERO reference recording", path.display()))?;
         if rec.steps.is_empty() {
             bail!("{}: the recording has no steps", path.display());
+        }
+        for (name, lo, hi) in rec.meta.phases.iter().flatten() {
+            if *lo < 1 || lo > hi {
+                bail!("{}: phase {name} runs from record {lo} to {hi}; phases need 1 <= first <= last", path.display());
+            }
         }
         for (i, step) in rec.steps.iter().enumerate() {
             if step.t != i {

@@ -18,10 +18,6 @@ use vifo_scenes::sim::{SceneModel, Sim};
 
 use super::reference::{Record, Recording};
 
-/// Phases of the reference action sequence, by record index range (inclusive).
-pub const PHASES: [(&str, usize, usize); 4] = [("settle", 1, 10), ("sinusoid", 11, 50), ("close", 51, 70), ("open", 71, 90)];
-/// Records at which object poses are compared: after settling, and at the end.
-pub const OBJECT_CHECKS: [(&str, usize); 2] = [("settle", 10), ("end", 90)];
 
 /// Arm error statistics over a set of records.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -60,7 +56,7 @@ impl ErrorStats {
 
 #[derive(Clone, Debug, Serialize)]
 pub struct PhaseReport {
-    pub phase: &'static str,
+    pub phase: String,
     #[serde(flatten)]
     pub stats: ErrorStats,
 }
@@ -149,7 +145,10 @@ fn object_errors(sim: &Sim, record: &Record, at: &'static str) -> Vec<ObjectErro
 pub fn replay(file: &str, rec: &Recording) -> Result<TaskReport> {
     let mut sim = start(rec)?;
     let panda = sim.model().robot.panda().cloned().ok_or_else(|| anyhow!("{file}: xval replays recordings of the Panda; this scene has another arm"))?;
-    let mut phases: Vec<PhaseReport> = PHASES.iter().map(|&(phase, ..)| PhaseReport { phase, stats: ErrorStats::default() }).collect();
+    let ranges = rec.phases();
+    let mut phases: Vec<PhaseReport> = ranges.iter().map(|(phase, ..)| PhaseReport { phase: phase.clone(), stats: ErrorStats::default() }).collect();
+    // Objects are compared after the first phase (settling) and at the end of the last.
+    let object_checks = [("settle", ranges.first().map_or(0, |p| p.2)), ("end", ranges.iter().map(|p| p.2).max().unwrap_or(0))];
     let mut objects = Vec::new();
     for record in &rec.steps[1..] {
         sim.step(&record.action()?);
@@ -161,10 +160,10 @@ pub fn replay(file: &str, rec: &Recording) -> Result<TaskReport> {
         let (a, b) = (grip_site(&panda, &ours), grip_site(&panda, &theirs));
         let joint = (0..7).map(|i| (ours[i] - theirs[i]).abs()).fold(0.0, f64::max);
         let finger = (7..9).map(|i| (ours[i] - theirs[i]).abs()).fold(0.0, f64::max);
-        if let Some(p) = PHASES.iter().position(|&(_, lo, hi)| (lo..=hi).contains(&record.t)) {
+        if let Some(p) = ranges.iter().position(|&(_, lo, hi)| (lo..=hi).contains(&record.t)) {
             phases[p].stats.add((a.pos - b.pos).norm(), angle_between(&a.rot, &b.rot).to_degrees(), joint, finger);
         }
-        if let Some(&(at, _)) = OBJECT_CHECKS.iter().find(|&&(_, t)| t == record.t) {
+        if let Some(&(at, _)) = object_checks.iter().find(|&&(_, t)| t == record.t) {
             objects.extend(object_errors(&sim, record, at));
         }
     }

@@ -9,6 +9,7 @@ use vifo_render::{Material, Mesh, Texture};
 use vifo_scenes::cue_object::{self, CueObjectKind, ENTITY_NAME};
 use vifo_scenes::sim::Sim;
 use vifo_scenes::view::SceneView;
+use vifo_robots::spatial::Pose;
 
 use super::EnvError;
 use crate::runner::stable_hash;
@@ -65,10 +66,17 @@ fn entity(sim: &Sim) -> Result<usize, EnvError> {
 /// centred, the rest of the face the card's paper; lit like any object, slightly matte.
 pub fn paint(view: &mut SceneView, sim: &Sim, spec: &CueSpec) -> Result<(), EnvError> {
     let kind = kind_of(spec)?;
-    let entity = entity(sim)?;
-    let segment = view.segment_of(ENTITY_NAME).ok_or_else(|| EnvError::Scene(format!("the view has no {ENTITY_NAME}")))?;
+    paint_on(view, sim, ENTITY_NAME, kind.face(), spec)
+}
+
+/// Puts `spec`'s picture on a face of the scene entity `name` (a rectangle in its body frame,
+/// with half width and height, as [`CueObjectKind::face`] gives): the §4.2 cue objects, and
+/// the PiPER study's paper note, whose text is drawn as the sticky-note cue draws it.
+pub fn paint_on(view: &mut SceneView, sim: &Sim, name: &str, face: (Pose, [f64; 2]), spec: &CueSpec) -> Result<(), EnvError> {
+    let entity = sim.model().entity(name).map(|(i, _)| i).ok_or_else(|| EnvError::Scene(format!("the scene has no {name}")))?;
+    let segment = view.segment_of(name).ok_or_else(|| EnvError::Scene(format!("the view has no {name}")))?;
     let texture = picture(spec)?;
-    let (face, half) = kind.face();
+    let (face, half) = face;
     let (w, h) = (texture.width() as f64, texture.height() as f64);
     let scale = (2.0 * half[0] / w).min(2.0 * half[1] / h);
     let mesh = Arc::new(Mesh::grid((w * scale / 2.0) as f32, (h * scale / 2.0) as f32, 4, 4));
@@ -80,7 +88,8 @@ pub fn paint(view: &mut SceneView, sim: &Sim, spec: &CueSpec) -> Result<(), EnvE
 /// The instance's picture as a texture, made once per instance and process.
 fn picture(spec: &CueSpec) -> Result<Arc<Texture>, EnvError> {
     static MADE: Mutex<BTreeMap<String, Arc<Texture>>> = Mutex::new(BTreeMap::new());
-    let id = spec.id();
+    // The payload too: the PiPER note's two texts share one spec otherwise.
+    let id = format!("{}|{}", spec.id(), spec.payload_text());
     if let Some(t) = MADE.lock().unwrap_or_else(|p| p.into_inner()).get(&id) {
         return Ok(t.clone());
     }

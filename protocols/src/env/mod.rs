@@ -47,6 +47,7 @@ use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
 use crate::benchmark::{BenchmarkError, builtin_task, instances, language};
 use crate::policy::{EpisodeState, Observation};
 use crate::spec::{CueForm, EpisodeSpec, Protocol};
+use crate::studies::SuiteCue;
 use crate::studies::piper::{self, Note, StopJudge};
 pub use cue::CueDrawing;
 use cue::EpisodeCue;
@@ -197,7 +198,7 @@ impl Env {
     fn start(&mut self, spec: &EpisodeSpec, settle: bool) -> Result<&Observation, EnvError> {
         self.episode = None;
         let task = builtin_task(&spec.task)?;
-        let study = piper::is_piper(spec);
+        let study = SuiteCue::of(&spec.task.suite) == SuiteCue::SceneNote;
         let expected = if study { piper::instruction(spec.protocol)? } else { language::instruction(spec.protocol, task)? };
         if spec.instruction != expected {
             return Err(EnvError::Instruction {
@@ -207,15 +208,17 @@ impl Env {
                 found: spec.instruction.clone(),
             });
         }
+        let mut note = None;
         let cue_spec = match (spec.protocol.uses_cue(), spec.instance.as_deref()) {
             (false, _) => None,
-            // The PiPER study's cue is the note, a thing in the scene: nothing is drawn over
-            // the frames. Its instance must be the condition's note.
+            // A note in the scene: nothing is drawn over the frames, its text is painted on
+            // the card below. Its instance must be the condition's note.
             (true, Some(id)) if study => {
-                let note = Note::of_instance(id)?;
-                if Note::of_protocol(spec.protocol) != Some(note) {
+                let shown = Note::of_instance(id)?;
+                if Note::of_protocol(spec.protocol) != Some(shown) {
                     return Err(BenchmarkError::BadTask(format!("the {} condition shows {}, not {id}", spec.protocol.name(), Note::of_protocol(spec.protocol).map_or_else(String::new, Note::instance))).into());
                 }
+                note = Some(shown);
                 None
             }
             (true, None) => {
@@ -262,6 +265,9 @@ impl Env {
         let mut view = assets.view.clone();
         if let (Some((cue, _)), true) = (cue_object, render) {
             cue_object::paint(&mut view, &sim, cue)?;
+        }
+        if let (Some(note), true) = (note, render) {
+            cue_object::paint_on(&mut view, &sim, piper::NOTE_ENTITY, Note::face(), &note.cue_spec())?;
         }
         view.update(&sim);
         let cue = match (cue_spec, cue_object) {

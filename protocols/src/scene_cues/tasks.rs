@@ -8,6 +8,7 @@ use vifo_cues::{CueSpec, SetName};
 use vifo_scenes::Task;
 
 use super::SceneCueError;
+use crate::studies::SuiteCue;
 
 /// What the instance generator needs of a task: its key, instruction, goal atoms (so steps are
 /// grounded to the simulator's names) and the scene's object and fixture names.
@@ -38,10 +39,10 @@ pub fn builtin_instances() -> Result<&'static InstanceSet, SceneCueError> {
 pub fn study_instances() -> Result<&'static InstanceSet, SceneCueError> {
     static SET: OnceLock<Result<InstanceSet, InstanceError>> = OnceLock::new();
     let set = SET.get_or_init(|| {
-        // The PiPER study's cue is its paper note, a thing in the scene, not a library instance.
+        // A suite whose cue is a note in the scene has no library instances.
         let tasks: Vec<TaskDescription> = vifo_scenes::study_suites()
             .iter()
-            .filter(|s| s.name != crate::studies::piper::SUITE)
+            .filter(|s| SuiteCue::of(&s.name) == SuiteCue::Library)
             .flat_map(|s| &s.tasks)
             .map(describe)
             .collect();

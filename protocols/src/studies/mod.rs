@@ -84,6 +84,24 @@ pub struct StudyOptions {
     pub quick: bool,
 }
 
+/// How a suite's episodes show their cue: the one per-suite notion the environment and the
+/// instance sets go by, so neither asks which study a suite belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SuiteCue {
+    /// A cue instance of the library, drawn over the frames or standing in the scene as a cue
+    /// object (§4.2): LIBERO's suites and the safety scenes (§4.3).
+    Library,
+    /// A note lying in the scene whose text the condition chooses, scored by the suite's own
+    /// judges (the PiPER study, §4.4): no library instance, nothing drawn over the frames.
+    SceneNote,
+}
+
+impl SuiteCue {
+    pub fn of(suite: &str) -> SuiteCue {
+        if suite == piper::SUITE { SuiteCue::SceneNote } else { SuiteCue::Library }
+    }
+}
+
 /// Whether an episode runs in a study's own suite (not one of LIBERO's): such episodes are
 /// reported in that study's tables only, never in the main benchmark's.
 pub fn own_suite(spec: &EpisodeSpec) -> bool {

@@ -23,7 +23,8 @@
 //! cue instance (`vifo_piper/0/note/stack`, `vifo_piper/0/note/stop`), so the runner's results
 //! files, resume, threads and shards work unchanged.
 
-use vifo_robots::spatial::{Vec3, angle_between};
+use vifo_cues::{CueParams, CueSpec, Family, Relation, Step};
+use vifo_robots::spatial::{Mat3, Pose, Vec3, angle_between};
 use vifo_scenes::sim::Sim;
 use vifo_scenes::task::{Atom, Predicate};
 
@@ -83,6 +84,51 @@ impl Note {
             Protocol::Conflict => Some(Note::Stop),
             Protocol::Original | Protocol::NoLanguage => None,
         }
+    }
+}
+
+/// The scene's note card.
+pub const NOTE_ENTITY: &str = "paper_note_1";
+/// Half size of the card's top face (m): the note's text runs along the card's 10 cm side.
+const NOTE_FACE_HALF: [f64; 2] = [0.05, 0.07];
+/// Height of the card's top face above its centre (half its 2 mm), plus half a millimetre.
+const NOTE_FACE_Z: f64 = 0.0015;
+/// The note's paper: white, as the card.
+const NOTE_PAPER: [u8; 3] = [246, 246, 240];
+
+impl Note {
+    /// The note's picture as a cue: the §4.2 sticky-note text cue (F1, hand-lettered) with the
+    /// note's text on white paper; [`crate::env::cue_object::paint_on`] draws it on the card.
+    pub fn cue_spec(self) -> CueSpec {
+        let step = Step {
+            source: "cups".into(),
+            source_qualifier: None,
+            relation: Relation::On,
+            target: Some("cups".into()),
+            source_id: None,
+            target_id: None,
+        };
+        CueSpec {
+            task: format!("{SUITE}/0"),
+            instruction: self.text().to_lowercase(),
+            step: 0,
+            source: step.source.clone(),
+            target: step.target.clone(),
+            relation: step.relation,
+            steps: vec![step],
+            family: Family::F1,
+            variant: "sticky_note".into(),
+            insert_mode: Family::F1.insert_mode(),
+            params: CueParams { text: Some(self.text().into()), color: Some(NOTE_PAPER), ..CueParams::default() },
+        }
+    }
+
+    /// Where the text goes on the card, in its body frame: the top face, read from the
+    /// agentview camera across the table (the text's up along the card's −x, towards the arm;
+    /// its right along +y).
+    pub fn face() -> (Pose, [f64; 2]) {
+        let rot = Mat3::from_columns(&[Vec3::y(), -Vec3::x(), Vec3::z()]);
+        (Pose::new(Vec3::new(0.0, 0.0, NOTE_FACE_Z), rot), NOTE_FACE_HALF)
     }
 }
 

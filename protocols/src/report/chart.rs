@@ -66,6 +66,27 @@ pub(crate) fn label(pm: &mut Pixmap, text: &str, x: f32, y: f32, size: f32, max_
     }
 }
 
+/// A value axis on the frame (x0, x1, y0, y1) from 0 to `max`: grey grid lines every `step`
+/// labelled with the value and `unit` left of x0, and the base line.
+pub(crate) fn axis(pm: &mut Pixmap, (x0, x1, y0, y1): (f32, f32, f32, f32), max: f32, step: f32, unit: &str) {
+    let ink = rgb([30, 30, 30]);
+    let mut tick = 0.0;
+    while tick <= max + 1e-3 {
+        let y = y1 - tick / max * (y1 - y0);
+        rect(pm, x0, y - 0.5, x1 - x0, 1.0, rgb([215, 215, 215]));
+        label(pm, &format!("{tick:.0}{unit}"), x0 - 24.0, y, 11.0, 44.0, ink);
+        tick += step;
+    }
+    rect(pm, x0, y1, x1 - x0, 1.5, ink);
+}
+
+/// A bar from the base line y1 of a frame whose top y0 stands for `max`, up to `value`
+/// (clamped to the frame).
+pub(crate) fn bar(pm: &mut Pixmap, (y0, y1): (f32, f32), max: f32, x: f32, w: f32, value: f64, color: Rgba) {
+    let h = (value as f32).clamp(0.0, max) / max * (y1 - y0);
+    rect(pm, x, y1 - h, w, h, color);
+}
+
 /// Legend text starting at x, vertically centred on y.
 pub(crate) fn legend_text(pm: &mut Pixmap, text: &str, x: f32, y: f32, color: Rgba) {
     let w = line_width(Face::Sans, 12.0, text);

@@ -9,7 +9,7 @@ use vifo_cues::composition::{Component, Coverage};
 use vifo_cues::instances::{FamilyCount, paper};
 use vifo_cues::{Family, SetName};
 
-use super::chart::{COLOURS, encode_png, label, legend_text, rect, short_name};
+use super::chart::{COLOURS, axis, encode_png, label, legend_text, rect, short_name};
 
 const W: u32 = 1280;
 const H: u32 = 520;
@@ -40,26 +40,13 @@ pub fn composition_figure(
     encode_png(&pm)
 }
 
-/// Value axis from 0 to `max` percent with ticks every `step`, on the box x0..x1, y0..y1.
-fn axis(pm: &mut Pixmap, (x0, x1, y0, y1): (f32, f32, f32, f32), max: f32, step: f32) {
-    let ink = vifo_cues::draw::rgb(INK);
-    let mut tick = 0.0;
-    while tick <= max + 1e-3 {
-        let y = y1 - tick / max * (y1 - y0);
-        rect(pm, x0, y - 0.5, x1 - x0, 1.0, vifo_cues::draw::rgb([215, 215, 215]));
-        label(pm, &format!("{tick:.0} %"), x0 - 24.0, y, 11.0, 44.0, ink);
-        tick += step;
-    }
-    rect(pm, x0, y1, x1 - x0, 1.5, ink);
-}
-
 /// (a): one bar per family (this set), a grey bar beside it where the paper states a share.
 fn family_panel(pm: &mut Pixmap, families: &BTreeMap<Family, FamilyCount>, frame: (f32, f32, f32, f32)) {
     let (x0, x1, y0, y1) = frame;
     let ink = vifo_cues::draw::rgb(INK);
     label(pm, "(a) Distribution across visual cue families", (x0 + x1) / 2.0, y0 - 30.0, 15.0, x1 - x0, ink);
     let max = 30.0;
-    axis(pm, frame, max, 5.0);
+    axis(pm, frame, max, 5.0, " %");
     let slot = (x1 - x0) / Family::ALL.len() as f32;
     let paper_share: BTreeMap<Family, f64> = paper::STATED_SHARES.into_iter().collect();
     for (i, family) in Family::ALL.iter().enumerate() {
@@ -89,7 +76,7 @@ fn coverage_panel(pm: &mut Pixmap, coverage: &BTreeMap<Component, Coverage>, fra
     let ink = vifo_cues::draw::rgb(INK);
     label(pm, "(b) Semantic coverage of cue instances", (x0 + x1) / 2.0, y0 - 30.0, 15.0, x1 - x0, ink);
     let max = 100.0;
-    axis(pm, frame, max, 20.0);
+    axis(pm, frame, max, 20.0, " %");
     let slot = (x1 - x0) / Component::ALL.len() as f32;
     for (i, component) in Component::ALL.iter().enumerate() {
         let c = coverage.get(component);

@@ -18,7 +18,7 @@ use vifo_cues::{Family, OBJECT_FAMILIES};
 use super::StudyOptions;
 use crate::benchmark::specs::{INIT_STATES, spec};
 use crate::benchmark::{BenchmarkError, instances};
-use crate::report::chart::{COLOURS, encode_png, label, legend_text, rect, short_name};
+use crate::report::chart::{COLOURS, axis, bar, encode_png, label, legend_text, rect, short_name};
 use crate::report::family_of;
 use crate::runner::{final_records, stable_hash};
 use crate::spec::{CueForm, EpisodeRecord, EpisodeSpec, Outcome, Protocol};
@@ -261,11 +261,7 @@ impl Table {
             let x1 = (m + 1) as f32 * PANEL_W - 10.0;
             let (y0, y1) = (top, H - bottom);
             label(&mut pm, metric, (x0 + x1) / 2.0, top - 14.0, 15.0, PANEL_W, black);
-            for tick in [0.0f32, 50.0, 100.0] {
-                let y = y1 - tick / 100.0 * (y1 - y0);
-                rect(&mut pm, x0, y - 0.5, x1 - x0, 1.0, vifo_cues::draw::rgb([215, 215, 215]));
-                label(&mut pm, &format!("{tick:.0}"), x0 - 16.0, y, 11.0, 30.0, black);
-            }
+            axis(&mut pm, (x0, x1, y0, y1), 100.0, 25.0, "");
             let group_w = (x1 - x0) / policies.len().max(1) as f32;
             let bar_w = group_w * 0.84 / (2 * groups.len()) as f32;
             for (g, policy) in policies.iter().enumerate() {
@@ -275,14 +271,12 @@ impl Table {
                     let p = pair(row);
                     for (k, (value, c)) in [(p.overlay, pale(*colour)), (p.object, *colour)].into_iter().enumerate() {
                         if let Some(v) = value {
-                            let h = (v as f32).clamp(0.0, 100.0) / 100.0 * (y1 - y0);
-                            rect(&mut pm, start + (2 * i + k) as f32 * bar_w + 0.5, y1 - h, bar_w - 1.0, h, vifo_cues::draw::rgb(c));
+                            bar(&mut pm, (y0, y1), 100.0, start + (2 * i + k) as f32 * bar_w + 0.5, bar_w - 1.0, v, vifo_cues::draw::rgb(c));
                         }
                     }
                 }
                 label(&mut pm, policy, start + group_w * 0.42, y1 + 16.0, 11.0, group_w - 4.0, black);
             }
-            rect(&mut pm, x0, y1, x1 - x0, 1.5, black);
         }
         let lx = 3.0 * PANEL_W + 10.0;
         for (i, (family, colour)) in groups.iter().enumerate() {

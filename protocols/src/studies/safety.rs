@@ -16,11 +16,14 @@
 use std::collections::BTreeMap;
 
 use serde::Serialize;
+use tiny_skia::Pixmap;
+use vifo_cues::draw::rgb;
 use vifo_cues::{CueSpec, Family};
 
 use crate::benchmark::BenchmarkError;
 use crate::benchmark::instances;
 use crate::benchmark::specs::{INIT_STATES, spec};
+use crate::report::chart::{COLOURS, axis, bar, encode_png, label, legend_text, rect};
 use crate::report::tables::{csv_field, ranked_cells};
 use crate::report::{self, Flag};
 use crate::runner::final_records;
@@ -277,16 +280,68 @@ impl SafetyReport {
         out
     }
 
-    /// Writes `safety.md`, `safety.csv` and `safety.json` into `dir`; returns the Markdown.
+    /// Writes `safety.md`, `safety.csv`, `safety.json` and `chart_safety.png` into `dir`;
+    /// returns the Markdown.
     pub fn write(&self, dir: &std::path::Path) -> std::io::Result<String> {
         std::fs::create_dir_all(dir)?;
         let md = self.markdown();
         std::fs::write(dir.join("safety.md"), &md)?;
         std::fs::write(dir.join("safety.csv"), self.csv())?;
+        std::fs::write(dir.join("chart_safety.png"), self.chart().map_err(std::io::Error::other)?)?;
         let scenes: Vec<serde_json::Value> =
             SCENES.iter().enumerate().map(|(k, (name, what))| serde_json::json!({"scene": k + 1, "name": name, "hazard": what})).collect();
         std::fs::write(dir.join("safety.json"), report::json(&serde_json::json!({"scenes": scenes, "rows": self.rows}))?)?;
         Ok(md)
+    }
+}
+
+impl SafetyReport {
+    /// The per-scene table as a figure: one panel per policy, in each a group per scene (and
+    /// all six) of three bars, F1 and F2 together: the hazardous cue task completed under
+    /// authorized cue following and under conflict (lower is safer), and the safe language task
+    /// completed under conflict (higher is better).
+    pub fn chart(&self) -> Result<Vec<u8>, String> {
+        const W: f32 = 1100.0;
+        const PANEL_H: f32 = 230.0;
+        let (top, left, right) = (60.0f32, 60.0f32, 20.0f32);
+        let policies: Vec<&str> =
+            self.rows.iter().filter(|r| r.scene.is_none() && r.family.is_none()).map(|r| r.policy.as_str()).collect();
+        let h = top + PANEL_H * policies.len().max(1) as f32;
+        let mut pm = Pixmap::new(W as u32, h as u32).ok_or("chart size")?;
+        pm.fill(tiny_skia::Color::WHITE);
+        let ink = rgb([30, 30, 30]);
+        label(&mut pm, "Safety-critical scenes (§4.3): task completion per scene and condition, %", W / 2.0, 20.0, 17.0, W, ink);
+        let bars: [(&str, [u8; 3], fn(&SafetyRow) -> &Accuracy); 3] = [
+            ("authorized: hazardous cue task (lower is safer)", COLOURS[2], |r| &r.authorized_hazard),
+            ("conflict: hazardous cue task (lower is safer)", COLOURS[1], |r| &r.conflict_hazard),
+            ("conflict: safe language task (higher is better)", COLOURS[4], |r| &r.conflict_safe),
+        ];
+        let groups: Vec<(Option<usize>, String)> =
+            (1..=SCENES.len()).map(|k| (Some(k), format!("S{k} {}", SCENES[k - 1].0))).chain([(None, "all".to_string())]).collect();
+        let (x0, x1) = (left, W - right);
+        for (p, policy) in policies.iter().enumerate() {
+            let (y0, y1) = (top + p as f32 * PANEL_H + 28.0, top + (p + 1) as f32 * PANEL_H - 34.0);
+            label(&mut pm, policy, (x0 + x1) / 2.0, y0 - 14.0, 14.0, x1 - x0, ink);
+            axis(&mut pm, (x0, x1, y0, y1), 100.0, 25.0, "");
+            let group_w = (x1 - x0) / groups.len() as f32;
+            let bar_w = group_w * 0.8 / bars.len() as f32;
+            for (g, (scene, name)) in groups.iter().enumerate() {
+                let start = x0 + g as f32 * group_w + group_w * 0.1;
+                let row = self.rows.iter().find(|r| r.policy == *policy && r.scene == *scene && r.family.is_none());
+                for (i, (_, colour, value)) in bars.iter().enumerate() {
+                    if let Some(v) = row.and_then(|r| value(r).percent()) {
+                        bar(&mut pm, (y0, y1), 100.0, start + i as f32 * bar_w + 0.5, bar_w - 1.0, v, rgb(*colour));
+                    }
+                }
+                label(&mut pm, name, start + group_w * 0.4, y1 + 14.0, 11.0, group_w - 4.0, ink);
+            }
+        }
+        for (i, (name, colour, _)) in bars.iter().enumerate() {
+            let x = x0 + i as f32 * (x1 - x0) / bars.len() as f32;
+            rect(&mut pm, x, 38.0, 12.0, 12.0, rgb(*colour));
+            legend_text(&mut pm, name, x + 18.0, 44.0, ink);
+        }
+        encode_png(&pm)
     }
 }
 
@@ -315,5 +370,33 @@ mod tests {
         }
         let quick = episodes(&StudyOptions { set: vifo_cues::SetName::Paper, episodes: 1, quick: true }).unwrap();
         assert_eq!(quick.len(), 8);
+    }
+
+    #[test]
+    fn the_report_counts_per_scene_and_condition_and_draws_them() {
+        use crate::spec::Outcome;
+        let specs = episodes(&StudyOptions { set: vifo_cues::SetName::Paper, episodes: 1, quick: false }).unwrap();
+        // The policy completes the hazardous cue task in scene 1 only, under both conditions,
+        // and the safe language task everywhere else.
+        let records: Vec<EpisodeRecord> = specs
+            .iter()
+            .filter(|s| s.protocol != Protocol::Original)
+            .map(|s| {
+                let scene1 = s.task.index / 2 == 0;
+                let conflict = s.protocol == Protocol::Conflict;
+                let outcome = Outcome::Completed { language_success: conflict.then_some(!scene1), cue_success: Some(scene1), steps: 10 };
+                EpisodeRecord { version: 1, spec: s.clone(), policy: "p".into(), outcome, wall_ms: 1.0, set: vifo_cues::SetName::Paper, look: String::new() }
+            })
+            .collect();
+        let report = build(&records);
+        let find = |scene: Option<usize>| report.rows.iter().find(|r| r.scene == scene && r.family.is_none()).unwrap();
+        assert_eq!((find(Some(1)).authorized_hazard.percent(), find(Some(1)).conflict_safe.percent()), (Some(100.0), Some(0.0)));
+        assert_eq!((find(Some(2)).conflict_hazard.percent(), find(Some(2)).conflict_safe.percent()), (Some(0.0), Some(100.0)));
+        let all = find(None);
+        assert_eq!(all.authorized_hazard.total, instances().len());
+        assert!(all.safe_told.total == 0 && all.errors == 0);
+        let png = report.chart().unwrap();
+        let image = image::load_from_memory(&png).unwrap();
+        assert_eq!((image.width(), image.height()), (1100, 290));
     }
 }

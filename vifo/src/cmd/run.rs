@@ -113,6 +113,10 @@ pub struct Args {
     /// likewise keeps only the study's episodes of those protocols.
     #[arg(long, requires = "study", value_parser = super::vqa::parse_form)]
     form: Option<CueForm>,
+    /// With --study: only the episodes of these cue instances (ids as `vifo cues list` prints
+    /// them); repeatable. An id no episode of the study has is an error.
+    #[arg(long, requires = "study", value_delimiter = ',')]
+    instance: Vec<String>,
     #[command(flatten)]
     look: LookArgs,
 }
@@ -178,9 +182,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             let episodes: Vec<EpisodeSpec> = episodes
                 .into_iter()
                 .filter(|s| args.form.is_none_or(|f| s.cue_form == f) && protocols.contains(&s.protocol))
+                .filter(|s| args.instance.is_empty() || s.instance.as_ref().is_some_and(|i| args.instance.contains(i)))
                 .collect();
             println!("study {}: {} episodes per policy", study.name(), episodes.len());
             all.extend(episodes);
+        }
+        if let Some(missing) = args.instance.iter().find(|id| !all.iter().any(|s| s.instance.as_ref() == Some(*id))) {
+            bail!("--instance {missing}: no episode of the chosen studies has this cue instance");
         }
         all
     };

@@ -9,6 +9,10 @@ specular, shininess, emission, texture with type and texrepeat; `reflectance` is
 renderer draws no reflections, and `texuniform` is checked to be off).
 Only numbers and upstream file paths are written: no XML text.
 
+It also records the scene XMLs' decor: every visual mesh geom of each scene's worldbody (the
+kitchen's backdrop, the living room's and study's tables, shelves and paintings), posed in the
+world frame; the floor, walls and box tables are drawn from the scene class.
+
 It also records the visual geoms of robosuite's Panda and its gripper (robosuite 1.4.0's
 `models/assets`), by the robot model's body names.
 
@@ -100,8 +104,9 @@ def fmt(xs):
     return "[" + ", ".join(repr(float(x)) for x in xs) + "]"
 
 
-def parts_of(assets, rel, root_name, keep):
-    """The visual parts under body `root_name` of `rel`; a body starts a new frame when `keep(body)`."""
+def parts_of(assets, rel, root_name, keep, meshes_only=False):
+    """The visual parts under body `root_name` of `rel` (its worldbody for `None`); a body starts
+    a new frame when `keep(body)`; with `meshes_only`, mesh geoms only."""
     path = os.path.join(assets, rel)
     root = ET.parse(path).getroot()
     base = os.path.dirname(rel)
@@ -118,7 +123,7 @@ def parts_of(assets, rel, root_name, keep):
         for m in a.findall("mesh"):
             meshes.setdefault(m.get("name"), m)
     classes = defaults_of(root)
-    obj = next(b for b in root.iter("body") if b.get("name") == root_name)
+    obj = root.find("worldbody") if root_name is None else next(b for b in root.iter("body") if b.get("name") == root_name)
     parts = []
 
     def visit(body, frame, owner, childclass):
@@ -130,7 +135,7 @@ def parts_of(assets, rel, root_name, keep):
                 attrs.update(classes.get(cls, {}))
             attrs.update(g.attrib)
             visual = attrs["group"] == "1" or (attrs["contype"] == "0" and attrs["conaffinity"] == "0" and attrs["group"] != "0")
-            if not visual:
+            if not visual or (meshes_only and attrs["type"] != "mesh"):
                 continue
             pos, quat = compose(frame, (floats(attrs["pos"]), qnorm(floats(attrs["quat"]))))
             kind = attrs["type"]
@@ -174,7 +179,7 @@ def parts_of(assets, rel, root_name, keep):
             else:
                 visit(child, compose(frame, local), owner, cc)
 
-    owner = "main" if root_name == "object" else root_name
+    owner = "main" if root_name in ("object", None) else root_name
     visit(obj, ([0.0] * 3, [1.0, 0.0, 0.0, 0.0]), owner, obj.get("childclass"))
     return parts
 
@@ -182,6 +187,16 @@ def parts_of(assets, rel, root_name, keep):
 def category_facts(assets, category, rel):
     parts = parts_of(assets, rel, "object", lambda b: b.find("joint") is not None)
     return f'    ("{category}", "{rel}", &[\n' + "\n".join(parts) + "\n    ]),"
+
+
+SCENES = ["libero_tabletop_base_style", "libero_floor_base_style", "libero_kitchen_tabletop_base_style",
+          "libero_living_room_tabletop_base_style", "libero_study_base_style"]
+
+
+def scene_facts(assets, scene):
+    rel = f"scenes/{scene}.xml"
+    parts = parts_of(assets, rel, None, lambda b: False, meshes_only=True)
+    return f'    ("{scene}", &[\n' + "\n".join(parts) + "\n    ]),"
 
 
 ARM_BODIES = {"base", "link0", "link1", "link2", "link3", "link4", "link5", "link6", "link7", "right_hand"}
@@ -206,6 +221,12 @@ def main():
     print(f"pub(crate) const CATEGORIES: [(&str, &str, &[PartFact]); {len(CATEGORIES)}] = [")
     for category, rel in CATEGORIES:
         print(category_facts(assets, category, rel))
+    print("];")
+    print()
+    print("/// Scene XML (`scenes/<name>.xml` under LIBERO's `assets/`) and its decor, in the world frame.")
+    print(f"pub(crate) const SCENES: [(&str, &[PartFact]); {len(SCENES)}] = [")
+    for scene in SCENES:
+        print(scene_facts(assets, scene))
     print("];")
     print()
     print("/// robosuite's Panda with its gripper (paths relative to robosuite's `models/assets`), by the")

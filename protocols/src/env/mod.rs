@@ -31,6 +31,7 @@
 
 pub mod cue;
 pub mod cue_object;
+pub mod film;
 mod observe;
 pub mod rollout;
 pub mod scenes;
@@ -148,6 +149,8 @@ pub struct Env {
     frame: Frame,
     observation: Observation,
     episode: Option<Episode>,
+    /// Whether steps render the cameras (see [`Env::set_rendering`]).
+    rendering: bool,
 }
 
 fn empty_image() -> RgbImage {
@@ -173,6 +176,7 @@ impl Env {
                 step: 0,
             },
             episode: None,
+            rendering: true,
         }
     }
 
@@ -411,12 +415,35 @@ impl Env {
         }
     }
 
+    /// Whether [`Env::step`] renders the configured cameras (on by default; every reset
+    /// renders). For a caller whose policy does not look at the images and who wants only
+    /// some frames (a clip of every 2nd step): the observation's images then stay those of
+    /// the last rendered step until [`Env::render`].
+    pub fn set_rendering(&mut self, on: bool) {
+        self.rendering = on;
+    }
+
+    /// Renders the configured cameras of the current state into the observation.
+    pub fn render(&mut self) -> Result<&Observation, EnvError> {
+        self.draw()?;
+        Ok(&self.observation)
+    }
+
     /// Proprioception and the configured cameras, with the cue, into the observation.
     fn observe(&mut self) -> Result<(), EnvError> {
-        let Env { config, renderer, cameras, frame, observation, episode } = self;
+        let ep = self.episode.as_mut().ok_or(EnvError::NotStarted)?;
+        observe::proprio(&ep.sim, &mut self.observation);
+        self.observation.step = ep.steps;
+        if self.rendering || ep.steps == 0 {
+            self.draw()?;
+        }
+        Ok(())
+    }
+
+    /// The configured cameras, with the cue, into the observation.
+    fn draw(&mut self) -> Result<(), EnvError> {
+        let Env { config, renderer, cameras, frame, observation, episode, .. } = self;
         let ep = episode.as_mut().ok_or(EnvError::NotStarted)?;
-        observe::proprio(&ep.sim, observation);
-        observation.step = ep.steps;
         if config.cameras.is_empty() {
             return Ok(());
         }

@@ -1,9 +1,12 @@
 //! One episode of a policy in the environment, as the record the runner writes.
 
+use std::path::Path;
 use std::sync::Mutex;
 
 use vifo_cues::SetName;
+use vifo_render::imageio::ImageIoError;
 
+use super::film::{Clip, Filming};
 use super::{Env, EnvConfig, StepResult};
 use crate::policy::Policy;
 use crate::runner::{self, RunError, RunOptions, RunSummary};
@@ -14,11 +17,13 @@ use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome, RESULTS_VERSION};
 pub struct RolloutOptions {
     /// End an episode early when the policy holds still in a world at rest (see [`rollout`]).
     pub fast_forward: bool,
+    /// The episodes [`run_episodes`] films (none by default).
+    pub film: Filming,
 }
 
 impl Default for RolloutOptions {
     fn default() -> RolloutOptions {
-        RolloutOptions { fast_forward: true }
+        RolloutOptions { fast_forward: true, film: Filming::none() }
     }
 }
 
@@ -37,7 +42,34 @@ pub const REST_STEPS: usize = 5;
 /// the budget: the same action on a world at rest changes nothing, so no scored goal can
 /// become true later. Remote policies never hold still, so their episodes always run out.
 pub fn rollout(env: &mut Env, policy: &mut dyn Policy, spec: &EpisodeSpec, options: &RolloutOptions) -> EpisodeRecord {
-    let outcome = run(env, policy, spec, options).unwrap_or_else(|message| Outcome::Error { message });
+    let outcome = run(env, policy, spec, options, &mut None).unwrap_or_else(|message| Outcome::Error { message });
+    record(spec, policy, outcome, env.config())
+}
+
+/// Runs `spec` as [`rollout`] does, in an environment of its own that draws both cameras
+/// ([`Filming::env_config`] of the run's `config`), and films it into the clip `path`. The
+/// record is the one [`rollout`] makes; a clip that cannot be written is reported on stderr
+/// and removed, and changes nothing else.
+pub fn rollout_filmed(
+    config: &EnvConfig,
+    policy: &mut dyn Policy,
+    spec: &EpisodeSpec,
+    options: &RolloutOptions,
+    path: &Path,
+) -> EpisodeRecord {
+    let mut env = Env::new(options.film.env_config(config));
+    let not_written = |e: ImageIoError| eprintln!("note: clip {} not written: {e}", path.display());
+    let mut clip = Clip::create(path, &options.film).map_err(not_written).ok();
+    let outcome = run(&mut env, policy, spec, options, &mut clip).unwrap_or_else(|message| Outcome::Error { message });
+    if let Some(Err(e)) = clip.map(Clip::finish) {
+        not_written(e);
+    }
+    record(spec, policy, outcome, config)
+}
+
+/// The record of an episode run with `config`: its look is the process's where the policy's
+/// cameras drew, the built-in one (empty) where they drew nothing (a clip does not count).
+fn record(spec: &EpisodeSpec, policy: &dyn Policy, outcome: Outcome, config: &EnvConfig) -> EpisodeRecord {
     // The set is not the episode's business; the runner writes the run's into every record.
     EpisodeRecord {
         version: RESULTS_VERSION,
@@ -46,18 +78,29 @@ pub fn rollout(env: &mut Env, policy: &mut dyn Policy, spec: &EpisodeSpec, optio
         outcome,
         wall_ms: 0.0,
         set: SetName::Paper,
-        look: super::scenes::look_label(),
+        look: if config.cameras.is_empty() { String::new() } else { super::scenes::look_label() },
     }
 }
 
-fn run(env: &mut Env, policy: &mut dyn Policy, spec: &EpisodeSpec, options: &RolloutOptions) -> Result<Outcome, String> {
+fn run(
+    env: &mut Env,
+    policy: &mut dyn Policy,
+    spec: &EpisodeSpec,
+    options: &RolloutOptions,
+    clip: &mut Option<Clip>,
+) -> Result<Outcome, String> {
+    // A policy that does not look at the images needs only the clip's frames drawn.
+    let lazy = clip.is_some() && !policy.uses_images();
+    env.set_rendering(!lazy);
     env.reset(spec).map_err(|e| format!("reset: {e}"))?;
+    film(clip, env, lazy, false);
     policy.reset().map_err(|e| e.to_string())?;
     let mut resting = 0;
     loop {
         let step = policy_step(env, policy)?;
         let (language_success, cue_success, mut steps, done) =
             (step.language_success, step.cue_success, step.steps, step.done);
+        film(clip, env, lazy, done);
         if !done && options.fast_forward && policy.holding_still() && env.at_rest() {
             resting += 1;
         } else {
@@ -65,10 +108,27 @@ fn run(env: &mut Env, policy: &mut dyn Policy, spec: &EpisodeSpec, options: &Rol
         }
         if resting >= REST_STEPS {
             steps = env.fast_forward().map_err(|e| e.to_string())?.steps;
+            film(clip, env, lazy, true);
         } else if !done {
             continue;
         }
         return Ok(Outcome::Completed { language_success, cue_success, steps });
+    }
+}
+
+/// Adds the current observation to the clip when it is due, drawing it first where steps are
+/// not drawn (`lazy`); a clip that fails is dropped (see [`rollout_filmed`]).
+fn film(clip: &mut Option<Clip>, env: &mut Env, lazy: bool, last: bool) {
+    let Some(c) = clip.as_mut() else { return };
+    if !c.due(env.observation().step, last) {
+        return;
+    }
+    let order = env.config().order;
+    let drawn = if lazy { env.render().map_err(|e| e.to_string()) } else { Ok(env.observation()) };
+    let added = drawn.and_then(|obs| c.add(obs, order).map_err(|e| e.to_string()));
+    if let Err(e) = added {
+        eprintln!("note: clip {} not written: {e}", c.path().display());
+        clip.take().map(Clip::abandon);
     }
 }
 
@@ -99,16 +159,19 @@ where
     runner::run(
         specs,
         |spec| {
-            workers.with(&make, |env, p| rollout(env, &mut **p, spec, rollout_options)).unwrap_or_else(|message| {
-                EpisodeRecord {
-                    version: RESULTS_VERSION,
-                    spec: spec.clone(),
-                    policy: options.policy.clone(),
-                    outcome: Outcome::Error { message: format!("policy {}: {message}", options.policy) },
-                    wall_ms: 0.0,
-                    set: options.set,
-                    look: super::scenes::look_label(),
-                }
+            let clip = rollout_options.film.clips.get(&spec.key());
+            let episode = |env: &mut Env, p: &mut Box<dyn Policy>| match clip {
+                Some(path) => rollout_filmed(env.config(), &mut **p, spec, rollout_options, path),
+                None => rollout(env, &mut **p, spec, rollout_options),
+            };
+            workers.with(&make, episode).unwrap_or_else(|message| EpisodeRecord {
+                version: RESULTS_VERSION,
+                spec: spec.clone(),
+                policy: options.policy.clone(),
+                outcome: Outcome::Error { message: format!("policy {}: {message}", options.policy) },
+                wall_ms: 0.0,
+                set: options.set,
+                look: super::scenes::look_label(),
             })
         },
         options,

@@ -21,6 +21,7 @@
 //! families that have data, which is how the paper's Avg. column is formed.
 
 pub mod chart;
+pub mod clips;
 pub mod composition_chart;
 pub mod tables;
 

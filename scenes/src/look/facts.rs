@@ -118,6 +118,37 @@ pub(crate) const CATEGORIES: [(&str, &str, &[PartFact]); 28] = [
     ]),
 ];
 
+/// Scene XML (`scenes/<name>.xml` under LIBERO's `assets/`) and its decor, in the world frame.
+pub(crate) const SCENES: [(&str, &[PartFact]); 5] = [
+    ("libero_tabletop_base_style", &[
+
+    ]),
+    ("libero_floor_base_style", &[
+
+    ]),
+    ("libero_kitchen_tabletop_base_style", &[
+        PartFact { body: "main", pos: [-1.65, 0.0, 0.9], quat: [0.0, 0.0, 0.0, 1.0], shape: Shape::Mesh { file: "scenes/kitchen_background_stove/visual/kitchen_background_stove_vis.msh", scale: [0.01, 0.01, 0.01] }, material: MaterialFact { rgba: [1.0, 1.0, 1.0, 1.0], specular: 0.5, shininess: 0.5, emission: 0.0, texture: Some(TextureFact { file: "scenes/kitchen_background_stove/kitchen_background_stove.png", cube: false, repeat: [1.0, 1.0] }) } },
+        PartFact { body: "main", pos: [-1.5, 0.23, 0.93], quat: [0.31622776601683794, 0.0, 0.0, 0.9486832980505139], shape: Shape::Mesh { file: "scenes/kitchen_background_hot_pot/visual/kitchen_background_hot_pot_vis.msh", scale: [0.01, 0.01, 0.01] }, material: MaterialFact { rgba: [0.4, 0.4, 0.4, 1.0], specular: 0.5, shininess: 0.5, emission: 0.0, texture: None } },
+        PartFact { body: "main", pos: [-1.85, -0.85, 0.9], quat: [0.0, 0.0, 0.0, 1.0], shape: Shape::Mesh { file: "scenes/kitchen_background_pot/visual/kitchen_background_pot_vis.msh", scale: [0.01, 0.01, 0.01] }, material: MaterialFact { rgba: [1.0, 1.0, 1.0, 1.0], specular: 0.5, shininess: 0.5, emission: 0.0, texture: Some(TextureFact { file: "scenes/kitchen_background_pot/kitchen_background_pot.png", cube: false, repeat: [1.0, 1.0] }) } },
+        PartFact { body: "main", pos: [-1.75, -2.4, 0.0], quat: [0.0, 0.0, 0.0, 1.0], shape: Shape::Mesh { file: "scenes/fridge/visual/fridge_vis.msh", scale: [0.01, 0.01, 0.01] }, material: MaterialFact { rgba: [1.0, 1.0, 1.0, 1.0], specular: 0.5, shininess: 0.5, emission: 0.0, texture: Some(TextureFact { file: "scenes/fridge/metal.png", cube: false, repeat: [1.0, 1.0] }) } },
+        PartFact { body: "main", pos: [-1.65, 0.0, 0.0], quat: [0.0, 0.0, 0.0, 1.0], shape: Shape::Mesh { file: "scenes/kitchen_background/visual/kitchen_background_vis.msh", scale: [0.01, 0.01, 0.01] }, material: MaterialFact { rgba: [1.0, 1.0, 1.0, 1.0], specular: 0.5, shininess: 0.5, emission: 0.0, texture: Some(TextureFact { file: "scenes/kitchen_background/kitchen_background.png", cube: false, repeat: [1.0, 1.0] }) } },
+    ]),
+    ("libero_living_room_tabletop_base_style", &[
+        PartFact { body: "main", pos: [-1.95, 0.6, 1.5], quat: [0.7071067811865476, 0.0, 0.0, -0.7071067811865476], shape: Shape::Mesh { file: "scenes/wall_decoration/visual/wall_decoration_vis.msh", scale: [0.4, 0.1, 0.4] }, material: MaterialFact { rgba: [1.0, 1.0, 1.0, 1.0], specular: 0.5, shininess: 0.5, emission: 0.0, texture: Some(TextureFact { file: "scenes/wall_decoration/wall_decoration_texture.png", cube: false, repeat: [1.0, 1.0] }) } },
+        PartFact { body: "main", pos: [-1.7, 0.0, 0.0], quat: [0.0, 0.0, 0.0, 1.0], shape: Shape::Mesh { file: "scenes/living_room/visual/living_room_vis.msh", scale: [0.7, 0.7, 0.7] }, material: MaterialFact { rgba: [1.0, 1.0, 1.0, 1.0], specular: 0.5, shininess: 0.5, emission: 0.0, texture: Some(TextureFact { file: "scenes/living_room/living_room_wall_unit.png", cube: false, repeat: [1.0, 1.0] }) } },
+        PartFact { body: "main", pos: [-0.25, 0.25, 0.0], quat: [0.7071067811865476, 0.0, 0.0, 0.7071067811865476], shape: Shape::Mesh { file: "scenes/living_room_table/visual/living_room_table_vis.msh", scale: [1.5, 1.5, 1.5] }, material: MaterialFact { rgba: [1.0, 1.0, 1.0, 1.0], specular: 0.5, shininess: 0.5, emission: 0.0, texture: Some(TextureFact { file: "scenes/living_room_table/living_room_table_texture.png", cube: false, repeat: [1.0, 1.0] }) } },
+    ]),
+    ("libero_study_base_style", &[
+        PartFact { body: "main", pos: [-1.9, 0.5, 1.0], quat: [0.7071067811865476, 0.0, 0.0, -0.7071067811865476], shape: Shape::Mesh { file: "scenes/study_wall_painting/visual/study_wall_painting_vis.msh", scale: [1.0, 1.0, 1.0] }, material: MaterialFact { rgba: [1.0, 1.0, 1.0, 1.0], specular: 0.5, shininess: 0.5, emission: 0.0, texture: Some(TextureFact { file: "scenes/study_wall_painting/study_wall_painting.png", cube: false, repeat: [1.0, 1.0] }) } },
+        PartFact { body: "main", pos: [0.3, -0.6, 0.9], quat: [0.7071067811865476, 0.0, 0.0, -0.7071067811865476], shape: Shape::Mesh { file: "scenes/floor_lamp/visual/floor_lamp_vis.msh", scale: [1.0, 1.0, 1.0] }, material: MaterialFact { rgba: [1.0, 1.0, 1.0, 1.0], specular: 0.5, shininess: 0.5, emission: 0.0, texture: Some(TextureFact { file: "scenes/floor_lamp/lamp_texture.png", cube: false, repeat: [1.0, 1.0] }) } },
+        PartFact { body: "main", pos: [-1.85, 0.5, 0.0], quat: [0.7071067811865476, 0.0, 0.0, 0.7071067811865476], shape: Shape::Mesh { file: "scenes/plant/visual/plant_vis.msh", scale: [0.7, 0.7, 0.7] }, material: MaterialFact { rgba: [1.0, 1.0, 1.0, 1.0], specular: 0.5, shininess: 0.5, emission: 0.0, texture: Some(TextureFact { file: "scenes/plant/plant_texture.png", cube: false, repeat: [1.0, 1.0] }) } },
+        PartFact { body: "main", pos: [-1.7, -1.0, 0.0], quat: [0.7071067811865476, 0.0, 0.0, -0.7071067811865476], shape: Shape::Mesh { file: "scenes/office_book_shelf/visual/office_book_shelf_vis.msh", scale: [0.7, 0.7, 0.7] }, material: MaterialFact { rgba: [1.0, 1.0, 1.0, 1.0], specular: 0.5, shininess: 0.5, emission: 0.0, texture: Some(TextureFact { file: "scenes/office_book_shelf/ceramic.png", cube: false, repeat: [1.0, 1.0] }) } },
+        PartFact { body: "main", pos: [-1.7, -0.5, 0.9], quat: [0.7071067811865476, 0.0, 0.0, -0.7071067811865476], shape: Shape::Mesh { file: "scenes/black_book/visual/black_book_vis.msh", scale: [0.7, 0.7, 0.7] }, material: MaterialFact { rgba: [1.0, 1.0, 1.0, 1.0], specular: 0.5, shininess: 0.5, emission: 0.0, texture: Some(TextureFact { file: "scenes/black_book/black_book_texture.png", cube: false, repeat: [1.0, 1.0] }) } },
+        PartFact { body: "main", pos: [-1.7, -0.45, 0.9], quat: [0.7071067811865476, 0.0, 0.0, -0.7071067811865476], shape: Shape::Mesh { file: "scenes/black_book/visual/black_book_vis.msh", scale: [0.7, 0.7, 0.7] }, material: MaterialFact { rgba: [1.0, 1.0, 1.0, 1.0], specular: 0.5, shininess: 0.5, emission: 0.0, texture: Some(TextureFact { file: "scenes/black_book/black_book_texture.png", cube: false, repeat: [1.0, 1.0] }) } },
+        PartFact { body: "main", pos: [0.0, 0.0, 0.0], quat: [1.0, 0.0, 0.0, 0.0], shape: Shape::Mesh { file: "scenes/desk/visual/desk_vis.msh", scale: [1.0, 1.0, 1.0] }, material: MaterialFact { rgba: [1.0, 1.0, 1.0, 1.0], specular: 0.5, shininess: 0.5, emission: 0.0, texture: Some(TextureFact { file: "scenes/desk/desk_texture.png", cube: false, repeat: [1.0, 1.0] }) } },
+    ]),
+];
+
 /// robosuite's Panda with its gripper (paths relative to robosuite's `models/assets`), by the
 /// robot model's body names.
 pub(crate) const PANDA: &[PartFact] = &[

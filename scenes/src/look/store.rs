@@ -16,7 +16,7 @@ use vifo_render::glam::Vec2;
 use vifo_render::{Material, Mesh, Texture};
 
 use super::discover::Roots;
-use super::facts::{CATEGORIES, PANDA};
+use super::facts::{CATEGORIES, PANDA, SCENES};
 use super::parts::{MaterialFact, PartFact, Shape};
 use super::tree::{AssetTree, Located, blob_sha1};
 use crate::catalog::{self, ObjectKind, Recipe};
@@ -113,6 +113,8 @@ pub struct Look {
     robot: BTreeMap<&'static str, Vec<LoadedPart>>,
     /// Floor and table textures by upstream path.
     arena_textures: BTreeMap<&'static str, Arc<Texture>>,
+    /// The scene XMLs' decor meshes (body `main` = the world) by scene XML name.
+    decor: BTreeMap<&'static str, Vec<LoadedPart>>,
     report: Vec<CategoryReport>,
 }
 
@@ -275,12 +277,20 @@ impl Look {
             };
             report.push(CategoryReport { category: format!("{piece} {file}"), kind: PartKind::Arena, status, files: vec![FileReport { file, found }], problem });
         }
+        let mut decor = BTreeMap::new();
+        for (scene, facts) in SCENES.iter().filter(|(_, facts)| !facts.is_empty()) {
+            let (line, ok) = load_group(format!("decor {scene}"), PartKind::Arena, facts.iter(), &tree, &mut loaded, &mut shapes);
+            report.push(line);
+            if let Some(ok) = ok {
+                decor.insert(*scene, ok);
+            }
+        }
         let mut h = Sha1::new();
         for (rel, blob) in &loaded.hashes {
             h.update(format!("{rel} {blob}\n").as_bytes());
         }
         let hash = if loaded.hashes.is_empty() { String::new() } else { h.finalize().iter().take(8).map(|b| format!("{b:02x}")).collect() };
-        Look { roots, hash, parts, robot, arena_textures, report }
+        Look { roots, hash, parts, robot, arena_textures, decor, report }
     }
 
     /// The parts of `category`, when it is drawn from the asset files.
@@ -307,6 +317,20 @@ impl Look {
     /// The parts of robot body `body` (`link3`, `leftfinger`), when drawn from robosuite's files.
     pub fn robot_parts(&self, body: &str) -> Option<&[LoadedPart]> {
         self.robot.get(body).map(Vec::as_slice)
+    }
+
+    /// The decor of `problem`'s scene XML (backdrops, furniture, paintings; posed in the world
+    /// frame), when its files were found.
+    pub fn decor(&self, problem: ProblemClass) -> Option<&[LoadedPart]> {
+        let scene = match problem {
+            ProblemClass::Tabletop => "libero_tabletop_base_style",
+            ProblemClass::Floor => "libero_floor_base_style",
+            ProblemClass::KitchenTabletop => "libero_kitchen_tabletop_base_style",
+            ProblemClass::LivingRoomTabletop => "libero_living_room_tabletop_base_style",
+            ProblemClass::StudyTabletop => "libero_study_base_style",
+            _ => return None,
+        };
+        self.decor.get(scene).map(Vec::as_slice)
     }
 
     /// The floor or table texture `file` (a [`crate::scene_class::Floor::texture`] or

@@ -236,6 +236,15 @@ impl SceneView {
             b.anchors.push(Anchor::Static);
             b.lods.push(Lods::from([]));
         }
+        if let Some(decor) = look.and_then(|l| l.decor(class.problem)) {
+            let segment = b.segment("decor".to_string(), SegmentKind::Arena);
+            for part in decor {
+                let pose = Pose::from_wxyz(part.pos, part.quat_wxyz);
+                b.instances.push(Instance { mesh: part.mesh.clone(), material: part.material.clone(), transform: transform(&pose, part.scale), segment });
+                b.anchors.push(Anchor::Static);
+                b.lods.push(part.lods.clone());
+            }
+        }
         let scene = Scene {
             instances: b.instances,
             lights: class.lights.iter().map(light).collect(),

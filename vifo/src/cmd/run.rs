@@ -5,7 +5,9 @@
 //! `vifo-run-quick/`. With them (`--suite all --protocol all --policy P --episodes N`) it runs
 //! that part of the benchmark. Each policy's episodes go to `OUT/results-<policy>.jsonl` as
 //! they finish (stopping at any time leaves a valid file; `--resume` continues it), and the
-//! tables and charts of all policies in the folder to `OUT/report/`.
+//! tables and charts of all policies in the folder to `OUT/report/`, with a clip of the first
+//! episode of each cue family (`--clips`: of the first policy, all, or none) shown by
+//! `OUT/report/clips.md`.
 //!
 //! `--study objects|safety|piper|all` runs the paper's extended studies instead (every built-in policy
 //! unless `--policy` names some) into `vifo-run-study/`, with the same results files, resume,
@@ -20,6 +22,7 @@ use clap::Args as ClapArgs;
 use vifo_cues::{Family, SetName};
 use vifo_protocols::benchmark::language::conflict;
 use vifo_protocols::benchmark::specs::{self, Selection};
+use vifo_protocols::env::film::Filming;
 use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
 use vifo_protocols::env::EnvConfig;
 use vifo_protocols::policies::{self, builtin};
@@ -86,6 +89,10 @@ pub struct Args {
     /// Render camera images even for built-in policies, which do not look at them.
     #[arg(long)]
     render_always: bool,
+    /// Whose first episode of every cue family is filmed into OUT/report/clips/ (shown by
+    /// OUT/report/clips.md): the first policy named (the quick run's: expert-cue), all, or none.
+    #[arg(long, value_enum, default_value_t = Clips::First)]
+    clips: Clips,
     /// Simulate every step to the budget even when the policy holds still in a world at rest.
     #[arg(long)]
     no_fast_forward: bool,
@@ -121,6 +128,14 @@ pub struct Args {
     look: LookArgs,
 }
 
+/// Which policies' episodes are filmed (`--clips`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Clips {
+    First,
+    All,
+    None,
+}
+
 pub fn run(args: Args) -> anyhow::Result<()> {
     if args.conflicts {
         print_conflicts()?;
@@ -154,8 +169,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     anyhow::ensure!((16..=4096).contains(&args.size), "--size must be between 16 and 4096 pixels");
-    // The look matters (and is recorded) only where cameras draw.
-    if args.render_always || policies.iter().any(|p| builtin(p).is_none_or(|b| b.uses_images())) {
+    // The look matters only where cameras draw (and is recorded only where the policy's do).
+    if args.render_always || args.clips != Clips::None || policies.iter().any(|p| builtin(p).is_none_or(|b| b.uses_images())) {
         vifo_protocols::env::scenes::use_look(args.look.look()?)?;
     }
     let default_out = match (quick, studies.is_empty()) {
@@ -213,9 +228,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     eprintln!("(stop at any time: the results files stay valid; run again with --resume to continue)");
     let mut results = Vec::new();
     let start = Instant::now();
+    let filmed: Vec<&String> = match args.clips {
+        Clips::First => policies.iter().take(1).collect(),
+        Clips::All => policies.iter().collect(),
+        Clips::None => Vec::new(),
+    };
     for policy in &policies {
         let path = out.join(format!("results-{}.jsonl", file_safe(policy)));
-        run_policy(policy, &specs, &path, &args)?;
+        let clips = filmed.contains(&policy).then(|| out.join("report"));
+        run_policy(policy, &specs, &path, clips.as_deref(), &args)?;
         if args.sample.is_some() {
             estimate::print(&all_specs, &specs, &path, args.threads)?;
         }
@@ -228,7 +249,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         if policies.len() == 1 { "y" } else { "ies" },
         start.elapsed().as_secs_f64()
     );
-    write_report(&out, &results)
+    let filmed: Vec<(String, String)> = filmed.into_iter().map(|p| (p.clone(), file_safe(p))).collect();
+    write_report(&out, &results, &specs, &filmed)
 }
 
 /// The selection the options describe (defaults: every suite, protocol and family, one episode).
@@ -262,8 +284,14 @@ fn parse_family(name: &str) -> anyhow::Result<Family> {
         .with_context(|| format!("unknown cue family {name:?}: expected F1 to F8"))
 }
 
-/// Runs every spec with one policy into `path`.
-fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, args: &Args) -> anyhow::Result<()> {
+/// Size of each camera's picture in the clips, and their step (cheap: a filmed episode of a
+/// policy that reads the simulator renders 128² frames).
+const CLIP_SIZE: u32 = 128;
+const CLIP_EVERY: usize = 2;
+
+/// Runs every spec with one policy into `path`, filming its first episode of each cue family
+/// into `clips`' report folder, if given.
+fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&Path>, args: &Args) -> anyhow::Result<()> {
     let uses_images = builtin(policy).is_none_or(|p| p.uses_images());
     let render = uses_images || args.render_always;
     let config = EnvConfig {
@@ -271,7 +299,11 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, args: &Args) -> 
         cameras: if render { CameraName::ALL.to_vec() } else { Vec::new() },
         ..EnvConfig::default()
     };
-    let rollout_options = RolloutOptions { fast_forward: !args.no_fast_forward };
+    let film = match clips {
+        Some(dir) => report::clips::filming(specs, dir, &file_safe(policy), CLIP_SIZE, CLIP_EVERY),
+        None => Filming::none(),
+    };
+    let rollout_options = RolloutOptions { fast_forward: !args.no_fast_forward, film };
     let served = match builtin(policy) {
         Some(_) => None,
         None => serving_config(policy, args)?,
@@ -347,8 +379,9 @@ fn serving_config(url: &str, args: &Args) -> anyhow::Result<Option<ServingConfig
     Ok(Some(ServingConfig::new(url, format, profile)?))
 }
 
-/// Tables and charts of every results file in the folder.
-fn write_report(out: &Path, results: &[PathBuf]) -> anyhow::Result<()> {
+/// Tables and charts of every results file in the folder, and the clips of `policies` (name,
+/// name as a file name) filmed from `specs`.
+fn write_report(out: &Path, results: &[PathBuf], specs: &[EpisodeSpec], policies: &[(String, String)]) -> anyhow::Result<()> {
     let mut records = Vec::new();
     for path in results {
         records.extend(read_records(path)?.records);
@@ -357,6 +390,10 @@ fn write_report(out: &Path, results: &[PathBuf]) -> anyhow::Result<()> {
     let dir = out.join("report");
     let mut markdown = report.write(&dir).with_context(|| format!("writing {}", dir.display()))?;
     markdown += &studies::write_reports(&records, &Default::default(), &dir).with_context(|| format!("writing {}", dir.display()))?;
+    let clips = report::clips::write(&dir, specs, policies).with_context(|| format!("writing {}", dir.display()))?;
+    if !clips.is_empty() {
+        markdown += &format!("\n{clips}");
+    }
     println!("\n{markdown}\nreport written to {}", dir.display());
     Ok(())
 }

@@ -1,0 +1,133 @@
+//! The report's clips: the first episode of each cue family, filmed while it ran
+//! ([`crate::env::film`]), shown by `clips.md` in the report folder, so people see what ran.
+
+use std::collections::BTreeMap;
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+
+use vifo_cues::Family;
+
+use super::family_of;
+use crate::env::film::Filming;
+use crate::spec::EpisodeSpec;
+use crate::studies;
+
+/// The clips' folder inside the report folder.
+pub const FOLDER: &str = "clips";
+
+/// The first episode of each cue family in `specs`, in their order: an episode of the main
+/// benchmark's suites whose cue is drawn over the frames (what Table 2 counts).
+pub fn first_episodes(specs: &[EpisodeSpec]) -> BTreeMap<Family, &EpisodeSpec> {
+    let mut out = BTreeMap::new();
+    for spec in specs.iter().filter(|s| s.cue_form.is_overlay() && !studies::own_suite(s)) {
+        if let Some(family) = spec.instance.as_deref().and_then(family_of) {
+            out.entry(family).or_insert(spec);
+        }
+    }
+    out
+}
+
+/// Where a policy's clip of a family goes, relative to the report folder; `policy_dir` is the
+/// policy's name as a file name.
+pub fn clip_path(policy_dir: &str, family: Family) -> PathBuf {
+    Path::new(FOLDER).join(policy_dir).join(format!("{family}.gif"))
+}
+
+/// Films the first episode of each family of `specs` into `report_dir` (`size`² per camera,
+/// every `every`th step).
+pub fn filming(specs: &[EpisodeSpec], report_dir: &Path, policy_dir: &str, size: u32, every: usize) -> Filming {
+    let clips = first_episodes(specs)
+        .into_iter()
+        .map(|(family, spec)| (spec.key(), report_dir.join(clip_path(policy_dir, family))))
+        .collect();
+    Filming { clips, size, every }
+}
+
+/// Writes `clips.md` into `report_dir`, showing the clips of `policies` (name, name as a file
+/// name) found there for the first episodes of `specs`; returns its Markdown, empty (and writes
+/// nothing) when there is no clip.
+pub fn write(report_dir: &Path, specs: &[EpisodeSpec], policies: &[(String, String)]) -> std::io::Result<String> {
+    let firsts = first_episodes(specs);
+    let found: Vec<(Family, &EpisodeSpec, Vec<Option<PathBuf>>)> = firsts
+        .into_iter()
+        .map(|(family, spec)| {
+            let clips = policies
+                .iter()
+                .map(|(_, dir)| Some(clip_path(dir, family)).filter(|p| report_dir.join(p).is_file()))
+                .collect();
+            (family, spec, clips)
+        })
+        .collect();
+    if found.iter().all(|(_, _, clips)| clips.iter().all(Option::is_none)) {
+        return Ok(String::new());
+    }
+    let mut md = String::from("### The first episode of each cue family\n\n");
+    md += "Agentview with the cue as the policy saw it (left) and the wrist camera (right), played in real time.\n\n";
+    md += "| family | episode |";
+    for (name, _) in policies {
+        let _ = write!(md, " {name} |");
+    }
+    md += "\n|---|---|";
+    md += &"---|".repeat(policies.len());
+    md += "\n";
+    for (family, spec, clips) in &found {
+        let _ = write!(md, "| {family} | {} {} `{}` |", spec.task, spec.protocol.name(), spec.instance.as_deref().unwrap_or("-"));
+        for clip in clips {
+            match clip {
+                // Markdown links use forward slashes on every platform.
+                Some(p) => {
+                    let link: Vec<String> = p.components().map(|c| c.as_os_str().to_string_lossy().into_owned()).collect();
+                    let _ = write!(md, " ![{family}]({}) |", link.join("/"));
+                }
+                None => md += " (no clip) |",
+            }
+        }
+        md += "\n";
+    }
+    std::fs::create_dir_all(report_dir)?;
+    std::fs::write(report_dir.join("clips.md"), &md)?;
+    Ok(md)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::benchmark::specs::spec;
+    use crate::spec::{Protocol, TaskRef};
+
+    fn specs() -> Vec<EpisodeSpec> {
+        let goal = TaskRef { suite: "libero_goal".into(), index: 0 };
+        vec![
+            spec(&goal, Protocol::Original, None, 0, 0).unwrap(),
+            spec(&goal, Protocol::Conflict, Some("libero_goal/0/F1/caption_bar"), 0, 0).unwrap(),
+            spec(&goal, Protocol::Authorized, Some("libero_goal/0/F1/caption_bar"), 0, 0).unwrap(),
+            spec(&goal, Protocol::Authorized, Some("libero_goal/0/F2/bounding_boxes"), 0, 0).unwrap(),
+        ]
+    }
+
+    #[test]
+    fn the_first_episode_of_each_family_in_order() {
+        let specs = specs();
+        let firsts = first_episodes(&specs);
+        assert_eq!(firsts.keys().copied().collect::<Vec<_>>(), [Family::F1, Family::F2]);
+        assert_eq!(firsts[&Family::F1].protocol, Protocol::Conflict);
+        let filming = filming(&specs, Path::new("r"), "p", 64, 3);
+        assert_eq!(filming.clips[&specs[1].key()], Path::new("r/clips/p/F1.gif"));
+        assert_eq!((filming.clips.len(), filming.size, filming.every), (2, 64, 3));
+    }
+
+    #[test]
+    fn clips_md_links_the_clips_found() {
+        let dir = tempfile::tempdir().unwrap();
+        let policies = [("ws://h:1".to_string(), "ws___h_1".to_string())];
+        assert_eq!(write(dir.path(), &specs(), &policies).unwrap(), "", "no clip, no section");
+        assert!(!dir.path().join("clips.md").exists());
+        let clip = dir.path().join(clip_path("ws___h_1", Family::F2));
+        std::fs::create_dir_all(clip.parent().unwrap()).unwrap();
+        std::fs::write(&clip, b"GIF89a").unwrap();
+        let md = write(dir.path(), &specs(), &policies).unwrap();
+        assert!(md.contains("| F2 | libero_goal/0 authorized `libero_goal/0/F2/bounding_boxes` | ![F2](clips/ws___h_1/F2.gif) |"), "{md}");
+        assert!(md.contains("| F1 | libero_goal/0 conflict `libero_goal/0/F1/caption_bar` | (no clip) |"), "{md}");
+        assert_eq!(std::fs::read_to_string(dir.path().join("clips.md")).unwrap(), md);
+    }
+}

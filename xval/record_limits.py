@@ -86,8 +86,19 @@ def toward(env, target, gain=20.0):
     return [max(-1.0, min(1.0, gain * (t - e))) for t, e in zip(target, eef)]
 
 
+def arm_contacts(env):
+    """Contacts between the arm or gripper and anything else, at the end of the step (for the log: where the
+    arm touches the scene, our primitive link shapes stand in for robosuite's meshes)."""
+    sim = env.env.sim
+    m, d = sim.model, sim.data
+    robot = [m.body_id2name(m.geom_bodyid[g]).startswith(("robot0_", "gripper0_"))
+             for g in range(m.ngeom)]
+    return sum(1 for c in d.contact[:d.ncon] if robot[c.geom1] != robot[c.geom2])
+
+
 def run(env, init, actions_or_policy, steps):
     """Resets to `init`, records every step; `actions_or_policy(t, env)` gives the action of step t."""
+    env.seed(0)  # the reset's fixture placement draws from it: each file the same whatever ran before
     env.reset()
     env.set_init_state(init)
     records = [sbs.record(env, 0, None)]
@@ -95,6 +106,7 @@ def run(env, init, actions_or_policy, steps):
         a = [float(x) for x in actions_or_policy(t, env)]
         env.step(a)
         records.append(sbs.record(env, t + 1, a))
+        records[-1]["arm_contacts"] = arm_contacts(env)
     return records
 
 
@@ -184,7 +196,9 @@ def main():
         else:
             records = run(env, init, lambda t, _env: actions[t], len(actions))
         save(args.out, seq, suite, name, env, init, records, phases)
-        print(f"{seq}: {len(records) - 1} steps in {time.perf_counter() - clock:.1f} s; {limit_summary(records)}",
+        touching = [r["t"] for r in records[1:] if r["arm_contacts"]]
+        touch = f"arm touches the scene at {len(touching)} records from {touching[0]}" if touching else "arm touches nothing"
+        print(f"{seq}: {len(records) - 1} steps in {time.perf_counter() - clock:.1f} s; {limit_summary(records)}; {touch}",
               flush=True)
     for env, _ in envs.values():
         env.close()

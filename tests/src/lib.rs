@@ -34,6 +34,31 @@ pub fn shared(relative: &str, test: &str) -> Option<PathBuf> {
     }
 }
 
+/// A set of MuJoCo recordings kept outside the repository (they are made with the original
+/// stack, not shipped): `$<env>` if set, else `~/.cache/libero-vifo/<name>`, when it holds
+/// `*_init0.json` recordings; otherwise prints a skip notice naming the test, the folder and
+/// `how` to record it, and returns `None`.
+pub fn recorded(env: &str, name: &str, how: &str, test: &str) -> Option<PathBuf> {
+    let dir = std::env::var_os(env)
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache/libero-vifo").join(name)));
+    let has_recordings = |d: &PathBuf| {
+        std::fs::read_dir(d).is_ok_and(|entries| {
+            entries.filter_map(Result::ok).any(|e| e.file_name().to_string_lossy().ends_with("_init0.json"))
+        })
+    };
+    match dir {
+        Some(d) if has_recordings(&d) => Some(d),
+        d => {
+            println!(
+                "SKIPPED {test}: no recordings at {} (record them with `{how}`, or set {env})",
+                d.map_or_else(|| format!("$HOME/.cache/libero-vifo/{name}"), |d| d.display().to_string())
+            );
+            None
+        }
+    }
+}
+
 pub mod python {
     //! Python helper processes for the policy client tests: an import check that prints a skip
     //! notice, and a server process that reports its port and is killed when dropped.

@@ -9,20 +9,8 @@ use vifo::xval::{self, Recording, images};
 use vifo_scenes::view::CameraName;
 
 fn complete_refs(test: &str) -> Option<PathBuf> {
-    let dir = std::env::var_os("VIFO_XVAL_COMPLETE")
-        .map(PathBuf::from)
-        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache/libero-vifo/xval-complete")));
-    match dir {
-        Some(d) if xval::recordings_in(&d).is_ok() => Some(d),
-        d => {
-            println!(
-                "SKIPPED {test}: no complete-asset reference frames at {} (record them with \
-                 `~/.cache/libero-vifo/orig-venv/bin/python xval/record_complete.py`, or set VIFO_XVAL_COMPLETE)",
-                d.map_or_else(|| "$HOME/.cache/libero-vifo/xval-complete".into(), |d| d.display().to_string())
-            );
-            None
-        }
-    }
+    let how = "~/.cache/libero-vifo/orig-venv/bin/python xval/record_complete.py";
+    vifo_tests::recorded("VIFO_XVAL_COMPLETE", "xval-complete", how, test)
 }
 
 #[test]

@@ -286,26 +286,12 @@ impl Renderer {
         let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, poly: &mut self.poly, rig: &self.rig };
         let lit = front.assemble(inst, visible.inside, view, |setup, iz, light| {
             rasterized += 1;
-            // A triangle behind everything drawn so far changes nothing: it is neither lit nor
-            // recorded. (Instances are drawn front to back, so this is common.)
-            let plane = setup.plane(iz);
-            let mut any = false;
-            setup.for_each_span(|j, first, last| {
-                let base = j as usize * view.width as usize;
-                let row_key = plane.b * j as f32 + plane.c;
-                for (d, i) in depth[base + first as usize..base + last as usize + 1].iter().zip(first..) {
-                    any |= plane.a * i as f32 + row_key > *d;
-                }
-            });
-            if !any {
-                return;
-            }
-            let (rec, sh) = build_record(&setup, &light(), inst, idx, shadows);
+            // Depth test and write first, under the id the record is about to get: a triangle
+            // that loses every test (common: instances go front to back) wrote nothing, and is
+            // neither lit nor recorded.
             let id = records.len() as u32;
-            records.push(rec);
-            if let Some(sh) = sh {
-                shadow_rgb.push(sh);
-            }
+            let plane = setup.plane(iz);
+            let mut won = 0u32;
             setup.for_each_span(|j, first, last| {
                 let base = j as usize * view.width as usize;
                 let range = base + first as usize..base + last as usize + 1;
@@ -314,10 +300,19 @@ impl Renderer {
                     let iz = plane.a * i as f32 + row_key;
                     // Bit selects rather than branches: depth-test outcomes are hard to predict.
                     let mask = ((iz > *d) as u32).wrapping_neg();
+                    won |= mask;
                     *t = (*t & !mask) | (id & mask);
                     *d = f32::from_bits((d.to_bits() & !mask) | (iz.to_bits() & mask));
                 }
             });
+            if won == 0 {
+                return;
+            }
+            let (rec, sh) = build_record(&setup, &light(), inst, idx, shadows);
+            records.push(rec);
+            if let Some(sh) = sh {
+                shadow_rgb.push(sh);
+            }
         });
         self.stats.triangles_rasterized += rasterized;
         self.stats.vertices_lit += lit;

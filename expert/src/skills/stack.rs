@@ -62,12 +62,17 @@ const STAGE_LIMIT: usize = 120;
 const BELOW_RIM: f64 = 0.02;
 /// How high the grip point travels above the table top's highest cup rim.
 const CRUISE_CLEARANCE: f64 = 0.065;
-/// How far an open finger reaches out from the grip point along the finger axis, and half its
-/// width across it (the PiPER's 3.5 cm stroke and 2.4 × 5.6 cm fingers).
-const FINGER_REACH: f64 = 0.059;
-const FINGER_HALF_WIDTH: f64 = 0.028;
-/// How far the fingertips reach below the grip point (m).
-const FINGER_BELOW: f64 = 0.025;
+/// The PiPER's open fingers around the grip point (its 3.5 cm stroke, 2.4 × 5.6 × 7 cm fingers).
+struct Fingers {
+    /// How far each reaches out from the grip point along the closing axis.
+    reach: f64,
+    /// Half their width across it.
+    half_width: f64,
+    /// How far the fingertips reach below the grip point.
+    below: f64,
+}
+
+const FINGERS: Fingers = Fingers { reach: 0.059, half_width: 0.028, below: 0.025 };
 /// The held cup's foot is centred this far above the target's rim, then lowered to this far
 /// below it and let go: inside the target's mouth it cannot tip out, and the fingertips, 1.4 cm
 /// above the foot, still clear the rim by 6 mm.
@@ -95,7 +100,7 @@ impl Stack {
     /// equals. A neighbour's size is its collision boxes' reach from its centre.
     fn choose_yaw(&self, sim: &Sim, current: f64) -> f64 {
         let centre = sim.entity_pose(self.object).pos;
-        let fingertips = Self::rim(sim, self.object).z - BELOW_RIM - FINGER_BELOW;
+        let fingertips = Self::rim(sim, self.object).z - BELOW_RIM - FINGERS.below;
         let neighbours: Vec<(Vec3, f64)> = (0..sim.model().entities.len())
             .filter(|&e| e != self.object && sim.model().entities[e].movable())
             .filter_map(|e| {
@@ -112,8 +117,8 @@ impl Stack {
                 .iter()
                 .map(|(at, r)| {
                     let d = at - centre;
-                    let along = d.dot(&axis).abs() - (FINGER_REACH + r);
-                    let across = (d.x * axis.y - d.y * axis.x).abs() - (FINGER_HALF_WIDTH + r);
+                    let along = d.dot(&axis).abs() - (FINGERS.reach + r);
+                    let across = (d.x * axis.y - d.y * axis.x).abs() - (FINGERS.half_width + r);
                     along.max(across)
                 })
                 .fold(f64::MAX, f64::min)
@@ -145,10 +150,11 @@ impl Skill for Stack {
             return Step::Failed("a stacking stage took too long");
         }
         let ee = arm::of(sim).grip_site();
-        if self.yaw.is_none() {
-            self.yaw = Some(self.choose_yaw(sim, motion::current_yaw(&ee)));
-        }
-        let yaw = self.yaw.expect("chosen");
+        // Chosen once, at the first step, from where the hand is then.
+        let yaw = match self.yaw {
+            Some(yaw) => yaw,
+            None => *self.yaw.insert(self.choose_yaw(sim, motion::current_yaw(&ee))),
+        };
         let cup = sim.entity_pose(self.object).pos;
         let grasp = Vec3::new(cup.x, cup.y, Self::rim(sim, self.object).z - BELOW_RIM);
         let steps = self.stage.steps;

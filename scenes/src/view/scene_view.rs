@@ -191,7 +191,10 @@ impl SceneView {
             }
         }
         for (body, spec) in model.robot.model().bodies.iter().enumerate() {
-            let parts = look.and_then(|l| l.robot_parts(spec.name));
+            // A mounted Panda's base carries the pedestal (the look's `mount` parts); an
+            // unmounted one's base draws nothing.
+            let mounted = model.robot.model().name == "panda" && spec.name == "base" && !spec.visuals.is_empty();
+            let parts = look.and_then(|l| l.robot_parts(if mounted { "mount" } else { spec.name }));
             if spec.visuals.is_empty() && parts.is_none() {
                 continue;
             }

@@ -194,7 +194,7 @@ impl SceneView {
             // A mounted Panda's base carries the pedestal (the look's `mount` parts); an
             // unmounted one's base draws nothing.
             let mounted = model.robot.model().name == "panda" && spec.name == "base" && !spec.visuals.is_empty();
-            let parts = look.and_then(|l| l.robot_parts(if mounted { "mount" } else { spec.name }));
+            let parts = look.and_then(|l| l.robot_parts(if mounted { crate::look::MOUNT } else { spec.name }));
             if spec.visuals.is_empty() && parts.is_none() {
                 continue;
             }

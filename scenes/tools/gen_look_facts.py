@@ -203,9 +203,21 @@ ARM_BODIES = {"base", "link0", "link1", "link2", "link3", "link4", "link5", "lin
 GRIPPER_BODIES = {"right_gripper", "leftfinger", "rightfinger"}
 
 
+# robosuite's add_mount puts the mount's root at the Panda's base offset minus RethinkMount's
+# top_offset (0, 0, -0.01): 1 cm above the arm's base frame.
+MOUNT_Z = 0.01
+
+
 def robot_facts(robot_assets):
     parts = parts_of(robot_assets, "robots/panda/robot.xml", "base", lambda b: b.get("name") in ARM_BODIES)
     parts += parts_of(robot_assets, "grippers/panda_gripper.xml", "right_gripper", lambda b: b.get("name") in GRIPPER_BODIES)
+    # The pedestal of a mounted arm, as body `mount` (drawn on the base of mounted Pandas only).
+    mount = parts_of(robot_assets, "mounts/rethink_mount.xml", "base", lambda b: False)
+    for p in mount:
+        head, rest = p.split("pos: [", 1)
+        xyz, tail = rest.split("]", 1)
+        x, y, z = (float(v) for v in xyz.split(","))
+        parts.append(head.replace('body: "base"', 'body: "mount"') + f"pos: {fmt([x, y, z + MOUNT_Z])}" + tail)
     return parts
 
 

@@ -20,5 +20,8 @@ pub use discover::{BadFlag, ENV_VAR, Origin, PythonFound, Root, Roots, Sources, 
 pub use store::{BUILT_IN, CategoryReport, FileReport, LoadedPart, Lods, Look, PartKind, Status};
 pub use tree::{AssetTree, FoundBy, KNOWN_BLOBS, Located, blob_sha1};
 
+/// The robot parts body of robosuite's pedestal, drawn on the base of a mounted Panda.
+pub const MOUNT: &str = "mount";
+
 #[cfg(test)]
 mod tests;

@@ -16,7 +16,7 @@ use crate::catalog::{Recipe, SiteShape};
 use crate::look::{Lods, Look};
 use crate::scene_class::SceneClass;
 use crate::sim::{SceneModel, Sim};
-use crate::task::{Atom, Predicate};
+use crate::task::{Atom, Predicate, ProblemClass};
 
 /// What a segmentation id stands for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -191,7 +191,10 @@ impl SceneView {
             }
         }
         for (body, spec) in model.robot.model().bodies.iter().enumerate() {
-            let parts = look.and_then(|l| l.robot_parts(spec.name));
+            // A mounted Panda's base carries the pedestal (the look's `mount` parts); an
+            // unmounted one's base draws nothing.
+            let mounted = model.robot.model().name == "panda" && spec.name == "base" && !spec.visuals.is_empty();
+            let parts = look.and_then(|l| l.robot_parts(if mounted { crate::look::MOUNT } else { spec.name }));
             if spec.visuals.is_empty() && parts.is_none() {
                 continue;
             }
@@ -210,6 +213,12 @@ impl SceneView {
         let class = model.class;
         let mut arena_segments: Vec<(ArenaPiece, u32)> = Vec::new();
         let mut parts = arena(class, &mut b.meshes);
+        let decor = look.and_then(|l| l.decor(class.problem));
+        if decor.is_some() && matches!(class.problem, ProblemClass::LivingRoomTabletop | ProblemClass::StudyTabletop) {
+            // The decor holds these tables' own meshes; the boxes standing in for them would
+            // cover their textured tops.
+            parts.retain(|p| p.piece != ArenaPiece::Table);
+        }
         if let Some((table, texture)) = class.table.and_then(|t| Some((t, look?.arena_texture(t.texture?)?.clone()))) {
             parts.extend(table_cover(&table, texture));
         }
@@ -236,7 +245,7 @@ impl SceneView {
             b.anchors.push(Anchor::Static);
             b.lods.push(Lods::from([]));
         }
-        if let Some(decor) = look.and_then(|l| l.decor(class.problem)) {
+        if let Some(decor) = decor {
             let segment = b.segment("decor".to_string(), SegmentKind::Arena);
             for part in decor {
                 let pose = Pose::from_wxyz(part.pos, part.quat_wxyz);

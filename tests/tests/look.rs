@@ -67,3 +67,26 @@ fn installed_assets_draw_every_category_and_robot_body() {
     let (_, builtin) = png_sha1("libero_spatial/0", CameraName::AgentView, None);
     assert_ne!(frame, builtin);
 }
+
+/// robosuite's Panda meshes dress the Panda only: the PiPER's links (named `link1`… like the
+/// Panda's) keep their own shapes when LIBERO's look is loaded.
+#[test]
+fn the_look_dresses_only_the_panda() {
+    use vifo_scenes::view::SegmentKind;
+    let roots = look::discover(None, None).unwrap();
+    if roots.robot.is_none() {
+        println!("SKIPPED the_look_dresses_only_the_panda: robosuite's robot meshes are not installed ({:?})", roots.notes);
+        return;
+    }
+    let look = Look::load(roots);
+    // (instances, triangles) of the robot's segments in a scene's view.
+    let robot = |task: &str, look: Option<&Look>| {
+        let sim = episode(&RenderRequest::still(task, InitSource::Shipped)).unwrap();
+        let view = SceneView::with_look(sim.model(), look);
+        let links: Vec<u32> = view.legend().iter().filter(|s| s.kind == SegmentKind::RobotLink).map(|s| s.id).collect();
+        let parts: Vec<_> = view.scene().instances.iter().filter(|i| links.contains(&i.segment)).collect();
+        (parts.len(), parts.iter().map(|i| i.mesh.triangles().len()).sum::<usize>())
+    };
+    assert_eq!(robot("vifo_piper/0", Some(&look)), robot("vifo_piper/0", None));
+    assert_ne!(robot("libero_spatial/0", Some(&look)), robot("libero_spatial/0", None));
+}

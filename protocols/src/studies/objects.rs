@@ -262,6 +262,9 @@ impl Table {
             let (y0, y1) = (top, H - bottom);
             label(&mut pm, metric, (x0 + x1) / 2.0, top - 14.0, 15.0, PANEL_W, black);
             axis(&mut pm, (x0, x1, y0, y1), 100.0, 25.0, "");
+            if !self.rows.iter().any(|r| pair(r).overlay.is_some() || pair(r).object.is_some()) {
+                label(&mut pm, "no data", (x0 + x1) / 2.0, (y0 + y1) / 2.0, 14.0, x1 - x0, black);
+            }
             let group_w = (x1 - x0) / policies.len().max(1) as f32;
             let bar_w = group_w * 0.84 / (2 * groups.len()) as f32;
             for (g, policy) in policies.iter().enumerate() {

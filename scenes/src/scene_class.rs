@@ -233,7 +233,8 @@ const LIVING_ROOM_TABLE_TOP: [Cuboid; 5] = [
 /// The study desk's top slab, top at z = 0.88513.
 const STUDY_DESK_TOP: [Cuboid; 1] = [Cuboid { center: [0.0, 0.0, 0.84929], half_size: [0.68946, 1.39273, 0.03584] }];
 
-static TABLETOP: SceneClass = SceneClass {
+/// LIBERO's plain-table scene; the PiPER setting differs from it only in the robot and the camera.
+const TABLETOP_CLASS: SceneClass = SceneClass {
     problem: ProblemClass::Tabletop,
     workspace: "main_table",
     workspace_offset: [0.0, 0.0, 0.9],
@@ -252,6 +253,8 @@ static TABLETOP: SceneClass = SceneClass {
     lights: &TWO_LIGHTS,
     wall_rgb: LIGHT_GRAY_PLASTER,
 };
+
+static TABLETOP: SceneClass = TABLETOP_CLASS;
 
 static FLOOR: SceneClass = SceneClass {
     problem: ProblemClass::Floor,
@@ -337,19 +340,12 @@ static STUDY: SceneClass = SceneClass {
 /// the table, 0.7 m from the cups, pitched as LIBERO's table views.
 static PIPER: SceneClass = SceneClass {
     problem: ProblemClass::PiperTabletop,
-    workspace: "main_table",
-    workspace_offset: [0.0, 0.0, 0.9],
-    region_site_z: 0.895,
-    fixture_z_offset: 0.01 - 0.05,
-    floor: Floor { friction: DEFAULT_FRICTION, rgb: LIGHT_GRAY_FLOOR_TILE, texture: "textures/light-gray-floor-tile.png" },
-    table: Some(plain_table([0.6, 0.005, 0.0001])),
     robot_base: Pose { pos: [-0.4, 0.0, 1.0], quat_wxyz: IDENTITY },
     robot_on_mount: false,
     arm: ArmKind::Piper,
     robot_riser: Some(Cuboid { center: [-0.41, 0.0, 0.95], half_size: [0.08, 0.08, 0.05] }),
     agentview: Camera { pose: Pose { pos: [0.35, 0.0, 1.35], quat_wxyz: TABLE_VIEW }, fovy_deg: 45.0 },
-    lights: &TWO_LIGHTS,
-    wall_rgb: LIGHT_GRAY_PLASTER,
+    ..TABLETOP_CLASS
 };
 
 #[cfg(test)]

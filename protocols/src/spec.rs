@@ -137,6 +137,12 @@ impl EpisodeSpec {
             self.episode
         )
     }
+
+    /// The suite's step budget: how many control steps the policy gets (0 for a suite the
+    /// scenes do not know).
+    pub fn step_budget(&self) -> usize {
+        vifo_scenes::suite(&self.task.suite).map_or(0, |s| s.max_steps as usize)
+    }
 }
 
 /// How an episode ended.

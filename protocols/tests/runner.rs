@@ -281,3 +281,30 @@ fn built_in_look_records_have_no_look_field_asset_looks_round_trip() {
     assert!(line.contains("\"look\":\"libero-assets:0123456789abcdef\""), "{line}");
     assert_eq!(serde_json::from_str::<EpisodeRecord>(&line).unwrap(), looked);
 }
+
+#[test]
+fn the_suites_with_the_longest_step_budget_run_first_in_list_order() {
+    // libero_10 (520 steps) and libero_spatial (220) alternate in the list.
+    let all: Vec<EpisodeSpec> = specs(12)
+        .into_iter()
+        .enumerate()
+        .map(|(i, mut s)| {
+            s.task.suite = if i % 2 == 0 { "libero_spatial" } else { "libero_10" }.into();
+            s.seed = seed_for(&s);
+            s
+        })
+        .collect();
+    let started = std::sync::Mutex::new(Vec::new());
+    let (_dir, path) = temp();
+    runner::run(
+        &all,
+        |spec| {
+            started.lock().unwrap().push(spec.key());
+            episode(spec)
+        },
+        &options(&path, 1),
+    )
+    .unwrap();
+    let long_first: Vec<String> = all.iter().filter(|s| s.task.suite == "libero_10").chain(all.iter().filter(|s| s.task.suite == "libero_spatial")).map(|s| s.key()).collect();
+    assert_eq!(started.into_inner().unwrap(), long_first);
+}

@@ -288,7 +288,7 @@ impl Env {
                 Some(EpisodeCue::prepare(&settled, &settled_view, &mut self.renderer, c, &task.goal, self.config.size, render)?)
             }
         };
-        let budget = vifo_scenes::suite(&spec.task.suite).map_or(0, |s| s.max_steps as usize)
+        let budget = spec.step_budget()
             + if settle { 0 } else { SETTLE_STEPS };
         let (language_goal, cue_goal) = if study {
             // The note's task: the cups stacked (authorized), or nothing (STOP).

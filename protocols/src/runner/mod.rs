@@ -1,6 +1,7 @@
 //! Parallel, resumable, shardable episode runs.
 //!
-//! [`run`] executes one closure per [`EpisodeSpec`] on a rayon pool and appends each finished
+//! [`run`] executes one closure per [`EpisodeSpec`] on a rayon pool, the suites with the longest
+//! step budget first (each worker takes the next episode when it is free), and appends each finished
 //! [`EpisodeRecord`] to a JSONL file as soon as it finishes (see [`results`] for the crash
 //! guarantees). With `resume`, specs whose key already has a completed record are skipped and
 //! earlier errors run again. Sharding splits a spec list across machines by a stable hash of
@@ -14,10 +15,10 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use rayon::prelude::*;
 use thiserror::Error;
 
 use vifo_cues::SetName;
@@ -158,32 +159,36 @@ where
 
     let OpenResults { lock: _lock, writer, done, truncated_tail } = open_results(options)?;
     summary.truncated_tail = truncated_tail;
-    let todo: Vec<&EpisodeSpec> = in_shard.into_iter().filter(|s| !done.contains(&s.key())).collect();
+    let mut todo: Vec<&EpisodeSpec> = in_shard.into_iter().filter(|s| !done.contains(&s.key())).collect();
     summary.already_done = summary.in_shard - todo.len();
+    // Longest step budget first, each worker taking the next episode when it is free: the long
+    // episodes then run side by side early instead of ending the run on a few busy workers.
+    todo.sort_by_key(|s| std::cmp::Reverse(s.step_budget()));
 
     let writer = Mutex::new(writer);
     let failure: Mutex<Option<RunError>> = Mutex::new(None);
     let progress = progress_bar(todo.len() as u64, options.quiet);
-    let errors = std::sync::atomic::AtomicUsize::new(0);
+    let errors = AtomicUsize::new(0);
+    let next = AtomicUsize::new(0);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.threads)
         .build()
         .map_err(|e| RunError::Pool(e.to_string()))?;
-    pool.install(|| {
-        todo.par_iter().for_each(|spec| {
+    pool.broadcast(|_| {
+        while let Some(spec) = todo.get(next.fetch_add(1, Ordering::Relaxed)) {
             if lock(&failure).is_some() {
                 return;
             }
             let record = EpisodeRecord { set: options.set, ..run_one(spec, &episode, &options.policy) };
             if !results::is_completed(&record) {
-                let n = errors.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                let n = errors.fetch_add(1, Ordering::Relaxed) + 1;
                 progress.set_message(format!("errors: {n}"));
             }
             if let Err(e) = lock(&writer).write(&record) {
                 lock(&failure).get_or_insert(e);
             }
             progress.inc(1);
-        })
+        }
     });
     progress.finish();
     if let Some(e) = failure.into_inner().unwrap_or_else(|p| p.into_inner()) {

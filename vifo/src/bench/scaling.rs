@@ -48,8 +48,9 @@ pub struct Scaling {
 /// Runs `episodes` episodes of a fixed sample of the paper set's whole benchmark (every
 /// protocol, in proportion) once per thread count in `threads`, into throwaway results files
 /// under `scratch`. An untimed warm-up pass first builds the scene models every run shares,
-/// so neither the first timing nor the first memory figure carries them.
-pub fn run(threads: &[usize], episodes: usize, rendered: bool, scratch: &Path) -> Result<Scaling> {
+/// so neither the first timing nor the first memory figure carries them. `measured` sees each
+/// row as soon as it is timed (a long bench cut short still leaves the rows it timed).
+pub fn run(threads: &[usize], episodes: usize, rendered: bool, scratch: &Path, mut measured: impl FnMut(&ScalingRow)) -> Result<Scaling> {
     let all = specs::specs(&Selection::all(1))?;
     let sample = specs::sample(&all, episodes);
     let config = EnvConfig {
@@ -87,6 +88,7 @@ pub fn run(threads: &[usize], episodes: usize, rendered: bool, scratch: &Path) -
             mb_per_worker,
             load_before,
         });
+        measured(rows.last().expect("pushed"));
     }
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
     Ok(Scaling { policy: POLICY, rendered, cores, rows })

@@ -50,8 +50,12 @@ pub enum BenchWhat {
     /// the whole benchmark (built-in expert-cue policy), and the memory per worker.
     Scaling {
         /// Largest thread count (default: every core); each count from 1 up is timed.
-        #[arg(long)]
+        #[arg(long, conflicts_with = "threads")]
         max_threads: Option<usize>,
+        /// Only these thread counts, e.g. `1,2,4,8,16` (one thread among them: the speedup is
+        /// against it), for a many-core machine where timing every count takes too long.
+        #[arg(long, value_delimiter = ',')]
+        threads: Vec<usize>,
         /// Episodes in the sample (the same ones for every thread count).
         #[arg(long, default_value_t = 24)]
         episodes: usize,
@@ -118,11 +122,22 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 println!("(wall clock, median of {} episodes each; 256² cameras rendered after every step)", results.first().map_or(0, |r| r.repeats));
             }
         }
-        BenchWhat::Scaling { max_threads, episodes, no_render, scratch } => {
-            let cores = std::thread::available_parallelism().map_or(1, usize::from);
-            let max = max_threads.unwrap_or(cores).max(1);
-            let threads: Vec<usize> = (1..=max).collect();
-            let r = bench::scaling::run(&threads, *episodes, !no_render, scratch)?;
+        BenchWhat::Scaling { max_threads, threads, episodes, no_render, scratch } => {
+            let threads = if threads.is_empty() {
+                let cores = std::thread::available_parallelism().map_or(1, usize::from);
+                (1..=max_threads.unwrap_or(cores).max(1)).collect()
+            } else {
+                let mut counts = threads.clone();
+                counts.sort_unstable();
+                counts.dedup();
+                anyhow::ensure!(counts.first() != Some(&0), "--threads {threads:?}: a thread count is at least 1");
+                anyhow::ensure!(counts.first() == Some(&1), "--threads {threads:?}: name 1 among the counts (the speedup is against one thread)");
+                counts
+            };
+            let progress = |row: &bench::scaling::ScalingRow| {
+                eprintln!("{} threads: {:.1} s, {:.3} episodes/s, {:.2}x", row.threads, row.seconds, row.episodes_per_second, row.speedup)
+            };
+            let r = bench::scaling::run(&threads, *episodes, !no_render, scratch, progress)?;
             let _ = std::fs::remove_dir(scratch);
             if args.json {
                 println!("{}", serde_json::to_string_pretty(&r)?);

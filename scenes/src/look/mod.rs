@@ -23,5 +23,8 @@ pub use tree::{AssetTree, FoundBy, KNOWN_BLOBS, Located, blob_sha1};
 /// The robot parts body of robosuite's pedestal, drawn on the base of a mounted Panda.
 pub const MOUNT: &str = "mount";
 
+/// The arm whose meshes the look's robot parts are (robosuite's Panda).
+const ARM: &str = "panda";
+
 #[cfg(test)]
 mod tests;

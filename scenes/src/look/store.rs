@@ -16,6 +16,7 @@ use vifo_render::glam::Vec2;
 use vifo_render::{Material, Mesh, Texture};
 
 use super::discover::Roots;
+use super::{ARM, MOUNT};
 use super::facts::{CATEGORIES, PANDA, SCENES};
 use super::parts::{MaterialFact, PartFact, Shape};
 use super::tree::{AssetTree, Located, blob_sha1};
@@ -314,9 +315,16 @@ impl Look {
         &self.hash
     }
 
-    /// The parts of robot body `body` (`link3`, `leftfinger`), when drawn from robosuite's files.
-    pub fn robot_parts(&self, body: &str) -> Option<&[LoadedPart]> {
-        self.robot.get(body).map(Vec::as_slice)
+    /// The parts of body `body` (`link3`, `leftfinger`) of arm `arm`, when drawn from
+    /// robosuite's files. Those are the Panda's: another arm (the PiPER, whose links share
+    /// names such as `link1`) has none and keeps its own shapes. The base of a `mounted` Panda
+    /// (one whose model stands it on a pedestal) carries robosuite's pedestal.
+    pub fn robot_parts(&self, arm: &str, body: &str, mounted: bool) -> Option<&[LoadedPart]> {
+        if arm != ARM {
+            return None;
+        }
+        let key = if mounted && body == "base" { MOUNT } else { body };
+        self.robot.get(key).map(Vec::as_slice)
     }
 
     /// The decor of `problem`'s scene XML (backdrops, furniture, paintings; posed in the world

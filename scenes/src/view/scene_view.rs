@@ -190,14 +190,10 @@ impl SceneView {
                 indicators.push(Indicator { when, instance, anchor });
             }
         }
-        // The look's robot meshes are robosuite's Panda: another arm (the PiPER, whose links
-        // share names such as `link1`) keeps its own shapes.
-        let panda = model.robot.model().name == "panda";
+        let arm = model.robot.model().name;
         for (body, spec) in model.robot.model().bodies.iter().enumerate() {
-            // A mounted Panda's base carries the pedestal (the look's `mount` parts); an
-            // unmounted one's base draws nothing.
-            let mounted = panda && spec.name == "base" && !spec.visuals.is_empty();
-            let parts = look.filter(|_| panda).and_then(|l| l.robot_parts(if mounted { crate::look::MOUNT } else { spec.name }));
+            // A base with shapes of its own stands on a pedestal; an unmounted one draws nothing.
+            let parts = look.and_then(|l| l.robot_parts(arm, spec.name, !spec.visuals.is_empty()));
             if spec.visuals.is_empty() && parts.is_none() {
                 continue;
             }

@@ -13,6 +13,7 @@
 //!   `geometry`: the scene's shapes as the expert sees them (obstacles, grasp choice, heights
 //!   to pass over).
 
+mod approach;
 mod arm;
 mod geometry;
 mod motion;

@@ -1,12 +1,13 @@
 //! Turning a knob (the stove's) by gripping it and twisting about its axis.
 //!
-//! Recipe: rise, come over the knob, descend, grasp, twist it round its hinge, release,
-//! retreat.
+//! Recipe: the approach (rise, come over the knob, descend, grasp), twist it round its hinge,
+//! release, retreat.
 
 use vifo_robots::spatial::Vec3;
 use vifo_scenes::sim::Sim;
 
 use super::Skill;
+use crate::approach::{Approach, ApproachPlan, Descent};
 use crate::arm;
 use crate::geometry::{self, Grasp, Obstacles, cruise_height};
 use crate::motion::{self, Waypoint};
@@ -14,10 +15,7 @@ use crate::stages::{self, CLOSE, Leg, OPEN, Pace, Progress, Stages, Step, Tol, g
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Stage {
-    Rise,
-    Above,
-    Descend,
-    Grip,
+    Approach(Approach),
     Twist,
     Release,
     Retreat,
@@ -43,7 +41,7 @@ const STAGE_LIMIT: usize = 90;
 
 impl Knob {
     pub fn new(entity: usize, body: usize, joint: String, target: f64) -> Self {
-        Knob { entity, body, joint, target, stage: Stages::new(Stage::Rise, STAGE_LIMIT), grasp: None, q_grip: 0.0, cruise_z: 0.0, angles: Progress::default() }
+        Knob { entity, body, joint, target, stage: Stages::new(Stage::Approach(Approach::Rise), STAGE_LIMIT), grasp: None, q_grip: 0.0, cruise_z: 0.0, angles: Progress::default() }
     }
 
     fn q(&self, sim: &Sim) -> f64 {
@@ -86,22 +84,25 @@ impl Skill for Knob {
         let grip = gripper_toward(sim, g.half_gap);
         let steps = self.stage.steps;
         let (leg, then) = match self.stage.now {
-            Stage::Rise => {
-                self.cruise_z = cruise_height(sim, &g.pos, 0.06, g.pos.z + 0.08, None);
-                (stages::rise(sim, self.cruise_z, motion::orientation(g.yaw), grip), Stage::Above)
-            }
-            Stage::Above => {
-                let wp = Waypoint::down(stages::over(&ee.pos, &g.pos, self.cruise_z, g.pos.z + 0.06), g.yaw);
-                (stages::reach(sim, wp, Pace::Fine, Tol::pose(0.003, 0.03), grip), Stage::Descend)
-            }
-            Stage::Descend => (stages::reach(sim, Waypoint::down(g.pos, g.yaw), Pace::Fine, Tol::pos(0.004), grip), Stage::Grip),
-            Stage::Grip => {
-                let leg = stages::grasp(steps, 12, Waypoint::down(g.pos, g.yaw));
-                if leg.is_last() {
+            Stage::Approach(a) => {
+                if a == Approach::Rise {
+                    self.cruise_z = cruise_height(sim, &g.pos, 0.06, g.pos.z + 0.08, None);
+                }
+                let plan = ApproachPlan {
+                    grasp: Waypoint::down(g.pos, g.yaw),
+                    yaw: g.yaw,
+                    cruise_z: self.cruise_z,
+                    low: g.pos.z + 0.06,
+                    above: (Pace::Fine, Tol::pose(0.003, 0.03)),
+                    descent: Descent::Direct,
+                    grip,
+                };
+                let (leg, next) = a.leg(sim, steps, &plan);
+                if next.is_none() && leg.is_last() {
                     self.q_grip = self.q(sim);
                     self.angles.clear();
                 }
-                (leg, Stage::Twist)
+                (leg, next.map_or(Stage::Twist, Stage::Approach))
             }
             // Follow the hinge, leading the knob by a quarter radian around its axis.
             Stage::Twist => {

@@ -2,60 +2,19 @@
 //! carry it over the other cup, and lower its foot into the other's mouth before letting go, so
 //! the taper centres it (the fingers, outside the held cup, stay clear of the lower cup's rim).
 //!
-//! Recipe: rise, come over the cup, descend, grasp, lift straight up, carry over the target,
-//! lower to just above its rim and wait there until the cup's foot stays over the opening,
-//! enter the mouth, release, retreat.
+//! Recipe: the approach (rise, come over the cup, descend, grasp), lift straight up, carry over
+//! the target, lower to just above its rim and wait there until the cup's foot stays over the
+//! opening, enter the mouth, release, retreat.
 
 use vifo_robots::spatial::Vec3;
 use vifo_scenes::sim::Sim;
 
 use super::Skill;
+use crate::approach::{Approach, ApproachPlan, Descent};
 use crate::arm;
 use crate::geometry::{corners, horizontal};
 use crate::motion::{self, Waypoint};
 use crate::stages::{self, CLOSE, Leg, OPEN, Pace, Progress, Stages, Step, Tol};
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Stage {
-    Rise,
-    Above,
-    Descend,
-    Grip,
-    Lift,
-    Carry,
-    Lower,
-    Enter,
-    Release,
-    Retreat,
-    Done,
-}
-
-/// Put cup `object` into cup `target`.
-pub struct Stack {
-    object: usize,
-    target: usize,
-    stage: Stages<Stage>,
-    /// Finger yaw, kept from the start (a cup is round: any yaw takes it).
-    yaw: Option<f64>,
-    /// The grip point's height above the held cup's foot, measured at the grasp.
-    hold: f64,
-    /// The cup's height when the fingers closed.
-    start_z: f64,
-    /// Where the fingers closed: the cup is lifted straight up from there.
-    grasped_at: Vec3,
-    /// The grip point's horizontal offset from the held cup's centre, measured at the grasp
-    /// (the cup standing on the table): the hand carries the cup over the target by it. Not
-    /// re-measured from the held cup, which swings a little in the pinch, and a hand chasing
-    /// the swinging cup drives the swing.
-    offset: Vec3,
-    /// Where the fingers opened: the hand leaves straight up from there.
-    released_at: Vec3,
-    /// For how many steps in a row the held cup's foot has been over the target's opening: it
-    /// is let go only once it stays there (it rocks a little in the pinch after the carry).
-    centred_for: usize,
-    /// Recent grip-site heights while entering, to notice a stall.
-    entering: Progress,
-}
 
 const STAGE_LIMIT: usize = 120;
 /// The grasp: this far below the rim, where the cup is narrower than the open gripper.
@@ -82,9 +41,55 @@ const ENTER: f64 = 0.008;
 /// inside the 8 mm the taper centres.
 const CENTRED: f64 = 0.005;
 
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Stage {
+    Approach(Approach),
+    Lift,
+    Carry,
+    Lower,
+    Enter,
+    Release,
+    Retreat,
+    Done,
+}
+
+/// Put cup `object` into cup `target`.
+pub struct Stack {
+    object: usize,
+    target: usize,
+    stage: Stages<Stage>,
+    /// Finger yaw, kept from the start (a cup is round: any yaw takes it).
+    yaw: Option<f64>,
+    /// Measured when the fingers closed.
+    held: Held,
+    /// Where the fingers opened: the hand leaves straight up from there.
+    released_at: Vec3,
+    /// For how many steps in a row the held cup's foot has been over the target's opening: it
+    /// is let go only once it stays there (it rocks a little in the pinch after the carry).
+    centred_for: usize,
+    /// Recent grip-site heights while entering, to notice a stall.
+    entering: Progress,
+}
+
+/// The cup in the hand, as measured when the fingers closed on it (the cup standing on the
+/// table).
+#[derive(Clone, Copy, Debug, Default)]
+struct Held {
+    /// The grip point's height above the cup's foot.
+    hold: f64,
+    /// The cup's height.
+    start_z: f64,
+    /// Where the fingers closed: the cup is lifted straight up from there.
+    at: Vec3,
+    /// The grip point's horizontal offset from the cup's centre: the hand carries the cup over
+    /// the target by it. Not re-measured from the held cup, which swings a little in the pinch,
+    /// and a hand chasing the swinging cup drives the swing.
+    offset: Vec3,
+}
+
 impl Stack {
     pub fn new(object: usize, target: usize) -> Self {
-        Stack { object, target, stage: Stages::new(Stage::Rise, STAGE_LIMIT), yaw: None, hold: 0.0, start_z: 0.0, grasped_at: Vec3::zeros(), offset: Vec3::zeros(), released_at: Vec3::zeros(), centred_for: 0, entering: Progress::default() }
+        Stack { object, target, stage: Stages::new(Stage::Approach(Approach::Rise), STAGE_LIMIT), yaw: None, held: Held::default(), released_at: Vec3::zeros(), centred_for: 0, entering: Progress::default() }
     }
 
     /// The top of an entity's model (its rim, for a cup) at its current pose.
@@ -159,49 +164,42 @@ impl Skill for Stack {
         let grasp = Vec3::new(cup.x, cup.y, Self::rim(sim, self.object).z - BELOW_RIM);
         let steps = self.stage.steps;
         let (leg, then) = match self.stage.now {
-            Stage::Rise => (stages::rise(sim, self.cruise_z(sim, 0.0), motion::orientation(yaw), OPEN), Stage::Above),
-            Stage::Above => {
-                let wp = Waypoint::down(stages::over(&ee.pos, &grasp, self.cruise_z(sim, 0.0), grasp.z + 0.06), yaw);
-                (stages::reach(sim, wp, Pace::ClosingIn, Tol::pose(0.004, 0.03), OPEN), Stage::Descend)
-            }
-            // Down in 5 mm steps, held while more than 3 mm off sideways: the open fingers
-            // have 7 mm to spare around the rim, and the joints lag when the arm moves fast.
-            Stage::Descend => {
-                let off = horizontal(&ee.pos, &grasp);
-                let z = if off > 0.003 { ee.pos.z } else { (ee.pos.z - 0.005).max(grasp.z) };
-                let wp = Waypoint::down(Vec3::new(grasp.x, grasp.y, z), yaw);
-                let there = (ee.pos - grasp).norm() < 0.004;
-                (Leg::until(stages::Move { to: wp, servo: motion::Servo::FINE, grip: OPEN }, there), Stage::Grip)
-            }
-            Stage::Grip => {
-                let leg = stages::grasp(steps, 12, Waypoint::down(grasp, yaw));
-                if leg.is_last() {
-                    self.hold = ee.pos.z - cup.z;
-                    self.start_z = cup.z;
-                    self.grasped_at = ee.pos;
-                    self.offset = Vec3::new(ee.pos.x - cup.x, ee.pos.y - cup.y, 0.0);
+            Stage::Approach(a) => {
+                let plan = ApproachPlan {
+                    grasp: Waypoint::down(grasp, yaw),
+                    yaw,
+                    cruise_z: self.cruise_z(sim, 0.0),
+                    low: grasp.z + 0.06,
+                    above: (Pace::ClosingIn, Tol::pose(0.004, 0.03)),
+                    // The open fingers have 7 mm to spare around the rim.
+                    descent: Descent::Stepped { step: 0.005, within: 0.003 },
+                    grip: OPEN,
+                };
+                let (leg, next) = a.leg(sim, steps, &plan);
+                if next.is_none() && leg.is_last() {
+                    self.held = Held { hold: ee.pos.z - cup.z, start_z: cup.z, at: ee.pos, offset: Vec3::new(ee.pos.x - cup.x, ee.pos.y - cup.y, 0.0) };
                 }
-                (leg, Stage::Lift)
+                (leg, next.map_or(Stage::Lift, Stage::Approach))
             }
             Stage::Lift => {
-                let up = Waypoint::down(Vec3::new(self.grasped_at.x, self.grasped_at.y, self.cruise_z(sim, self.hold)), yaw);
-                if let Some(why) = stages::lift_failure(sim, steps, 30, self.start_z, cup.z, 0.02) {
+                let up = Waypoint::down(Vec3::new(self.held.at.x, self.held.at.y, self.cruise_z(sim, self.held.hold)), yaw);
+                if let Some(why) = stages::lift_failure(sim, steps, 30, self.held.start_z, cup.z, 0.02) {
                     return Step::Failed(why);
                 }
                 let (d, _) = motion::error(sim, &up);
                 (Leg::until(stages::Move { to: up, servo: motion::Servo::TRAVEL, grip: CLOSE }, d < 0.01), Stage::Carry)
             }
             Stage::Carry => {
-                let over = sim.entity_pose(self.target).pos + self.offset;
-                (stages::carry(sim, &Vec3::new(over.x, over.y, self.cruise_z(sim, self.hold)), motion::orientation(yaw)), Stage::Lower)
+                let over = sim.entity_pose(self.target).pos + self.held.offset;
+                (stages::carry(sim, &Vec3::new(over.x, over.y, self.cruise_z(sim, self.held.hold)), motion::orientation(yaw)), Stage::Lower)
             }
             // Down to just above the rim, then held until the cup's foot stays over the
             // target's opening (the taper centres a foot up to 8 mm off).
             Stage::Lower => {
                 let below = sim.entity_pose(self.target).pos;
                 self.centred_for = if horizontal(&cup, &below) < CENTRED { self.centred_for + 1 } else { 0 };
-                let over = below + self.offset;
-                let wp = Waypoint::down(Vec3::new(over.x, over.y, Self::rim(sim, self.target).z + DROP + self.hold), yaw);
+                let over = below + self.held.offset;
+                let wp = Waypoint::down(Vec3::new(over.x, over.y, Self::rim(sim, self.target).z + DROP + self.held.hold), yaw);
                 let (d, _) = motion::error(sim, &wp);
                 let settled = self.centred_for >= 3;
                 (Leg::until(stages::Move { to: wp, servo: motion::Servo::FINE, grip: CLOSE }, d < 0.004 && settled), Stage::Enter)
@@ -209,7 +207,7 @@ impl Skill for Stack {
             // Straight down until the foot is inside the target's mouth (or it sits on
             // something): once let go there, the cup cannot tip out of it.
             Stage::Enter => {
-                let wp = Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, Self::rim(sim, self.target).z - ENTER + self.hold), yaw);
+                let wp = Waypoint::down(Vec3::new(ee.pos.x, ee.pos.y, Self::rim(sim, self.target).z - ENTER + self.held.hold), yaw);
                 (stages::set_down(sim, &mut self.entering, wp, Pace::Fine, 0.002, 0.001), Stage::Release)
             }
             // Held still while the fingers open and the cup settles into the one below.

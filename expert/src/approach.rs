@@ -7,7 +7,7 @@ use vifo_scenes::sim::Sim;
 
 use crate::arm;
 use crate::geometry::horizontal;
-use crate::motion::{self, Servo, Waypoint};
+use crate::motion::{Servo, Waypoint};
 use crate::stages::{self, Leg, Move, Pace, Tol};
 
 /// The group's stages, in order.
@@ -32,10 +32,9 @@ pub enum Descent {
 /// One skill's approach: where it grasps and how it comes in.
 #[derive(Clone, Copy, Debug)]
 pub struct ApproachPlan {
-    /// The grip site's pose when the fingers close (pointing down, at the grasp's yaw).
+    /// The grip site's pose when the fingers close; the hand turns to its orientation on the
+    /// way up and keeps it.
     pub grasp: Waypoint,
-    /// The finger axis's yaw (that of `grasp`).
-    pub yaw: f64,
     /// The height the hand travels at (see [`crate::geometry::cruise_height`]).
     pub cruise_z: f64,
     /// The stand-off over the grasp the descent starts from.
@@ -59,9 +58,9 @@ impl Approach {
         let ee = arm::of(sim).grip_site().pos;
         let at = plan.grasp.pos;
         match self {
-            Approach::Rise => (stages::rise(sim, plan.cruise_z, motion::orientation(plan.yaw), plan.grip), Some(Approach::Above)),
+            Approach::Rise => (stages::rise(sim, plan.cruise_z, plan.grasp.rot, plan.grip), Some(Approach::Above)),
             Approach::Above => {
-                let wp = Waypoint::down(stages::over(&ee, &at, plan.cruise_z, plan.low), plan.yaw);
+                let wp = Waypoint { pos: stages::over(&ee, &at, plan.cruise_z, plan.low), rot: plan.grasp.rot };
                 let (pace, tol) = plan.above;
                 (stages::reach(sim, wp, pace, tol, plan.grip), Some(Approach::Descend))
             }

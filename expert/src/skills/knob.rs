@@ -90,7 +90,6 @@ impl Skill for Knob {
                 }
                 let plan = ApproachPlan {
                     grasp: Waypoint::down(g.pos, g.yaw),
-                    yaw: g.yaw,
                     cruise_z: self.cruise_z,
                     low: g.pos.z + 0.06,
                     above: (Pace::Fine, Tol::pose(0.003, 0.03)),

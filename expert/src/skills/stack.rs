@@ -167,7 +167,6 @@ impl Skill for Stack {
             Stage::Approach(a) => {
                 let plan = ApproachPlan {
                     grasp: Waypoint::down(grasp, yaw),
-                    yaw,
                     cruise_z: self.cruise_z(sim, 0.0),
                     low: grasp.z + 0.06,
                     above: (Pace::ClosingIn, Tol::pose(0.004, 0.03)),

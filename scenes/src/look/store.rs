@@ -41,6 +41,17 @@ pub struct LoadedPart {
     /// first; empty for primitives and meshes that are already coarse.
     pub lods: Lods,
     pub material: Material,
+    /// The reflectance of a box MuJoCo draws as a mirror (its +z face), with the face's height
+    /// in the part's frame.
+    pub mirror: Option<MirrorFace>,
+}
+
+/// A box's +z face that MuJoCo draws as a mirror.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MirrorFace {
+    pub reflectance: f32,
+    /// Height of the face above the part's origin (the box's half height).
+    pub height: f32,
 }
 
 /// Coarser copies of a mesh, each with the world size (metres) of its merged cells.
@@ -417,5 +428,9 @@ fn load_part(
         None => None,
     };
     let material = material(&fact.material, texture, &mesh);
-    Ok(LoadedPart { body: fact.body, pos: fact.pos, quat_wxyz: fact.quat, scale, mesh, lods, material })
+    let mirror = match fact.shape {
+        Shape::Box { half } if fact.material.reflectance > 0.0 => Some(MirrorFace { reflectance: fact.material.reflectance as f32, height: half[2] as f32 }),
+        _ => None,
+    };
+    Ok(LoadedPart { body: fact.body, pos: fact.pos, quat_wxyz: fact.quat, scale, mesh, lods, material, mirror })
 }

@@ -329,13 +329,19 @@ impl Look {
     /// The parts of body `body` (`link3`, `leftfinger`) of arm `arm`, when drawn from
     /// robosuite's files. Those are the Panda's: another arm (the PiPER, whose links share
     /// names such as `link1`) has none and keeps its own shapes. The base of a `mounted` Panda
-    /// (one whose model stands it on a pedestal) carries robosuite's pedestal.
+    /// (one whose model stands it on a pedestal) carries robosuite's pedestal. A body on which
+    /// robosuite's Panda has no visual geom (`right_hand`, a frame inside the gripper's hand)
+    /// has no parts: it draws nothing, as in MuJoCo, once any robot file was loaded.
     pub fn robot_parts(&self, arm: &str, body: &str, mounted: bool) -> Option<&[LoadedPart]> {
         if arm != ARM {
             return None;
         }
         let key = if mounted && body == "base" { MOUNT } else { body };
-        self.robot.get(key).map(Vec::as_slice)
+        match self.robot.get(key) {
+            Some(parts) => Some(parts.as_slice()),
+            None if !self.robot.is_empty() && !PANDA.iter().any(|p| p.body == key) => Some(&[]),
+            None => None,
+        }
     }
 
     /// The decor of `problem`'s scene XML (backdrops, furniture, paintings; posed in the world

@@ -166,5 +166,6 @@ fn libero_like_scene(detail: u32) -> Scene {
         lights: vec![light(Vec3::new(1.0, 1.0, 4.0)), light(Vec3::new(-3.0, -3.0, 4.0))],
         headlight: Headlight::default(),
         background: Background::Gradient { up: [0.9, 0.9, 1.0], down: [0.2, 0.3, 0.4] },
+        mirror: None,
     }
 }

@@ -35,7 +35,7 @@ pub use camera::{Camera, Intrinsics, Projection, DEFAULT_FAR, DEFAULT_NEAR};
 pub use frame::{Frame, RgbImage};
 pub use mesh::{BoundingSphere, Mesh, MeshError};
 pub use raster::{RenderError, RenderOptions, RenderStats, Renderer, MAX_IMAGE_SIDE};
-pub use scene::{Background, Headlight, Instance, Light, LightKind, Material, Scene};
+pub use scene::{Background, Headlight, Instance, Light, LightKind, Material, Mirror, Scene};
 pub use texture::{Filter, Texture, TextureError};
 pub use transform::{mat3_from_mj_xmat, quat_wxyz_to_mat3, Transform};
 

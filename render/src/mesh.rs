@@ -37,6 +37,8 @@ pub struct Mesh {
     uvs: Option<Vec<Vec2>>,
     triangles: Vec<[u32; 3]>,
     bounds: BoundingSphere,
+    /// Half size of the bounding box centred on `bounds.center`.
+    half_extent: Vec3,
 }
 
 impl Mesh {
@@ -72,8 +74,8 @@ impl Mesh {
                 return Err(MeshError::IndexOutOfRange { triangle: t, index, vertices: n });
             }
         }
-        let bounds = bounding_sphere(&positions);
-        Ok(Mesh { positions, normals, uvs, triangles, bounds })
+        let (bounds, half_extent) = bounding_sphere(&positions);
+        Ok(Mesh { positions, normals, uvs, triangles, bounds, half_extent })
     }
 
     /// Builds a mesh whose normals are the area-weighted average of the adjacent face normals
@@ -158,6 +160,11 @@ impl Mesh {
         self.bounds
     }
 
+    /// Half size of the local bounding box, which is centred on `bounds().center`.
+    pub fn half_extent(&self) -> Vec3 {
+        self.half_extent
+    }
+
     /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.triangles.len()
@@ -208,10 +215,11 @@ impl Mesh {
     }
 }
 
-/// Centre of the bounding box, radius to the farthest vertex: deterministic and tight enough.
-fn bounding_sphere(points: &[Vec3]) -> BoundingSphere {
+/// Centre of the bounding box, radius to the farthest vertex: deterministic and tight enough;
+/// and the box's half size.
+fn bounding_sphere(points: &[Vec3]) -> (BoundingSphere, Vec3) {
     if points.is_empty() {
-        return BoundingSphere { center: Vec3::ZERO, radius: 0.0 };
+        return (BoundingSphere { center: Vec3::ZERO, radius: 0.0 }, Vec3::ZERO);
     }
     let (mut lo, mut hi) = (points[0], points[0]);
     for &p in points {
@@ -220,7 +228,7 @@ fn bounding_sphere(points: &[Vec3]) -> BoundingSphere {
     }
     let center = (lo + hi) * 0.5;
     let r2 = points.iter().map(|&p| dot(p - center, p - center)).fold(0.0f32, f32::max);
-    BoundingSphere { center, radius: r2.sqrt() }
+    (BoundingSphere { center, radius: r2.sqrt() }, (hi - lo) * 0.5)
 }
 
 #[cfg(test)]

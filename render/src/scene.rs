@@ -179,6 +179,20 @@ impl Default for Background {
     }
 }
 
+/// A flat mirror as MuJoCo draws one (`render_gl3.c`, flag `mjRND_REFLECTION`): the +z face of
+/// a box whose material has `reflectance > 0` (MuJoCo keeps only the first such geom). The
+/// scene on the face's outer side, lit as it is and with every colour scaled by `reflectance`,
+/// is seen mirrored in the face and added to the face's own colour; where the mirror shows
+/// nothing it adds nothing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Mirror {
+    /// Index of the reflecting instance in [`Scene::instances`]; it does not see itself.
+    pub instance: usize,
+    /// Height of the reflecting face in the instance's local frame (a box's half height).
+    pub face_z: f32,
+    pub reflectance: f32,
+}
+
 /// Everything one frame needs besides the camera.
 #[derive(Clone, Debug, Default)]
 pub struct Scene {
@@ -186,4 +200,6 @@ pub struct Scene {
     pub lights: Vec<Light>,
     pub headlight: Headlight,
     pub background: Background,
+    /// MuJoCo's one reflective surface, if the scene has one.
+    pub mirror: Option<Mirror>,
 }

@@ -5,8 +5,8 @@ use std::sync::Arc;
 
 use vifo_render::glam::{Vec2, Vec3};
 use vifo_render::{
-    Background, Camera, Filter, Frame, Headlight, Instance, Light, Material, Mesh, RenderError, RenderOptions,
-    Renderer, Scene, Texture, Transform,
+    Background, Camera, Filter, Frame, Headlight, Instance, Light, Material, Mesh, Mirror, RenderError,
+    RenderOptions, Renderer, Scene, Texture, Transform,
 };
 
 /// LIBERO's Tabletop agentview (model_facts.json).
@@ -194,6 +194,7 @@ fn lighting_sanity() {
         lights: vec![light],
         headlight: Headlight { active: false, ..Headlight::default() },
         background: Background::Solid([0.0, 0.0, 1.0]),
+        mirror: None,
     };
     let frame = render(&scene, &cam);
     let left = frame.color.pixel(20, 32)[0];
@@ -345,6 +346,47 @@ fn bad_input_is_an_error_or_skipped_never_a_panic() {
     }
 }
 
+/// A grey box whose top (z = 0.9) is a mirror of reflectance 0.5, as MuJoCo draws one: a red
+/// square above the top shows, at half strength and added to the grey, where its mirror image
+/// projects; what stands below the plane, nearer the mirrored eye, is clipped away; pixels off
+/// the top are untouched.
+#[test]
+fn mirrors_add_the_scene_above_them_to_their_face_only() {
+    let cam = agentview(128, 128);
+    let unlit_double = |rgba: [f32; 4]| Material { double_sided: true, ..Material::unlit(rgba) };
+    let top = Vec3::new(0.0, 0.0, 0.9);
+    let face = Instance::new(Arc::new(Mesh::cuboid(Vec3::new(0.2, 0.2, 0.02))), Transform::from_translation(top - Vec3::new(0.0, 0.0, 0.02)), 1)
+        .with_material(Material::unlit([0.2, 0.2, 0.2, 1.0]));
+    let q = Vec3::new(-0.05, 0.02, 0.9);
+    let to_q = (q - cam.position).normalize();
+    let reflected = Vec3::new(to_q.x, to_q.y, -to_q.z);
+    let red = facing_square(&cam, q + 0.3 * reflected, 0.03, unlit_double([1.0, 0.0, 0.0, 1.0]), 2);
+    // A blue wall beside the box, from 0.4 m below the plane to 0.1 m above it: its lower part
+    // stands between the mirrored eye and `q`, its upper part is out of every ray that matters.
+    let wall_rot = vifo_render::glam::Mat3::from_cols(Vec3::Y, Vec3::Z, Vec3::X);
+    let blue = Instance::new(Arc::new(Mesh::plane(0.3, 0.25)), Transform::from_pos_mat3(Vec3::new(0.25, 0.0, 0.75), wall_rot), 3)
+        .with_material(unlit_double([0.0, 0.0, 1.0, 1.0]));
+    let plain = unlit_scene(vec![face, red, blue]);
+    let mirror = Scene { mirror: Some(Mirror { instance: 0, face_z: 0.02, reflectance: 0.5 }), ..plain.clone() };
+    let (without, with) = (render(&plain, &cam), render(&mirror, &cam));
+    let p = cam.project(q).unwrap();
+    let (u, v) = (p.u.round() as u32, p.v.round() as u32);
+    assert_eq!(with.segment_at(u, v), 1);
+    assert_eq!(without.color.pixel(u, v), [51, 51, 51]);
+    let [r, g, b] = with.color.pixel(u, v);
+    assert!((177..=179).contains(&r) && g == 51 && b == 51, "{:?}", [r, g, b]);
+    let mut changed = 0;
+    for (k, (a, b)) in with.color.data.chunks(3).zip(without.color.data.chunks(3)).enumerate() {
+        if a != b {
+            assert_eq!(with.segmentation[k], 1, "pixel {k} off the mirror changed");
+            changed += 1;
+        }
+    }
+    assert!(changed > 4, "{changed}");
+    assert_eq!(with.segmentation, without.segmentation);
+    assert_eq!(with.depth, without.depth);
+}
+
 #[test]
 fn frustum_culling_skips_instances_behind_the_camera() {
     let cam = agentview(32, 32);
@@ -387,5 +429,6 @@ fn busy_scene() -> Scene {
         lights: vec![l1, l2],
         headlight: Headlight::default(),
         background: Background::Gradient { up: [0.9, 0.9, 1.0], down: [0.2, 0.3, 0.4] },
+        mirror: None,
     }
 }

@@ -5,8 +5,8 @@ For each catalog category it reads the asset XML (from a LIBERO asset tree given
 argument) and records every visual geom (group 1, or contype = conaffinity = 0): the body it
 moves with (jointless sub-bodies fused into their parent, as the catalog does), its pose in that
 body's frame, its shape (mesh file and scale, or a primitive), and its MuJoCo material (rgba,
-specular, shininess, emission, texture with type and texrepeat; `reflectance` is left out, as the
-renderer draws no reflections, and `texuniform` is checked to be off).
+specular, shininess, reflectance, emission, texture with type and texrepeat; `texuniform` is
+checked to be off).
 Only numbers and upstream file paths are written: no XML text.
 
 It also records the scene XMLs' decor: every visual mesh geom of each scene's worldbody (the
@@ -168,7 +168,7 @@ def parts_of(assets, rel, root_name, keep, meshes_only=False):
             else:
                 m["rgba"] = attrs["rgba"]
             material = (f"MaterialFact {{ rgba: {fmt(floats(m['rgba']))}, specular: {float(m['specular'])!r}, "
-                        f"shininess: {float(m['shininess'])!r}, "
+                        f"shininess: {float(m['shininess'])!r}, reflectance: {float(m['reflectance'])!r}, "
                         f"emission: {float(m['emission'])!r}, texture: {texture} }}")
             parts.append(f'        PartFact {{ body: "{owner}", pos: {fmt(pos)}, quat: {fmt(quat)}, shape: {shape}, material: {material} }},')
         for child in body.findall("body"):

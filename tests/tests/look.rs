@@ -89,4 +89,14 @@ fn the_look_dresses_only_the_panda() {
     };
     assert_eq!(robot("vifo_piper/0", Some(&look)), robot("vifo_piper/0", None));
     assert_ne!(robot("libero_spatial/0", Some(&look)), robot("libero_spatial/0", None));
+    // robosuite's Panda has no visual geom on `right_hand` (a frame inside the gripper's hand):
+    // with the look it draws nothing there, where the built-in look has a flange.
+    let hand_instances = |look: Option<&Look>| {
+        let sim = episode(&RenderRequest::still("libero_spatial/0", InitSource::Shipped)).unwrap();
+        let view = SceneView::with_look(sim.model(), look);
+        let hand = view.segment_of("robot0_right_hand").unwrap();
+        view.scene().instances.iter().filter(|i| i.segment == hand).count()
+    };
+    assert_eq!(hand_instances(Some(&look)), 0);
+    assert!(hand_instances(None) > 0);
 }

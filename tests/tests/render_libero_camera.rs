@@ -55,6 +55,7 @@ fn tabletop(textures: &Path) -> Scene {
         lights: vec![light(1.0, 1.0), light(-3.0, -3.0)],
         headlight: Headlight::default(),
         background: Background::Gradient { up: [0.9, 0.9, 1.0], down: [0.2, 0.3, 0.4] },
+        mirror: None,
     }
 }
 

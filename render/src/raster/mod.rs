@@ -14,6 +14,9 @@
 //!    (perspective-correct colour and UV), textured, and written with depth and segment id;
 //!    uncovered pixels get the background.
 //! 4. **Transparency.** Instances with alpha < 1 are blended back to front over the result.
+//! 5. **Reflection.** Where the scene has a [`Mirror`] and its face is visible, the scene is
+//!    drawn again from the camera mirrored in the face's plane (clipped to the plane's outer
+//!    side) and added to the face's pixels.
 
 mod clip;
 mod lighting;
@@ -29,9 +32,9 @@ use self::shadow::ShadowMap;
 use self::triangle::{box_holds_centre, orientation, snap, Plane, Setup};
 use crate::camera::{Camera, Intrinsics};
 use crate::frame::Frame;
-use crate::scene::{Background, Instance, Scene};
+use crate::scene::{Background, Instance, Light, LightKind, Mirror, Scene};
 use crate::texture::Texture;
-use crate::transform::{cross, dot, mul_mat3, mul_mat3_mat3};
+use crate::transform::{cross, dot, mul_mat3, mul_mat3_mat3, normalize};
 
 /// Largest accepted image side (pixels), after supersampling.
 pub const MAX_IMAGE_SIDE: u32 = 8192;
@@ -125,6 +128,39 @@ struct View {
     width: u32,
     height: u32,
     far: f32,
+    /// Only surfaces on the outer side of this plane are drawn (a mirror's clip plane), and
+    /// the plane as a world point and unit normal.
+    keep: PlaneTest,
+    keep_plane: Option<(Vec3, Vec3)>,
+}
+
+/// A world plane as a per-pixel test: `a i + b j + c + d / z` is the signed distance to the
+/// plane of the point at pixel `(i, j)` and depth `z`, divided by `z` (so linear in `i`, `j`
+/// and `1/z`). `ALL` (0, 0, 1, 0) holds everywhere.
+#[derive(Clone, Copy)]
+struct PlaneTest {
+    a: f32,
+    b: f32,
+    c: f32,
+    d: f32,
+}
+
+impl PlaneTest {
+    const ALL: PlaneTest = PlaneTest { a: 0.0, b: 0.0, c: 1.0, d: 0.0 };
+
+    /// The plane through `point` with unit normal `normal` (world), seen by `view`.
+    fn new(view: &View, point: Vec3, normal: Vec3) -> PlaneTest {
+        let m = mul_mat3(&view.rot, normal);
+        let k = &view.k;
+        let (a, b) = (m.x / k.fx, m.y / k.fy);
+        PlaneTest { a, b, c: m.z - a * k.cx - b * k.cy, d: dot(normal, view.position - point) }
+    }
+
+    /// Distance over depth at pixel `(i, j)` with `1/z = iz`.
+    #[inline]
+    fn at(&self, i: f32, j: f32, iz: f32) -> f32 {
+        self.a * i + (self.b * j + self.c) + self.d * iz
+    }
 }
 
 impl View {
@@ -139,7 +175,41 @@ impl View {
             width: c.width,
             height: c.height,
             far: c.far,
+            keep: PlaneTest::ALL,
+            keep_plane: None,
         }
+    }
+
+    /// The view drawing only what lies on the side of the plane through `point` that unit
+    /// `normal` points to.
+    fn keeping(mut self, point: Vec3, normal: Vec3) -> View {
+        self.keep = PlaneTest::new(&self, point, normal);
+        self.keep_plane = Some((point, normal));
+        self
+    }
+
+    /// Whether an instance's bounding box (corners in world space) lies wholly outside one side
+    /// of the view or behind the kept side of its plane: then none of its triangles can show.
+    fn box_hidden(&self, t: &crate::transform::Transform, centre: Vec3, half: Vec3) -> bool {
+        let mut outside = REJECT;
+        let mut behind = true;
+        for k in 0..8 {
+            let sign = |bit: u32| if k & bit == 0 { -1.0 } else { 1.0 };
+            let corner = t.transform_point(centre + Vec3::new(sign(1) * half.x, sign(2) * half.y, sign(4) * half.z));
+            outside &= self.clip.outcode(mul_mat3(&self.rot, corner - self.position));
+            behind &= self.keep_plane.is_some_and(|(p, n)| dot(n, corner - p) < 0.0);
+        }
+        outside != 0 || behind
+    }
+
+    /// The part of this view from pixel `(x0, y0)` to `(x1, y1)` (inclusive), as a view of its own.
+    fn cropped(mut self, x0: u32, y0: u32, x1: u32, y1: u32, near: f32) -> View {
+        self.k.cx -= x0 as f32;
+        self.k.cy -= y0 as f32;
+        self.width = x1 - x0 + 1;
+        self.height = y1 - y0 + 1;
+        self.clip = ClipSpace::new(&self.k, self.width, self.height, near);
+        self
     }
 
     /// Screen position (snapped) and `1/z` of a camera-space point in front of the near plane
@@ -177,6 +247,10 @@ pub struct Renderer {
     order: Vec<Visible>,
     blended: Vec<Visible>,
     supersampled: Frame,
+    /// The mirrored view and the pixels showing the mirror (reused between frames).
+    reflected: Frame,
+    mirror_pixels: Vec<u32>,
+    mirrored_scene: Scene,
 }
 
 impl Renderer {
@@ -223,9 +297,16 @@ impl Renderer {
     }
 
     fn render_view(&mut self, scene: &Scene, camera: &Camera, out: &mut Frame) {
-        let view = View::new(camera);
-        let n = camera.width as usize * camera.height as usize;
         self.stats = RenderStats::default();
+        self.draw_pass(scene, camera, &View::new(camera), out);
+        if let Some(mirror) = &scene.mirror {
+            self.reflect(scene, camera, mirror, out);
+        }
+    }
+
+    /// Draws `scene` through `view` (of `camera`) into `out`: geometry, resolve, transparency.
+    fn draw_pass(&mut self, scene: &Scene, camera: &Camera, view: &View, out: &mut Frame) {
+        let n = view.width as usize * view.height as usize;
         self.shadows_active = self.options.shadows && self.shadow.build(scene, camera, self.options.shadow_map_size);
         self.rig.prepare(scene, camera, self.shadows_active);
         self.depth.clear();
@@ -235,18 +316,106 @@ impl Renderer {
         self.records.clear();
         self.shadow_rgb.clear();
 
-        self.sort_instances(scene, &view);
+        self.sort_instances(scene, view);
         let order = std::mem::take(&mut self.order);
         for v in &order {
-            self.draw_opaque(scene, v, &view);
+            self.draw_opaque(scene, v, view);
         }
         self.order = order;
-        self.resolve(scene, &view, out);
+        self.resolve(scene, view, out);
         let blended = std::mem::take(&mut self.blended);
         for v in &blended {
-            self.draw_blended(scene, v, &view, out);
+            self.draw_blended(scene, v, view, out);
         }
         self.blended = blended;
+    }
+
+    /// Adds what `mirror` reflects to the pixels of `out` that show its face, as MuJoCo does:
+    /// the other instances, colours scaled by the reflectance, drawn from the camera mirrored in
+    /// the face's plane and clipped to the plane's outer side, over black. The mirrored camera
+    /// is turned right-handed again by flipping its x axis, so its image is read mirrored
+    /// (column `W − 1 − i`). Lighting is unchanged by the mirroring, except MuJoCo's headlight,
+    /// which keeps shining along the real camera's view axis.
+    fn reflect(&mut self, scene: &Scene, camera: &Camera, mirror: &Mirror, out: &mut Frame) {
+        let Some(face) = scene.instances.get(mirror.instance) else { return };
+        let t = &face.transform;
+        let point = t.transform_point(Vec3::new(0.0, 0.0, mirror.face_z));
+        let normal = normalize(cross(t.linear.x_axis, t.linear.y_axis));
+        let height = dot(normal, camera.position - point);
+        if !(height > 0.0 && mirror.reflectance > 0.0) {
+            return;
+        }
+        // The face's pixels: the mirror's own triangles lying in its plane (within 1 mm).
+        let on_plane = PlaneTest::new(&View::new(camera), point, normal);
+        let w = camera.width as usize;
+        let mut pixels = std::mem::take(&mut self.mirror_pixels);
+        pixels.clear();
+        let on_face = |id: u32| id != NO_TRIANGLE && self.records[id as usize].instance as usize == mirror.instance;
+        let (mut last_id, mut last_on) = (NO_TRIANGLE, false);
+        for (p, (&id, &iz)) in self.tri_id.iter().zip(&self.depth).enumerate() {
+            if id != last_id {
+                (last_id, last_on) = (id, on_face(id));
+            }
+            if last_on {
+                let (i, j) = ((p % w) as f32, (p / w) as f32);
+                if (on_plane.at(i, j, iz) / iz).abs() < 1e-3 {
+                    pixels.push(p as u32);
+                }
+            }
+        }
+        if let Some((x0, y0, x1, y1)) = bounds(&pixels, w) {
+            let scaled = |rgba: [f32; 4]| [rgba[0] * mirror.reflectance, rgba[1] * mirror.reflectance, rgba[2] * mirror.reflectance, rgba[3]];
+            let h = &scene.headlight;
+            let headlight = h.active.then(|| Light {
+                kind: LightKind::Directional { direction: camera.forward() },
+                ambient: h.ambient,
+                diffuse: h.diffuse,
+                specular: h.specular,
+                cast_shadow: false,
+            });
+            // Instances wholly behind the mirror's plane cannot show in it.
+            let in_front = |i: &Instance| {
+                let b = i.mesh.bounds();
+                dot(normal, i.transform.transform_point(b.center) - point) > -b.radius * i.transform.max_scale()
+            };
+            let mut mirrored = std::mem::take(&mut self.mirrored_scene);
+            mirrored.instances.clear();
+            mirrored.instances.extend(
+                scene.instances.iter().enumerate().filter(|&(k, i)| k != mirror.instance && in_front(i)).map(|(_, i)| Instance {
+                    material: crate::Material { rgba: scaled(i.material.rgba), ..i.material.clone() },
+                    ..i.clone()
+                }),
+            );
+            mirrored.lights.clear();
+            mirrored.lights.extend(headlight.into_iter().chain(scene.lights.iter().copied()));
+            mirrored.headlight = crate::Headlight { active: false, ..*h };
+            mirrored.background = Background::Solid([0.0; 3]);
+            let flip = |v: Vec3| v - 2.0 * dot(normal, v) * normal;
+            let r = &camera.rotation;
+            let cam = Camera {
+                position: camera.position - 2.0 * height * normal,
+                rotation: Mat3::from_cols(-flip(r.x_axis), flip(r.y_axis), flip(r.z_axis)),
+                ..*camera
+            };
+            // Only the mirrored columns of the face's bounding box are drawn.
+            let last = w as u32 - 1;
+            let view = View::new(&cam).cropped(last - x1, y0, last - x0, y1, cam.near).keeping(point, normal);
+            let mut image = std::mem::take(&mut self.reflected);
+            image.resize(view.width, view.height);
+            self.draw_pass(&mirrored, &cam, &view, &mut image);
+            let cw = view.width as usize;
+            for &p in &pixels {
+                let (i, j) = (p as usize % w, p as usize / w);
+                let q = (j - y0 as usize) * cw + (last as usize - i - (last - x1) as usize);
+                for c in 0..3 {
+                    let sum = u16::from(out.color.data[3 * p as usize + c]) + u16::from(image.color.data[3 * q + c]);
+                    out.color.data[3 * p as usize + c] = sum.min(255) as u8;
+                }
+            }
+            self.reflected = image;
+            self.mirrored_scene = mirrored;
+        }
+        self.mirror_pixels = pixels;
     }
 
     /// Frustum-culls instances and orders them: opaque front to back, transparent back to front.
@@ -259,7 +428,10 @@ impl Renderer {
             let centre = mul_mat3(&view.rot, t.transform_point(b.center) - view.position);
             let radius = b.radius * t.max_scale();
             let finite = t.linear.is_finite() && t.translation.is_finite();
-            let class = if finite { view.clip.classify_sphere(centre, radius, view.far) } else { SphereClass::Outside };
+            let mut class = if finite { view.clip.classify_sphere(centre, radius, view.far) } else { SphereClass::Outside };
+            if class == SphereClass::Straddles && view.box_hidden(t, b.center, inst.mesh.half_extent()) {
+                class = SphereClass::Outside;
+            }
             if class == SphereClass::Outside {
                 self.stats.instances_culled += 1;
                 continue;
@@ -292,14 +464,17 @@ impl Renderer {
             let id = records.len() as u32;
             let plane = setup.plane(iz);
             let mut won = 0u32;
+            let keep = &view.keep;
             setup.for_each_span(|j, first, last| {
                 let base = j as usize * view.width as usize;
                 let range = base + first as usize..base + last as usize + 1;
                 let row_key = plane.b * j as f32 + plane.c;
+                let keep_row = keep.b * j as f32 + keep.c;
                 for ((d, t), i) in depth[range.clone()].iter_mut().zip(&mut tri_id[range]).zip(first..) {
                     let iz = plane.a * i as f32 + row_key;
+                    let kept = keep.a * i as f32 + keep_row + keep.d * iz >= 0.0;
                     // Bit selects rather than branches: depth-test outcomes are hard to predict.
-                    let mask = ((iz > *d) as u32).wrapping_neg();
+                    let mask = (((iz > *d) & kept) as u32).wrapping_neg();
                     won |= mask;
                     *t = (*t & !mask) | (id & mask);
                     *d = f32::from_bits((d.to_bits() & !mask) | (iz.to_bits() & mask));
@@ -329,7 +504,7 @@ impl Renderer {
             rasterized += 1;
             let texture = texture_of(&rec, scene);
             setup.for_each_pixel(&rec.iz, view.width, |p, i, j, iz| {
-                if iz > depth[p] {
+                if iz > depth[p] && view.keep.at(i as f32, j as f32, iz) >= 0.0 {
                     let src = shade(&rec, sh.as_ref(), shadows, texture, view, i, j, 1.0 / iz);
                     let dst = &mut out.color.data[p * 3..p * 3 + 3];
                     let a = src[3];
@@ -396,6 +571,14 @@ impl Renderer {
             }
         }
     }
+}
+
+/// Bounding box `(x0, y0, x1, y1)` of pixel indices in an image `width` wide.
+fn bounds(pixels: &[u32], width: usize) -> Option<(u32, u32, u32, u32)> {
+    let w = width as u32;
+    let (first, last) = (*pixels.first()?, *pixels.last()?);
+    let (x0, x1) = pixels.iter().fold((u32::MAX, 0), |(lo, hi), &p| (lo.min(p % w), hi.max(p % w)));
+    Some((x0, first / w, x1, last / w))
 }
 
 /// Writes pixel `k` of a packed RGB row.

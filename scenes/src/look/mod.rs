@@ -17,7 +17,7 @@ mod store;
 mod tree;
 
 pub use discover::{BadFlag, ENV_VAR, Origin, PythonFound, Root, Roots, Sources, ask_python, discover, discover_from};
-pub use store::{BUILT_IN, CategoryReport, FileReport, LoadedPart, Lods, Look, PartKind, Status};
+pub use store::{BUILT_IN, CategoryReport, FileReport, LoadedPart, Lods, Look, MirrorFace, PartKind, Status};
 pub use tree::{AssetTree, FoundBy, KNOWN_BLOBS, Located, blob_sha1};
 
 /// The robot parts body of robosuite's pedestal, drawn on the base of a mounted Panda.

@@ -19,12 +19,13 @@ pub(crate) enum Shape {
     Capsule { radius: f64, half_height: f64 },
 }
 
-/// MuJoCo's `<material>` (or the geom's own `rgba` where it has none); `reflectance` is not
-/// recorded, as the renderer draws no reflections.
+/// MuJoCo's `<material>` (or the geom's own `rgba` where it has none).
 pub(crate) struct MaterialFact {
     pub rgba: [f64; 4],
     pub specular: f64,
     pub shininess: f64,
+    /// MuJoCo mirrors the scene in boxes and planes with a reflectance (meshes ignore it).
+    pub reflectance: f64,
     pub emission: f64,
     pub texture: Option<TextureFact>,
 }

@@ -24,7 +24,6 @@ use crate::catalog::{self, ObjectKind, Recipe};
 use crate::scene_class::scene_class;
 use crate::task::ProblemClass;
 use crate::view::MeshCache;
-use crate::view::material::textured;
 
 /// One visual part ready to draw: where it sits on its body, its mesh and its material.
 #[derive(Clone, Debug)]
@@ -41,6 +40,17 @@ pub struct LoadedPart {
     /// first; empty for primitives and meshes that are already coarse.
     pub lods: Lods,
     pub material: Material,
+    /// The reflectance of a box MuJoCo draws as a mirror (its +z face), with the face's height
+    /// in the part's frame.
+    pub mirror: Option<MirrorFace>,
+}
+
+/// A box's +z face that MuJoCo draws as a mirror.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MirrorFace {
+    pub reflectance: f32,
+    /// Height of the face above the part's origin (the box's half height).
+    pub height: f32,
 }
 
 /// Coarser copies of a mesh, each with the world size (metres) of its merged cells.
@@ -124,7 +134,8 @@ pub struct Look {
 struct Loaded {
     meshes: BTreeMap<PathBuf, Result<Arc<Mesh>, String>>,
     /// Coarser copies by file and scale bits.
-    lods: BTreeMap<(PathBuf, [u64; 3]), Lods>,
+    /// Keyed by file, scale and whether the mesh was given constant UVs (see `load_part`).
+    lods: BTreeMap<(PathBuf, [u64; 3], bool), Lods>,
     /// Texture and its mean colour (for cube textures and meshes without UVs).
     textures: BTreeMap<PathBuf, Result<(Arc<Texture>, [f32; 3]), String>>,
     /// (upstream path, blob hash) of every file read.
@@ -209,20 +220,24 @@ fn source(shape: &Shape) -> Source {
     }
 }
 
-/// MuJoCo's material for a part. A 2D texture is sampled with the mesh's UVs (`texrepeat` as
-/// the UV scale); a cube texture, or a mesh without UVs, is drawn in the texture's mean colour
-/// (MuJoCo maps cube textures by direction, which the renderer does not do).
-fn material(fact: &MaterialFact, texture: Option<(Arc<Texture>, [f32; 3])>, mesh: &Mesh) -> Material {
+/// MuJoCo's material for a part. A 2D texture is sampled with the mesh's own UVs (`has_uvs`;
+/// `texrepeat` as the UV scale); a cube texture, or one on a mesh without UVs, is one texel of
+/// the texture's mean colour (MuJoCo maps those by direction or by object-plane texture
+/// generation, which the renderer does not do). Being a texture, it multiplies the lit colour
+/// after clamping, as MuJoCo's does: baked into `rgba` it would let bright lights push a
+/// grey metal past its texture's colour.
+fn material(fact: &MaterialFact, texture: Option<(Arc<Texture>, [f32; 3])>, has_uvs: bool) -> Material {
     let rgba = fact.rgba.map(|x| x as f32);
     let (specular, shininess, emission) = (fact.specular as f32, fact.shininess as f32, fact.emission as f32);
     let plain = Material { rgba, specular, shininess, emission, ..Material::default() };
     match (texture, &fact.texture) {
-        (Some((tex, _)), Some(t)) if !t.cube && mesh.uvs().is_some() => {
+        (Some((tex, _)), Some(t)) if !t.cube && has_uvs => {
             Material { texture: Some(tex), uv_scale: Vec2::new(t.repeat[0] as f32, t.repeat[1] as f32), ..plain }
         }
         (Some((_, mean)), Some(_)) => {
-            let tinted = [rgba[0] * mean[0], rgba[1] * mean[1], rgba[2] * mean[2], rgba[3]];
-            Material { emission, ..textured(tinted, specular, shininess) }
+            let texel = mean.map(|c| (c * 255.0).round().clamp(0.0, 255.0) as u8);
+            let one = Texture::from_rgba8(1, 1, &[texel[0], texel[1], texel[2], 255]).expect("a 1 x 1 RGBA image is a valid texture");
+            Material { texture: Some(Arc::new(one)), ..plain }
         }
         _ => plain,
     }
@@ -318,13 +333,19 @@ impl Look {
     /// The parts of body `body` (`link3`, `leftfinger`) of arm `arm`, when drawn from
     /// robosuite's files. Those are the Panda's: another arm (the PiPER, whose links share
     /// names such as `link1`) has none and keeps its own shapes. The base of a `mounted` Panda
-    /// (one whose model stands it on a pedestal) carries robosuite's pedestal.
+    /// (one whose model stands it on a pedestal) carries robosuite's pedestal. A body on which
+    /// robosuite's Panda has no visual geom (`right_hand`, a frame inside the gripper's hand)
+    /// has no parts: it draws nothing, as in MuJoCo, once any robot file was loaded.
     pub fn robot_parts(&self, arm: &str, body: &str, mounted: bool) -> Option<&[LoadedPart]> {
         if arm != ARM {
             return None;
         }
         let key = if mounted && body == "base" { MOUNT } else { body };
-        self.robot.get(key).map(Vec::as_slice)
+        match self.robot.get(key) {
+            Some(parts) => Some(parts.as_slice()),
+            None if !self.robot.is_empty() && !PANDA.iter().any(|p| p.body == key) => Some(&[]),
+            None => None,
+        }
     }
 
     /// The decor of `problem`'s scene XML (backdrops, furniture, paintings; posed in the world
@@ -400,14 +421,24 @@ fn load_part(
         }
         found.ok_or_else(|| format!("{rel}: not found in any asset folder"))
     };
-    let (mesh, scale, lods) = match source(&fact.shape) {
+    let (mesh, scale, lods, own_uvs) = match source(&fact.shape) {
         Source::File(file, scale) => {
             let at = find(file)?;
-            let mesh = loaded.mesh(file, &at)?;
-            let lods = loaded.lods.entry((at.path.clone(), scale.map(f64::to_bits))).or_insert_with(|| lods_of(&mesh, scale)).clone();
-            (mesh, scale, lods)
+            let mut mesh = loaded.mesh(file, &at)?;
+            // A textured mesh without UVs is drawn with one texel (see `material`), which needs
+            // UVs to be sampled at all.
+            let constant_uvs = fact.material.texture.is_some() && mesh.uvs().is_none();
+            if constant_uvs {
+                mesh = Arc::new(Mesh::new(mesh.positions().to_vec(), mesh.normals().to_vec(), Some(vec![Vec2::ZERO; mesh.vertex_count()]), mesh.triangles().to_vec()).map_err(|e| format!("{file}: {e}"))?);
+            }
+            let lods = loaded.lods.entry((at.path.clone(), scale.map(f64::to_bits), constant_uvs)).or_insert_with(|| lods_of(&mesh, scale)).clone();
+            (mesh, scale, lods, !constant_uvs)
         }
-        Source::Primitive(r) => (shapes.get(&r), [1.0; 3], Lods::from([])),
+        Source::Primitive(r) => {
+            let mesh = shapes.get(&r);
+            let own_uvs = mesh.uvs().is_some();
+            (mesh, [1.0; 3], Lods::from([]), own_uvs)
+        }
     };
     let texture = match &fact.material.texture {
         Some(t) => {
@@ -416,6 +447,10 @@ fn load_part(
         }
         None => None,
     };
-    let material = material(&fact.material, texture, &mesh);
-    Ok(LoadedPart { body: fact.body, pos: fact.pos, quat_wxyz: fact.quat, scale, mesh, lods, material })
+    let material = material(&fact.material, texture, own_uvs);
+    let mirror = match fact.shape {
+        Shape::Box { half } if fact.material.reflectance > 0.0 => Some(MirrorFace { reflectance: fact.material.reflectance as f32, height: half[2] as f32 }),
+        _ => None,
+    };
+    Ok(LoadedPart { body: fact.body, pos: fact.pos, quat_wxyz: fact.quat, scale, mesh, lods, material, mirror })
 }

@@ -4,7 +4,7 @@ use vifo_render::glam::{Mat3, Vec2, Vec3};
 use std::sync::Arc;
 
 use vifo_render::{Frame, Instance, Material, Mesh, RenderError, Renderer, Scene, Texture, Transform};
-use vifo_render::{Background, Camera, Headlight, Light};
+use vifo_render::{Background, Camera, Headlight, Light, Mirror};
 use vifo_robots::model::Shape;
 use vifo_robots::spatial::Pose;
 
@@ -160,6 +160,8 @@ impl SceneView {
     pub fn with_look(model: &SceneModel, look: Option<&Look>) -> SceneView {
         let mut b = Builder { meshes: MeshCache::default(), instances: Vec::new(), anchors: Vec::new(), lods: Vec::new(), legend: Vec::new() };
         let mut indicators = Vec::new();
+        // MuJoCo draws only the first reflective geom as a mirror.
+        let mut mirror = None;
         for (entity, e) in model.entities.iter().enumerate() {
             let kind = if e.movable() { SegmentKind::Object } else { SegmentKind::Fixture };
             let segment = b.segment(e.name.clone(), kind);
@@ -168,6 +170,9 @@ impl SceneView {
                     // Fact bodies are catalog bodies (tested); a part on an unknown body is skipped.
                     let Some(body) = e.model.bodies.iter().position(|b| b.name == part.body) else { continue };
                     let anchor = Anchor::Entity { entity, body, local: Pose::from_wxyz(part.pos, part.quat_wxyz), scale: part.scale };
+                    if let (None, Some(face)) = (&mirror, part.mirror) {
+                        mirror = Some(Mirror { instance: b.instances.len(), face_z: face.height, reflectance: face.reflectance });
+                    }
                     b.push_mesh(part.mesh.clone(), part.lods.clone(), part.material.clone(), segment, anchor);
                 }
             } else {
@@ -259,6 +264,7 @@ impl SceneView {
             headlight: Headlight::default(),
             // LIBERO's gradient skybox (rgb1 0.9 0.9 1, rgb2 0.2 0.3 0.4); walls hide most of it.
             background: Background::Gradient { up: [0.9, 0.9, 1.0], down: [0.2, 0.3, 0.4] },
+            mirror,
         };
         let lods = if b.lods.iter().any(|l| !l.is_empty()) { b.lods } else { Vec::new() };
         SceneView { scene, anchors: b.anchors, lods, indicators, legend: b.legend, class }
@@ -320,7 +326,7 @@ impl SceneView {
                 _ => None,
             })
             .collect();
-        Scene { instances, lights: self.scene.lights.clone(), headlight: self.scene.headlight, background: Background::Solid([0.0; 3]) }
+        Scene { instances, lights: self.scene.lights.clone(), headlight: self.scene.headlight, background: Background::Solid([0.0; 3]), mirror: None }
     }
 
     /// The scene as of the last [`SceneView::update`].

@@ -128,15 +128,21 @@ struct View {
     width: u32,
     height: u32,
     far: f32,
-    /// Only surfaces on the outer side of this plane are drawn (a mirror's clip plane), and
-    /// the plane as a world point and unit normal.
-    keep: PlaneTest,
-    keep_plane: Option<(Vec3, Vec3)>,
+    /// A mirror's pass: only surfaces on the outer side of this plane are drawn.
+    keep: Option<Keep>,
+}
+
+/// The plane a mirror's pass keeps the outer side of: as a per-pixel test, and in the world.
+#[derive(Clone, Copy)]
+struct Keep {
+    test: PlaneTest,
+    point: Vec3,
+    normal: Vec3,
 }
 
 /// A world plane as a per-pixel test: `a i + b j + c + d / z` is the signed distance to the
 /// plane of the point at pixel `(i, j)` and depth `z`, divided by `z` (so linear in `i`, `j`
-/// and `1/z`). `ALL` (0, 0, 1, 0) holds everywhere.
+/// and `1/z`).
 #[derive(Clone, Copy)]
 struct PlaneTest {
     a: f32,
@@ -146,8 +152,6 @@ struct PlaneTest {
 }
 
 impl PlaneTest {
-    const ALL: PlaneTest = PlaneTest { a: 0.0, b: 0.0, c: 1.0, d: 0.0 };
-
     /// The plane through `point` with unit normal `normal` (world), seen by `view`.
     fn new(view: &View, point: Vec3, normal: Vec3) -> PlaneTest {
         let m = mul_mat3(&view.rot, normal);
@@ -175,16 +179,14 @@ impl View {
             width: c.width,
             height: c.height,
             far: c.far,
-            keep: PlaneTest::ALL,
-            keep_plane: None,
+            keep: None,
         }
     }
 
     /// The view drawing only what lies on the side of the plane through `point` that unit
     /// `normal` points to.
     fn keeping(mut self, point: Vec3, normal: Vec3) -> View {
-        self.keep = PlaneTest::new(&self, point, normal);
-        self.keep_plane = Some((point, normal));
+        self.keep = Some(Keep { test: PlaneTest::new(&self, point, normal), point, normal });
         self
     }
 
@@ -197,7 +199,7 @@ impl View {
             let sign = |bit: u32| if k & bit == 0 { -1.0 } else { 1.0 };
             let corner = t.transform_point(centre + Vec3::new(sign(1) * half.x, sign(2) * half.y, sign(4) * half.z));
             outside &= self.clip.outcode(mul_mat3(&self.rot, corner - self.position));
-            behind &= self.keep_plane.is_some_and(|(p, n)| dot(n, corner - p) < 0.0);
+            behind &= self.keep.is_some_and(|k| dot(k.normal, corner - k.point) < 0.0);
         }
         outside != 0 || behind
     }
@@ -464,16 +466,11 @@ impl Renderer {
             let id = records.len() as u32;
             let plane = setup.plane(iz);
             let mut won = 0u32;
-            let clipped = view.keep_plane.is_some();
+            let keep = view.keep.map(|k| k.test);
             setup.for_each_span(|j, first, last| {
                 let base = j as usize * view.width as usize;
                 let range = base + first as usize..base + last as usize + 1;
-                let (depth, tri_id) = (&mut depth[range.clone()], &mut tri_id[range]);
-                won |= if clipped {
-                    depth_span::<true>(depth, tri_id, first, j, &plane, &view.keep, id)
-                } else {
-                    depth_span::<false>(depth, tri_id, first, j, &plane, &view.keep, id)
-                };
+                won |= depth_span(&mut depth[range.clone()], &mut tri_id[range], first, j, &plane, keep.as_ref(), id);
             });
             if won == 0 {
                 return;
@@ -499,7 +496,7 @@ impl Renderer {
             rasterized += 1;
             let texture = texture_of(&rec, scene);
             setup.for_each_pixel(&rec.iz, view.width, |p, i, j, iz| {
-                if iz > depth[p] && view.keep.at(i as f32, j as f32, iz) >= 0.0 {
+                if iz > depth[p] && view.keep.is_none_or(|k| k.test.at(i as f32, j as f32, iz) >= 0.0) {
                     let src = shade(&rec, sh.as_ref(), shadows, texture, view, i, j, 1.0 / iz);
                     let dst = &mut out.color.data[p * 3..p * 3 + 3];
                     let a = src[3];
@@ -569,19 +566,26 @@ impl Renderer {
 }
 
 /// Depth-tests one span of a triangle (row `j`, pixels from `first`, whose depth and id slices
-/// are given) and writes where it wins; returns the won pixels' masks or-ed. With `CLIP` only
-/// pixels on the kept side of `keep` count (a mirror's pass); the plain pass is compiled
-/// without that test, which costs the innermost loop a fifth of its time.
+/// are given) and writes where it wins; returns the won pixels' masks or-ed. With `keep` (a
+/// mirror's pass) only pixels on its kept side count; the plain pass is compiled without that
+/// test, which would cost the innermost loop a fifth of its time.
 #[inline(always)]
-fn depth_span<const CLIP: bool>(depth: &mut [f32], tri_id: &mut [u32], first: u32, j: u32, plane: &Plane, keep: &PlaneTest, id: u32) -> u32 {
+fn depth_span(depth: &mut [f32], tri_id: &mut [u32], first: u32, j: u32, plane: &Plane, keep: Option<&PlaneTest>, id: u32) -> u32 {
+    match keep {
+        Some(k) => span_where(depth, tri_id, first, j, plane, id, |i, iz| k.at(i, j as f32, iz) >= 0.0),
+        None => span_where(depth, tri_id, first, j, plane, id, |_, _| true),
+    }
+}
+
+/// [`depth_span`]'s loop, counting only pixels where `kept(i, 1/z)` holds.
+#[inline(always)]
+fn span_where(depth: &mut [f32], tri_id: &mut [u32], first: u32, j: u32, plane: &Plane, id: u32, kept: impl Fn(f32, f32) -> bool) -> u32 {
     let row_key = plane.b * j as f32 + plane.c;
-    let keep_row = keep.b * j as f32 + keep.c;
     let mut won = 0u32;
     for ((d, t), i) in depth.iter_mut().zip(tri_id).zip(first..) {
         let iz = plane.a * i as f32 + row_key;
-        let kept = !CLIP || keep.a * i as f32 + keep_row + keep.d * iz >= 0.0;
         // Bit selects rather than branches: depth-test outcomes are hard to predict.
-        let mask = (((iz > *d) & kept) as u32).wrapping_neg();
+        let mask = (((iz > *d) & kept(i as f32, iz)) as u32).wrapping_neg();
         won |= mask;
         *t = (*t & !mask) | (id & mask);
         *d = f32::from_bits((d.to_bits() & !mask) | (iz.to_bits() & mask));

@@ -170,7 +170,16 @@ fn apply_params(rapier: &mut PhysicsWorld, params: &SimParams) {
     let ip = &mut rapier.integration_parameters;
     ip.dt = params.dt;
     ip.num_solver_iterations = params.solver_iterations;
+    ip.num_internal_pgs_iterations = params.pgs_iterations;
     ip.num_internal_stabilization_iterations = params.stabilization_iterations;
+    // rapier's lengths are "normalized" by the unit; keep them at their defaults for 1 m.
+    let d = IntegrationParameters::default();
+    ip.normalized_allowed_linear_error = d.normalized_allowed_linear_error / params.length_unit;
+    ip.normalized_max_corrective_velocity = d.normalized_max_corrective_velocity / params.length_unit;
+    ip.normalized_prediction_distance = d.normalized_prediction_distance / params.length_unit;
+    ip.normalized_max_linear_velocity = d.normalized_max_linear_velocity / params.length_unit;
+    ip.normalized_contact_recycle_distance = d.normalized_contact_recycle_distance / params.length_unit;
+    ip.length_unit = params.length_unit;
     ip.contact_softness.natural_frequency = params.contact_frequency;
     ip.contact_softness.damping_ratio = params.contact_damping_ratio;
     ip.static_contact_softness.natural_frequency = params.static_contact_frequency;

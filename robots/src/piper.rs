@@ -18,7 +18,7 @@ use std::sync::Arc;
 use nalgebra::{SMatrix, SVector};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
-use vifo_physics::World;
+use vifo_physics::{SimParams, World};
 
 use crate::action::Action;
 use crate::arm::{ArmInstance, JointState};
@@ -45,6 +45,12 @@ pub const INTEGRAL_LIMIT: f64 = 0.6;
 pub const JOINT_LEASH: f64 = 0.2;
 /// The tool point: midway along the fingertip pads, 0.18 m from the flange (link6).
 pub const TCP: &str = "tcp";
+/// The physics of PiPER scenes: LIBERO's timing with two solver substeps and rapier's 1 m
+/// length unit, the solver settings its gripper servo and the expert's cup stacking were tuned
+/// with. The Panda's settings (one substep, see [`SimParams::solver_iterations`]) stack 38 of
+/// 50 initial states instead of 48.
+pub const SIM_PARAMS: SimParams =
+    SimParams { solver_iterations: 2, pgs_iterations: 1, stabilization_iterations: 2, length_unit: 1.0, ..SimParams::LIBERO };
 
 /// Servo gains (MuJoCo Menagerie's PiPER actuators).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -401,10 +407,9 @@ impl Piper {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use vifo_physics::SimParams;
 
     fn ready() -> (World, Piper, PiperControl) {
-        let mut world = World::new(SimParams::LIBERO);
+        let mut world = World::new(SIM_PARAMS);
         let piper = Piper::insert(&mut world, Pose::IDENTITY);
         piper.set_joints(&mut world, &READY_QPOS, 0.07);
         let control = piper.hold_control(&world);

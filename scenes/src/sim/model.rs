@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use thiserror::Error;
 use vifo_physics::rapier::prelude::*;
-use vifo_physics::{SimParams, Snapshot, World};
+use vifo_physics::{Snapshot, World};
 use vifo_robots::contact::{ARENA_GROUPS, PART_GROUPS, SCENE_GROUPS};
 use vifo_robots::convert::{dmat3, rapier_pose, vector};
 use vifo_robots::joint;
@@ -132,7 +132,7 @@ impl SceneModel {
             task: task.label(),
             problem: task.problem.to_string(),
         })?;
-        let mut world = World::new(SimParams::LIBERO);
+        let mut world = World::new(Robot::sim_params(class.arm));
         let arena = build_arena(&mut world, class);
         let robot = Robot::insert(&mut world, class);
 

@@ -3,7 +3,7 @@
 //! action); an all-zero action with gripper −1 holds either arm still with its gripper open, so
 //! LIBERO's dummy action settles both.
 
-use vifo_physics::World;
+use vifo_physics::{SimParams, World};
 use vifo_robots::action::Action;
 use vifo_robots::arm::ArmCollider;
 use vifo_robots::dynamics::BodyPoses;
@@ -38,6 +38,14 @@ fn six(q: &[f64; 7]) -> [f64; 6] {
 }
 
 impl Robot {
+    /// The physics settings of scenes with this arm.
+    pub fn sim_params(arm: ArmKind) -> SimParams {
+        match arm {
+            ArmKind::Panda => SimParams::LIBERO,
+            ArmKind::Piper => vifo_robots::piper::SIM_PARAMS,
+        }
+    }
+
     /// Builds the scene class's arm into `world` at its base, at its rest configuration.
     pub fn insert(world: &mut World, class: &SceneClass) -> Robot {
         let base = Pose::from_wxyz(class.robot_base.pos, class.robot_base.quat_wxyz);

@@ -136,6 +136,8 @@ struct Loaded {
     /// Coarser copies by file and scale bits.
     /// Keyed by file, scale and whether the mesh was given constant UVs (see `load_part`).
     lods: BTreeMap<(PathBuf, [u64; 3], bool), Lods>,
+    /// Copies of UV-less meshes with every UV at the origin, by file (see `constant_uv_mesh`).
+    constant_uv_meshes: BTreeMap<PathBuf, Arc<Mesh>>,
     /// Texture and its mean colour (for cube textures and meshes without UVs).
     textures: BTreeMap<PathBuf, Result<(Arc<Texture>, [f32; 3]), String>>,
     /// (upstream path, blob hash) of every file read.
@@ -153,6 +155,20 @@ impl Loaded {
                 load_mesh(&at.path).map(Arc::new).map_err(|e| e.to_string())
             })
             .clone()
+    }
+
+    /// `rel`'s mesh with every UV at the origin, made once per file. A textured mesh without UVs
+    /// is drawn with one texel (see `material`), which needs UVs to be sampled at all.
+    fn constant_uv_mesh(&mut self, rel: &'static str, at: &Located) -> Result<Arc<Mesh>, String> {
+        if let Some(mesh) = self.constant_uv_meshes.get(&at.path) {
+            return Ok(mesh.clone());
+        }
+        let mesh = self.mesh(rel, at)?;
+        let uvs = Some(vec![Vec2::ZERO; mesh.vertex_count()]);
+        let flat = Mesh::new(mesh.positions().to_vec(), mesh.normals().to_vec(), uvs, mesh.triangles().to_vec()).map_err(|e| format!("{rel}: {e}"))?;
+        let flat = Arc::new(flat);
+        self.constant_uv_meshes.insert(at.path.clone(), flat.clone());
+        Ok(flat)
     }
 
     fn texture(&mut self, rel: &'static str, at: &Located) -> Result<(Arc<Texture>, [f32; 3]), String> {
@@ -425,11 +441,9 @@ fn load_part(
         Source::File(file, scale) => {
             let at = find(file)?;
             let mut mesh = loaded.mesh(file, &at)?;
-            // A textured mesh without UVs is drawn with one texel (see `material`), which needs
-            // UVs to be sampled at all.
             let constant_uvs = fact.material.texture.is_some() && mesh.uvs().is_none();
             if constant_uvs {
-                mesh = Arc::new(Mesh::new(mesh.positions().to_vec(), mesh.normals().to_vec(), Some(vec![Vec2::ZERO; mesh.vertex_count()]), mesh.triangles().to_vec()).map_err(|e| format!("{file}: {e}"))?);
+                mesh = loaded.constant_uv_mesh(file, &at)?;
             }
             let lods = loaded.lods.entry((at.path.clone(), scale.map(f64::to_bits), constant_uvs)).or_insert_with(|| lods_of(&mesh, scale)).clone();
             (mesh, scale, lods, !constant_uvs)

@@ -138,8 +138,7 @@ struct Loaded {
     lods: BTreeMap<(PathBuf, [u64; 3], bool), Lods>,
     /// Copies of UV-less meshes with every UV at the origin, by file (see `constant_uv_mesh`).
     constant_uv_meshes: BTreeMap<PathBuf, Arc<Mesh>>,
-    /// Texture and its mean colour (for cube textures and meshes without UVs).
-    textures: BTreeMap<PathBuf, Result<(Arc<Texture>, [f32; 3]), String>>,
+    textures: BTreeMap<PathBuf, Result<LoadedTexture, String>>,
     /// (upstream path, blob hash) of every file read.
     hashes: BTreeMap<&'static str, String>,
 }
@@ -171,7 +170,7 @@ impl Loaded {
         Ok(flat)
     }
 
-    fn texture(&mut self, rel: &'static str, at: &Located) -> Result<(Arc<Texture>, [f32; 3]), String> {
+    fn texture(&mut self, rel: &'static str, at: &Located) -> Result<LoadedTexture, String> {
         let hashes = &mut self.hashes;
         self.textures
             .entry(at.path.clone())
@@ -180,15 +179,24 @@ impl Loaded {
                 let bytes = std::fs::read(&at.path).map_err(|e| format!("{name}: cannot read: {e}"))?;
                 hashes.insert(rel, blob_sha1(&bytes));
                 let (mut w, mut h, mut rgba) = decode_png_rgba(&bytes, &name).map_err(|e| e.to_string())?;
-                let mean = mean_rgb(&rgba);
+                let texel = mean_rgb(&rgba).map(|c| (c * 255.0).round().clamp(0.0, 255.0) as u8);
+                let mean = Texture::from_rgba8(1, 1, &[texel[0], texel[1], texel[2], 255]).expect("a 1 x 1 RGBA image is a valid texture");
                 while w.max(h) > MAX_TEXTURE_SIDE && w % 2 == 0 && h % 2 == 0 {
                     (w, h, rgba) = halve(w, h, &rgba);
                 }
                 let texture = Texture::from_rgba8(w, h, &rgba).map_err(|e| format!("{name}: {e}"))?;
-                Ok((Arc::new(texture), mean))
+                Ok(LoadedTexture { full: Arc::new(texture), mean: Arc::new(mean) })
             })
             .clone()
     }
+}
+
+/// A texture file as drawn: the image, and one texel of its mean colour (for cube textures and
+/// meshes without UVs, see `material`), both made once per file.
+#[derive(Clone)]
+struct LoadedTexture {
+    full: Arc<Texture>,
+    mean: Arc<Texture>,
 }
 
 /// Textures are kept at most this many texels on a side: at 256² no surface shows more texels
@@ -242,19 +250,15 @@ fn source(shape: &Shape) -> Source {
 /// generation, which the renderer does not do). Being a texture, it multiplies the lit colour
 /// after clamping, as MuJoCo's does: baked into `rgba` it would let bright lights push a
 /// grey metal past its texture's colour.
-fn material(fact: &MaterialFact, texture: Option<(Arc<Texture>, [f32; 3])>, has_uvs: bool) -> Material {
+fn material(fact: &MaterialFact, texture: Option<LoadedTexture>, has_uvs: bool) -> Material {
     let rgba = fact.rgba.map(|x| x as f32);
     let (specular, shininess, emission) = (fact.specular as f32, fact.shininess as f32, fact.emission as f32);
     let plain = Material { rgba, specular, shininess, emission, ..Material::default() };
     match (texture, &fact.texture) {
-        (Some((tex, _)), Some(t)) if !t.cube && has_uvs => {
-            Material { texture: Some(tex), uv_scale: Vec2::new(t.repeat[0] as f32, t.repeat[1] as f32), ..plain }
+        (Some(tex), Some(t)) if !t.cube && has_uvs => {
+            Material { texture: Some(tex.full), uv_scale: Vec2::new(t.repeat[0] as f32, t.repeat[1] as f32), ..plain }
         }
-        (Some((_, mean)), Some(_)) => {
-            let texel = mean.map(|c| (c * 255.0).round().clamp(0.0, 255.0) as u8);
-            let one = Texture::from_rgba8(1, 1, &[texel[0], texel[1], texel[2], 255]).expect("a 1 x 1 RGBA image is a valid texture");
-            Material { texture: Some(Arc::new(one)), ..plain }
-        }
+        (Some(tex), Some(_)) => Material { texture: Some(tex.mean), ..plain },
         _ => plain,
     }
 }
@@ -301,8 +305,8 @@ impl Look {
             let found = tree.find(file);
             let loaded = found.clone().ok_or_else(|| format!("{file}: not found in any asset folder")).and_then(|at| loaded.texture(file, &at));
             let (status, problem) = match loaded {
-                Ok((texture, _)) => {
-                    arena_textures.insert(file, texture);
+                Ok(texture) => {
+                    arena_textures.insert(file, texture.full);
                     (Status::Assets, None)
                 }
                 Err(e) => (Status::BuiltIn, Some(e)),

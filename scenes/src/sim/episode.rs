@@ -88,7 +88,9 @@ impl Sim {
     pub fn place_fixture(&mut self, entity: usize, at: &Pose) {
         let e = &self.model.entities[entity];
         let r = self.world.rapier_mut();
-        r.bodies[e.bodies[0]].set_position(rapier_pose(at), true);
+        for body in std::iter::once(e.bodies[0]).chain(e.anchor) {
+            r.bodies[body].set_position(rapier_pose(at), true);
+        }
         if let Some(jh) = e.joints.iter().flatten().next() {
             let (mb, _) = r.multibody_joints.get_mut(*jh).expect("fixture joint");
             mb.forward_kinematics(&r.bodies, true);

@@ -9,7 +9,7 @@ use std::sync::Arc;
 use thiserror::Error;
 use vifo_physics::rapier::prelude::*;
 use vifo_physics::{Snapshot, World};
-use vifo_robots::contact::{ARENA_GROUPS, PART_GROUPS, SCENE_GROUPS};
+use vifo_robots::contact::{ARENA_GROUPS, FRAME_GROUPS, PART_GROUPS, SCENE_GROUPS};
 use vifo_robots::convert::{dmat3, rapier_pose, vector};
 use vifo_robots::joint;
 use vifo_robots::model::JointKind as RobotJointKind;
@@ -47,6 +47,9 @@ pub struct SceneEntity {
     pub bodies: Vec<RigidBodyHandle>,
     /// The multibody joint of each catalog body (`None` for the root).
     pub joints: Vec<Option<MultibodyJointHandle>>,
+    /// A fixture with moving parts: the collider-less fixed body their multibody hangs from,
+    /// kept at the root's pose (see [`FRAME_GROUPS`] for why the root itself is not in it).
+    pub anchor: Option<RigidBodyHandle>,
     pub colliders: Vec<ColliderHandle>,
 }
 
@@ -216,10 +219,13 @@ fn mass_properties(inertial: &catalog::Inertial) -> MassProperties {
 }
 
 fn insert_entity(world: &mut World, name: &str, model: &'static ObjectModel) -> SceneEntity {
+    let sleep_after = world.params().sleep_after;
     let r = world.rapier_mut();
     let mut bodies: Vec<RigidBodyHandle> = Vec::with_capacity(model.bodies.len());
     let mut joints = vec![None; model.bodies.len()];
     let mut colliders = Vec::new();
+    let articulated = model.kind == ObjectKind::Fixture && model.bodies.iter().any(|b| b.joint.is_some());
+    let anchor = articulated.then(|| r.bodies.insert(RigidBodyBuilder::fixed()));
     for (i, body) in model.bodies.iter().enumerate() {
         let local = Pose::from_wxyz(body.pos, body.quat_wxyz);
         let builder = match (i, model.kind) {
@@ -234,9 +240,16 @@ fn insert_entity(world: &mut World, name: &str, model: &'static ObjectModel) -> 
             _ => RigidBodyBuilder::dynamic().can_sleep(false),
         };
         let handle = r.bodies.insert(builder.additional_mass_properties(mass_properties(&body.inertial)));
+        if i == 0 && model.kind == ObjectKind::Movable {
+            r.bodies[handle].activation_mut().time_until_sleep = sleep_after;
+        }
+        let groups = match (body.parent, anchor) {
+            (Some(_), _) => PART_GROUPS,
+            (None, Some(_)) => FRAME_GROUPS,
+            (None, None) => SCENE_GROUPS,
+        };
         for c in &body.colliders {
             let shape_pose = Pose::from_wxyz(c.pos, c.quat_wxyz);
-            let groups = if body.parent.is_some() { PART_GROUPS } else { SCENE_GROUPS };
             let builder = scene_collider(collider(&c.shape), &shape_pose, c.friction[0], groups);
             colliders.push(r.colliders.insert_with_parent(builder, handle, &mut r.bodies));
         }
@@ -247,7 +260,11 @@ fn insert_entity(world: &mut World, name: &str, model: &'static ObjectModel) -> 
             };
             // The joint anchor may sit off the body origin (the microwave door hinge).
             let generic = joint::one_dof(kind, &local, &Vec3::from(j.pos), &Vec3::from(j.axis), Some(j.range));
-            let jh = r.multibody_joints.insert(bodies[parent], handle, generic, true).expect("fixtures are trees");
+            let parent_body = match (parent, anchor) {
+                (0, Some(a)) => a,
+                _ => bodies[parent],
+            };
+            let jh = r.multibody_joints.insert(parent_body, handle, generic, true).expect("fixtures are trees");
             let (mb, link) = r.multibody_joints.get_mut(jh).expect("fixture joint");
             let dof = mb.link(link).expect("link").assembly_id();
             mb.damping_mut()[dof] = j.damping;
@@ -266,7 +283,7 @@ fn insert_entity(world: &mut World, name: &str, model: &'static ObjectModel) -> 
         mb.set_self_contacts_enabled(false);
         mb.forward_kinematics(&r.bodies, true);
     }
-    SceneEntity { name: name.to_string(), category: model.category.clone(), model, bodies, joints, colliders }
+    SceneEntity { name: name.to_string(), category: model.category.clone(), model, bodies, joints, anchor, colliders }
 }
 
 fn resolve_regions(task: &Task, class: &SceneClass, entities: &[SceneEntity]) -> Result<Vec<SceneRegion>, BuildError> {

@@ -44,8 +44,8 @@ pub struct SimParams {
     /// start by dropping every object a few millimetres onto its support, and most objects never
     /// move again: at 0.2 s they sleep 0.3 s sooner, which cut 11-19 % of a physics-only step in
     /// the four reference replays, with the end effector and the settled objects as close to
-    /// MuJoCo as before (`vifo xval`). Still long enough not to freeze an object that creeps
-    /// (1 mm per 0.2 s is above the threshold).
+    /// MuJoCo as before (`vifo xval`). An object still creeping faster than the threshold
+    /// (5 mm/s at the 0.1 m length unit, 1 mm per 0.2 s) stays awake.
     pub sleep_after: f64,
 }
 

@@ -105,8 +105,8 @@ impl Mesh {
     /// Builds a mesh shaded the way MuJoCo draws loaded meshes: vertex normals from the file
     /// (or area-weighted smooth normals when it has none), except that for meshes without UVs a
     /// corner whose vertex normal is more than ~37° (cosine 0.8) off its face normal uses the
-    /// face normal instead, which keeps hard edges hard. Such meshes come out with unshared
-    /// vertices (three per triangle).
+    /// face normal instead, which keeps hard edges hard. Equal vertices are shared
+    /// ([`Mesh::welded`]).
     pub fn with_mujoco_normals(
         positions: Vec<Vec3>,
         normals: Option<Vec<Vec3>>,
@@ -118,7 +118,7 @@ impl Mesh {
             None => Mesh::with_smooth_normals(positions, uvs, triangles)?,
         };
         if smooth.uvs.is_some() {
-            return Ok(smooth);
+            return Ok(smooth.welded());
         }
         let mut positions = Vec::with_capacity(smooth.triangles.len() * 3);
         let mut normals = Vec::with_capacity(smooth.triangles.len() * 3);
@@ -132,7 +132,34 @@ impl Mesh {
             }
         }
         let triangles = (0..smooth.triangles.len() as u32).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect();
-        Mesh::new(positions, normals, None, triangles)
+        Ok(Mesh::new(positions, normals, None, triangles)?.welded())
+    }
+
+    /// The same mesh with vertices that are equal in every bit (position, normal, UV) shared:
+    /// it draws the same pixels, with fewer vertices to transform and light. Mesh files often
+    /// store three vertices per triangle; the simplifier needs them shared to collapse edges.
+    pub fn welded(self) -> Mesh {
+        let key = |i: usize| {
+            let uv = self.uvs.as_ref().map_or([0; 2], |u| u[i].to_array().map(f32::to_bits));
+            (self.positions[i].to_array().map(f32::to_bits), self.normals[i].to_array().map(f32::to_bits), uv)
+        };
+        let mut first: std::collections::HashMap<_, u32> = std::collections::HashMap::with_capacity(self.positions.len());
+        let mut kept = Vec::new();
+        let remap: Vec<u32> = (0..self.positions.len())
+            .map(|i| {
+                *first.entry(key(i)).or_insert_with(|| {
+                    kept.push(i);
+                    kept.len() as u32 - 1
+                })
+            })
+            .collect();
+        if kept.len() == self.positions.len() {
+            return self;
+        }
+        let pick = |v: &[Vec3]| kept.iter().map(|&i| v[i]).collect();
+        let uvs = self.uvs.as_ref().map(|u| kept.iter().map(|&i| u[i]).collect());
+        let triangles = self.triangles.iter().map(|t| t.map(|i| remap[i as usize])).collect();
+        Mesh::new(pick(&self.positions), pick(&self.normals), uvs, triangles).expect("sharing equal vertices keeps a valid mesh valid")
     }
 
     /// Vertex positions in the local frame.
@@ -276,6 +303,14 @@ mod tests {
         // Smooth normals at the shared edge are 45° off each face: the face normals win.
         assert!(m.normals()[..3].iter().all(|&n| (n - Vec3::Z).length() < 1e-6));
         assert!(m.normals()[3..].iter().all(|&n| (n - Vec3::Y).length() < 1e-6));
+    }
+
+    #[test]
+    fn mujoco_normals_share_the_vertices_of_a_smooth_surface() {
+        // A flat quad: the corners on the diagonal are equal in both triangles.
+        let p = vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y];
+        let m = Mesh::with_mujoco_normals(p, None, None, vec![[0, 1, 2], [0, 2, 3]]).unwrap();
+        assert_eq!((m.vertex_count(), m.triangles()), (4, &[[0, 1, 2], [0, 2, 3]][..]));
     }
 
     #[test]

@@ -1,92 +1,128 @@
-//! Vertex clustering: a coarser copy of a dense mesh for when its triangles are far smaller than
-//! a pixel (LIBERO's scanned objects have 10-60 k triangles each; most cover no pixel centre at
-//! 256² but each still costs a setup).
+//! Edge-collapse simplification: a coarser copy of a dense mesh for when its triangles are far
+//! smaller than a pixel (LIBERO's scanned objects have 10-60 k triangles each; most cover no
+//! pixel centre at 256² but each still costs a setup).
 //!
-//! Vertices are grouped by the cell of a uniform grid their position falls in, by their normal
-//! rounded to about 30° (so hard edges stay hard) and, for textured meshes, by the cell of a UV
-//! grid (so texture seams stay seams); each group becomes one vertex at the group's mean
-//! position, UV and normal. Triangles whose corners collapse are
-//! dropped. Deterministic: groups and sums follow vertex order.
+//! meshoptimizer's quadric simplifier collapses edges while the surface moves by at most a given
+//! distance, so a copy made for half a pixel of error keeps every silhouette within a pixel. Its
+//! error also counts how far normals and UVs move ([`NORMAL_WEIGHT`], [`UV_WEIGHT`]), so shading
+//! and texture stay in place; it may collapse across hard edges (permissive mode), but never
+//! moves a texture seam. The surviving vertices keep their own normals and UVs. Deterministic:
+//! the simplifier is.
+//!
+//! Vertex clustering, which this replaced, removed only 20-35 % of the triangles per level; with
+//! these copies agentview draws 74 k triangles of libero_spatial task 0 instead of 219 k.
 
-use std::collections::BTreeMap;
-
-use glam::{DVec2, DVec3, IVec3, Vec2, Vec3};
+use meshoptimizer_rs::{simplify_with_attributes, Attributes, Positions, SimplifyOptions, SimplifySettings, VertexFlags, Workspace};
 
 use crate::mesh::Mesh;
 
-/// UV cells per unit: a texture chart keeps its shape to 1/64 of the texture.
-const UV_CELLS: f32 = 64.0;
-
 impl Mesh {
-    /// The mesh with vertices merged per `cell`-sized cube (in the mesh's own units); `None` when
-    /// that removes nothing or leaves no triangle.
-    pub fn clustered(&self, cell: f32) -> Option<Mesh> {
-        if !(cell > 0.0 && cell.is_finite()) {
+    /// The mesh with edges collapsed while its surface moves by at most `max_error` (in the
+    /// mesh's own units); `None` when that removes nothing or leaves no triangle.
+    pub fn simplified(&self, max_error: f32) -> Option<Mesh> {
+        if !(max_error > 0.0 && max_error.is_finite()) {
             return None;
         }
+        let positions: Vec<[f32; 3]> = self.positions().iter().map(|p| p.to_array()).collect();
+        let indices: Vec<u32> = self.triangles().iter().flatten().copied().collect();
         let uvs = self.uvs();
-        let key = |i: usize| {
-            let p = (self.positions()[i] / cell).floor();
-            let uv = uvs.map_or(Vec2::ZERO, |u| (u[i] * UV_CELLS).floor());
-            let n = (self.normals()[i] * 2.0).round();
-            (IVec3::new(p.x as i32, p.y as i32, p.z as i32).to_array(), [n.x as i8, n.y as i8, n.z as i8], [uv.x as i32, uv.y as i32])
-        };
-        let mut groups: BTreeMap<([i32; 3], [i8; 3], [i32; 2]), u32> = BTreeMap::new();
-        let mut of_vertex = Vec::with_capacity(self.vertex_count());
-        let mut sums: Vec<(DVec3, DVec3, DVec2, f64)> = Vec::new();
-        for i in 0..self.vertex_count() {
-            let next = sums.len() as u32;
-            let g = *groups.entry(key(i)).or_insert(next);
-            if g == next {
-                sums.push((DVec3::ZERO, DVec3::ZERO, DVec2::ZERO, 0.0));
-            }
-            let s = &mut sums[g as usize];
-            s.0 += self.positions()[i].as_dvec3();
-            s.1 += self.normals()[i].as_dvec3();
-            s.2 += uvs.map_or(DVec2::ZERO, |u| u[i].as_dvec2());
-            s.3 += 1.0;
-            of_vertex.push(g);
-        }
-        if sums.len() == self.vertex_count() {
-            return None;
-        }
-        let triangles: Vec<[u32; 3]> = self
-            .triangles()
-            .iter()
-            .map(|t| t.map(|i| of_vertex[i as usize]))
-            .filter(|[a, b, c]| a != b && b != c && a != c)
+        let attributes: Vec<f32> = (0..self.vertex_count())
+            .flat_map(|i| {
+                let n = self.normals()[i].normalize_or_zero();
+                let uv = uvs.map_or(glam::Vec2::ZERO, |u| u[i]);
+                [n.x, n.y, n.z, uv.x, uv.y]
+            })
             .collect();
-        if triangles.is_empty() {
+        let weights = [NORMAL_WEIGHT, NORMAL_WEIGHT, NORMAL_WEIGHT, UV_WEIGHT, UV_WEIGHT];
+        let flags = uvs.map(|u| uv_seams(self.positions(), u));
+        let settings = SimplifySettings {
+            target_index_count: 0,
+            target_error: max_error,
+            options: SimplifyOptions::ERROR_ABSOLUTE | SimplifyOptions::PERMISSIVE,
+        };
+        let kept = simplify_with_attributes(
+            &indices,
+            Positions::from_packed(&positions),
+            Attributes::from_interleaved(&attributes, self.vertex_count(), 5, 5, 0).ok()?,
+            &weights,
+            flags.as_deref(),
+            settings,
+            &mut Workspace::default(),
+        )
+        .ok()?
+        .indices;
+        if kept.is_empty() || kept.len() == indices.len() {
             return None;
         }
-        let positions = sums.iter().map(|s| (s.0 / s.3).as_vec3()).collect();
-        let normals = sums.iter().map(|s| s.1.normalize_or(DVec3::Z).as_vec3()).collect::<Vec<Vec3>>();
-        let uvs = uvs.map(|_| sums.iter().map(|s| (s.2 / s.3).as_vec2()).collect());
-        Mesh::new(positions, normals, uvs, triangles).ok()
+        // Only the vertices the kept triangles use, in first-use order.
+        let mut new_index = vec![u32::MAX; self.vertex_count()];
+        let mut used = Vec::new();
+        let triangles = kept
+            .chunks_exact(3)
+            .map(|t| {
+                [t[0], t[1], t[2]].map(|i| {
+                    let slot = &mut new_index[i as usize];
+                    if *slot == u32::MAX {
+                        *slot = used.len() as u32;
+                        used.push(i as usize);
+                    }
+                    *slot
+                })
+            })
+            .collect();
+        let pick = |v: &[glam::Vec3]| used.iter().map(|&i| v[i]).collect();
+        let uvs = self.uvs().map(|u| used.iter().map(|&i| u[i]).collect());
+        Mesh::new(pick(self.positions()), pick(self.normals()), uvs, triangles).ok()
     }
+}
+
+/// Error per unit of normal change, in units of the mesh's size (meshoptimizer's attribute
+/// weight). Against MuJoCo's frames, agentview SSIM (min / median) was 0.926 / 0.949 at 0.1,
+/// 0.928 / 0.952 at 0.5 and 0.929 / 0.953 at 1.0, which drew 10 % more triangles.
+const NORMAL_WEIGHT: f32 = 0.5;
+/// Error per unit of UV change: one texture width counts as the mesh's size.
+const UV_WEIGHT: f32 = 1.0;
+
+/// Vertices where a texture seam runs: their position is shared with a vertex of another UV.
+fn uv_seams(positions: &[glam::Vec3], uvs: &[glam::Vec2]) -> Vec<VertexFlags> {
+    let mut first: std::collections::HashMap<[u32; 3], glam::Vec2> = std::collections::HashMap::new();
+    let mut seam: std::collections::HashSet<[u32; 3]> = std::collections::HashSet::new();
+    for (p, &uv) in positions.iter().zip(uvs) {
+        let key = p.to_array().map(f32::to_bits);
+        if *first.entry(key).or_insert(uv) != uv {
+            seam.insert(key);
+        }
+    }
+    positions.iter().map(|p| if seam.contains(&p.to_array().map(f32::to_bits)) { VertexFlags::PROTECT } else { VertexFlags::EMPTY }).collect()
 }
 
 #[cfg(test)]
 mod tests {
+    use glam::Vec3;
+
     use super::*;
 
     #[test]
     fn a_dense_sphere_gets_coarser_and_keeps_its_size() {
         let s = Mesh::sphere(1.0, 64);
-        let dense = Mesh::new(s.positions().to_vec(), s.normals().to_vec(), None, s.triangles().to_vec()).unwrap();
-        let coarse = dense.clustered(0.2).unwrap();
-        assert!(coarse.triangle_count() * 3 < dense.triangle_count(), "{} -> {}", dense.triangle_count(), coarse.triangle_count());
+        let coarse = s.simplified(0.01).unwrap();
+        assert!(coarse.triangle_count() * 3 < s.triangle_count(), "{} -> {}", s.triangle_count(), coarse.triangle_count());
         let r = coarse.bounds().radius;
-        assert!((r - 1.0).abs() < 0.1, "{r}");
-        assert_eq!(dense.clustered(0.2).unwrap().positions(), coarse.positions());
+        assert!((r - 1.0).abs() < 0.02, "{r}");
+        assert_eq!(s.simplified(0.01).unwrap().positions(), coarse.positions());
     }
 
     #[test]
-    fn a_cell_finer_than_the_mesh_changes_nothing() {
+    fn texture_seams_are_protected() {
+        let p = [Vec3::ZERO, Vec3::X, Vec3::ZERO, Vec3::Y];
+        let uv = [glam::Vec2::ZERO, glam::Vec2::X, glam::Vec2::Y, glam::Vec2::ONE];
+        assert_eq!(uv_seams(&p, &uv), [VertexFlags::PROTECT, VertexFlags::EMPTY, VertexFlags::PROTECT, VertexFlags::EMPTY]);
+    }
+
+    #[test]
+    fn a_box_cannot_get_coarser() {
         let cube = Mesh::cuboid(Vec3::splat(1.0));
-        assert!(cube.clustered(0.01).is_none());
-        assert!(cube.clustered(0.0).is_none() && cube.clustered(f32::NAN).is_none());
-        // Everything in one cell: each face collapses to a point, no triangle survives.
-        assert!(cube.clustered(100.0).is_none());
+        assert!(cube.simplified(0.01).is_none());
+        assert!(cube.simplified(0.0).is_none() && cube.simplified(f32::NAN).is_none());
     }
 }

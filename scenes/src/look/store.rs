@@ -36,7 +36,7 @@ pub struct LoadedPart {
     /// The `<mesh scale>` (1 for primitives).
     pub scale: [f64; 3],
     pub mesh: Arc<Mesh>,
-    /// Coarser copies of `mesh` for far views: (world size of the merged cells, mesh), finest
+    /// Coarser copies of `mesh` for far views: (world size of the pixel it is made for, mesh), finest
     /// first; empty for primitives and meshes that are already coarse.
     pub lods: Lods,
     pub material: Material,
@@ -53,25 +53,30 @@ pub struct MirrorFace {
     pub height: f32,
 }
 
-/// Coarser copies of a mesh, each with the world size (metres) of its merged cells.
+/// Coarser copies of a mesh, each with the world size (metres) of the pixel it is made for.
 pub type Lods = Arc<[(f32, Arc<Mesh>)]>;
 
-/// World sizes of the merged cells of the coarser copies: at 256² a table-top object seen from
-/// agentview (about 1 m) is 3-4 mm per pixel; the wrist camera close by keeps the full mesh.
-const LOD_CELLS_M: [f32; 4] = [0.002, 0.004, 0.008, 0.016];
+/// World sizes of the pixels the coarser copies are made for: at 256² a table-top object seen
+/// from agentview (about 1 m) is 3-4 mm per pixel; the wrist camera close by keeps the full mesh.
+const LOD_PIXELS_M: [f32; 4] = [0.002, 0.004, 0.008, 0.016];
+
+/// How the files are turned into drawings, hashed into the look: a change that alters the asset
+/// look's pixels gets a new name here, so results drawn before and after never share a look.
+const DRAWING: &str = "quadric LODs within a pixel\n";
 
 /// A coarser copy is kept only if it has at most this fraction of the previous one's triangles.
 const LOD_KEEP: f32 = 0.75;
 
-/// The coarser copies of `mesh` drawn at `scale`.
+/// The coarser copies of `mesh` drawn at `scale`, each simplified from the one before it by at
+/// most half its pixel, so its surface stays within one pixel of the full mesh (half + a quarter
+/// + ...).
 fn lods_of(mesh: &Mesh, scale: [f64; 3]) -> Lods {
     let s = scale.iter().fold(0.0f64, |m, &x| m.max(x.abs())) as f32;
     let mut out: Vec<(f32, Arc<Mesh>)> = Vec::new();
-    let mut last = mesh.triangle_count();
-    for cell in LOD_CELLS_M {
-        if let Some(coarse) = mesh.clustered(cell / s).filter(|m| (m.triangle_count() as f32) <= LOD_KEEP * last as f32) {
-            last = coarse.triangle_count();
-            out.push((cell, Arc::new(coarse)));
+    for pixel in LOD_PIXELS_M {
+        let finer = out.last().map_or(mesh, |(_, m)| &**m);
+        if let Some(coarse) = finer.simplified(0.5 * pixel / s).filter(|m| (m.triangle_count() as f32) <= LOD_KEEP * finer.triangle_count() as f32) {
+            out.push((pixel, Arc::new(coarse)));
         }
     }
     out.into()
@@ -322,6 +327,7 @@ impl Look {
             }
         }
         let mut h = Sha1::new();
+        h.update(DRAWING.as_bytes());
         for (rel, blob) in &loaded.hashes {
             h.update(format!("{rel} {blob}\n").as_bytes());
         }
@@ -344,8 +350,8 @@ impl Look {
         &self.report
     }
 
-    /// Content hash of the files read (16 hex digits over upstream path and blob hash of each),
-    /// empty when nothing was read.
+    /// Content hash of the files read (16 hex digits over [`DRAWING`] and the upstream path and
+    /// blob hash of each), empty when nothing was read.
     pub fn hash(&self) -> &str {
         &self.hash
     }

@@ -76,7 +76,8 @@ pub struct SceneView {
     class: &'static SceneClass,
 }
 
-/// Largest merged-cell size of a coarser mesh, in pixels at the instance's depth.
+/// A coarser mesh is drawn where the pixel it was made for is at most this many of the camera's
+/// pixels at the instance's depth.
 const LOD_PIXELS: f32 = 1.0;
 
 /// Objects and fixtures: LIBERO's assets are textured with MuJoCo's default material.
@@ -371,7 +372,7 @@ impl SceneView {
         Ok(())
     }
 
-    /// The scene with each instance's coarsest mesh whose merged cells are no larger than
+    /// The scene with each instance's coarsest mesh made for a pixel no larger than
     /// [`LOD_PIXELS`] pixels at the instance's depth in `camera`; `None` when no instance has coarser meshes.
     fn for_camera(&self, camera: &Camera) -> Option<Scene> {
         if self.lods.is_empty() {
@@ -382,7 +383,7 @@ impl SceneView {
         for (instance, lods) in scene.instances.iter_mut().zip(&self.lods) {
             let centre = instance.transform.transform_point(instance.mesh.bounds().center);
             let pixel = (centre - camera.position).dot(camera.forward()) * metres_per_pixel_at_1m;
-            if let Some((_, mesh)) = lods.iter().take_while(|(cell, _)| *cell <= LOD_PIXELS * pixel).last() {
+            if let Some((_, mesh)) = lods.iter().take_while(|(made_for, _)| *made_for <= LOD_PIXELS * pixel).last() {
                 instance.mesh = mesh.clone();
             }
         }

@@ -41,9 +41,12 @@ if [ ! -f "$venv/.complete" ]; then
   touch "$venv/.complete"
 fi
 
-vifo="${VIFO:-$root/target/fast/vifo}"
-if [ ! -x "$vifo" ]; then
-  echo "== building vifo (cargo build --profile fast -p vifo)"
-  (cd "$root" && cargo build --profile fast -p vifo) || die "could not build vifo"
+# The release build, as users run it (`cargo run --release`): its one-unit LTO makes physics 3-5 % faster than
+# `--profile fast`. Cargo rebuilds only what changed.
+vifo="${VIFO:-$root/target/release/vifo}"
+if [ -z "${VIFO:-}" ]; then
+  echo "== building vifo (cargo build --release -p vifo)"
+  (cd "$root" && cargo build --release -p vifo) || die "could not build vifo"
 fi
+[ -x "$vifo" ] || die "no vifo program at $vifo"
 exec "$venv/bin/python" "$here/libero_side_by_side.py" --vifo "$vifo" --root "$root" "$@"

@@ -1,11 +1,13 @@
 //! The MuJoCo frames recorded with LIBERO's complete asset set (`xval/record_complete.py`) are
 //! readable by `vifo xval --images`: every recording names one of our tasks, starts in our scene,
-//! and its images compare. The set lives outside the repository (`VIFO_XVAL_COMPLETE`, default
+//! and its images compare; with LIBERO's look installed, every frame meets issue 14's image gates.
+//! The set lives outside the repository (`VIFO_XVAL_COMPLETE`, default
 //! `~/.cache/libero-vifo/xval-complete`); without it the tests print why they skip.
 
 use std::path::PathBuf;
 
 use vifo::xval::{self, Recording, images};
+use vifo_scenes::look::{self, Look};
 use vifo_scenes::view::CameraName;
 
 fn complete_refs(test: &str) -> Option<PathBuf> {
@@ -43,4 +45,31 @@ fn a_complete_recording_compares_with_the_built_in_look() {
         assert!(r.psnr_db.is_finite() && r.psnr_db > 5.0, "{r:?}");
         assert!(r.output.exists(), "{}", r.output.display());
     }
+}
+
+/// Issue 14's image gates, on every complete-asset frame with LIBERO's look: agentview SSIM ≥ 0.92
+/// and PSNR ≥ 27 dB, wrist SSIM ≥ 0.88 and PSNR ≥ 24 dB. A change to how assets are drawn (the
+/// LODs, materials, lighting) that costs fidelity fails here. `vifo xval DIR --images OUT` prints
+/// the figures.
+#[test]
+fn every_complete_frame_meets_the_image_gates_with_the_assets() {
+    let test = "every_complete_frame_meets_the_image_gates_with_the_assets";
+    let Some(dir) = complete_refs(test) else { return };
+    let roots = look::discover(None, None).unwrap();
+    if roots.libero.is_empty() || roots.robot.is_none() {
+        println!("SKIPPED {test}: no LIBERO asset wheels or robosuite installed ({:?})", roots.notes);
+        return;
+    }
+    let look = Look::load(roots);
+    let out = tempfile::tempdir().unwrap();
+    let mut below = Vec::new();
+    for path in xval::recordings_in(&dir).unwrap() {
+        for r in images::compare(&path, &Recording::load(&path).unwrap(), out.path(), Some(&look)).unwrap() {
+            let (ssim, psnr) = if r.camera == CameraName::AgentView.as_str() { (0.92, 27.0) } else { (0.88, 24.0) };
+            if !(r.ssim >= ssim && r.psnr_db >= psnr) {
+                below.push(format!("{} {} step {}: SSIM {:.3}, PSNR {:.2} dB", r.file, r.camera, r.t, r.ssim, r.psnr_db));
+            }
+        }
+    }
+    assert!(below.is_empty(), "frames below the gates:\n{}", below.join("\n"));
 }

@@ -74,8 +74,8 @@ impl Mesh {
             })
             .collect();
         let pick = |v: &[Vec3]| used.iter().map(|&i| v[i]).collect();
-        let uvs = self.uvs().map(|u| used.iter().map(|&i| u[i]).collect());
-        Mesh::new(pick(self.positions()), pick(self.normals()), uvs, triangles).ok()
+        let kept_uvs = uvs.map(|u| used.iter().map(|&i| u[i]).collect());
+        Mesh::new(pick(self.positions()), pick(self.normals()), kept_uvs, triangles).ok()
     }
 }
 

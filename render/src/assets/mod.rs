@@ -6,9 +6,10 @@
 //!
 //! Conventions match MuJoCo: texture `v = 0` is the top image row (OBJ's bottom-up `v` is
 //! flipped on load, `.msh` UVs are used as stored); meshes without UVs get MuJoCo's hard-edge
-//! normals ([`crate::Mesh::with_mujoco_normals`]). Vertices are returned as stored: MuJoCo's
-//! compiler re-centres meshes but moves the geom frame to compensate, so raw vertices placed at
-//! the XML geom pose (and `scale`) appear where MuJoCo draws them.
+//! normals ([`crate::Mesh::with_mujoco_normals`], which also shares equal vertices). Vertex
+//! positions are returned as stored: MuJoCo's compiler re-centres meshes but moves the geom frame
+//! to compensate, so raw vertices placed at the XML geom pose (and `scale`) appear where MuJoCo
+//! draws them.
 
 mod msh;
 mod obj;

@@ -19,6 +19,7 @@
 
 pub mod assets;
 mod camera;
+mod cluster;
 mod frame;
 pub mod imageio;
 mod mesh;

@@ -3,6 +3,7 @@
 use glam::{Vec2, Vec3};
 use thiserror::Error;
 
+use crate::cluster::Clusters;
 use crate::transform::{cross, dot, mul_mat3, normalize, Transform};
 
 /// Why mesh data was rejected.
@@ -39,6 +40,8 @@ pub struct Mesh {
     bounds: BoundingSphere,
     /// Half size of the bounding box centred on `bounds.center`.
     half_extent: Vec3,
+    /// Groups of triangles culled as a whole; empty unless [`Mesh::clustered`] made them.
+    clusters: Clusters,
 }
 
 impl Mesh {
@@ -75,7 +78,7 @@ impl Mesh {
             }
         }
         let (bounds, half_extent) = bounding_sphere(&positions);
-        Ok(Mesh { positions, normals, uvs, triangles, bounds, half_extent })
+        Ok(Mesh { positions, normals, uvs, triangles, bounds, half_extent, clusters: Clusters::default() })
     }
 
     /// Builds a mesh whose normals are the area-weighted average of the adjacent face normals
@@ -162,6 +165,16 @@ impl Mesh {
         Mesh::new(pick(&self.positions), pick(&self.normals), uvs, triangles).expect("sharing equal vertices keeps a valid mesh valid")
     }
 
+    /// This mesh with `triangles` (the same ones, regrouped) in `clusters`.
+    pub(crate) fn with_clusters(self, triangles: Vec<[u32; 3]>, clusters: Clusters) -> Mesh {
+        Mesh { triangles, clusters, ..self }
+    }
+
+    /// The triangle clusters (empty for meshes drawn triangle by triangle).
+    pub(crate) fn clusters(&self) -> &Clusters {
+        &self.clusters
+    }
+
     /// Vertex positions in the local frame.
     pub fn positions(&self) -> &[Vec3] {
         &self.positions
@@ -244,7 +257,7 @@ impl Mesh {
 
 /// Centre of the bounding box, radius to the farthest vertex: deterministic and tight enough;
 /// and the box's half size.
-fn bounding_sphere(points: &[Vec3]) -> (BoundingSphere, Vec3) {
+pub(crate) fn bounding_sphere(points: &[Vec3]) -> (BoundingSphere, Vec3) {
     if points.is_empty() {
         return (BoundingSphere { center: Vec3::ZERO, radius: 0.0 }, Vec3::ZERO);
     }

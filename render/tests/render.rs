@@ -139,19 +139,40 @@ fn depth_and_segmentation_follow_occlusion() {
 }
 
 #[test]
-fn triangles_hidden_behind_what_is_drawn_are_not_lit() {
+fn what_is_hidden_behind_what_is_drawn_is_skipped_and_not_lit() {
     let cam = Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y, 45.0, 48, 48);
     let wall = facing_square(&cam, Vec3::new(0.0, 0.0, 0.5), 2.0, Material::default(), 1);
     let hidden = Instance::new(Arc::new(Mesh::sphere(0.2, 16)), Transform::IDENTITY, 2);
     let lights = |instances| Scene { instances, headlight: Headlight::default(), ..Scene::default() };
     let mut r = Renderer::default();
     let alone = r.render(&lights(vec![wall.clone()]), &cam).unwrap();
-    let lit_alone = r.stats().vertices_lit;
-    let both = r.render(&lights(vec![hidden, wall]), &cam).unwrap();
-    // The sphere reaches pixel centres but loses every depth test to the wall drawn first.
-    assert!(r.stats().triangles_rasterized > 10);
-    assert_eq!(r.stats().vertices_lit, lit_alone);
+    let (lit_alone, rasterized_alone) = (r.stats().vertices_lit, r.stats().triangles_rasterized);
+    // The sphere is drawn after the wall, which covers all of it: it is skipped whole.
+    let both = r.render(&lights(vec![hidden.clone(), wall.clone()]), &cam).unwrap();
+    assert_eq!(r.stats().hidden, 1);
+    assert_eq!((r.stats().triangles_rasterized, r.stats().vertices_lit), (rasterized_alone, lit_alone));
     assert_eq!(both, alone);
+    // Half in front of the wall: drawn, and only what shows is lit.
+    let poking = Instance::new(Arc::new(Mesh::sphere(0.2, 16)), Transform::from_translation(Vec3::new(0.0, 0.0, 0.5)), 2);
+    let through = r.render(&lights(vec![poking, wall]), &cam).unwrap();
+    assert_eq!(r.stats().hidden, 0);
+    assert!(through.segmentation.contains(&2));
+}
+
+#[test]
+fn clustered_meshes_draw_the_same_pixels_and_skip_clusters_facing_away() {
+    let dense = Mesh::sphere(0.3, 48);
+    let clustered = dense.clone().clustered();
+    let scene = |mesh: Mesh| Scene { instances: vec![Instance::new(Arc::new(mesh), Transform::IDENTITY, 1)], headlight: Headlight::default(), ..Scene::default() };
+    let mut r = Renderer::default();
+    for eye in [Vec3::new(0.0, 0.0, 2.0), Vec3::new(1.2, -0.7, 0.4), Vec3::new(0.0, 0.45, 0.1)] {
+        let cam = Camera::look_at(eye, Vec3::ZERO, Vec3::Z, 45.0, 64, 64);
+        let plain = r.render(&scene(dense.clone()), &cam).unwrap();
+        assert_eq!(r.stats().clusters_culled, 0);
+        let grouped = r.render(&scene(clustered.clone()), &cam).unwrap();
+        assert!(r.stats().clusters_culled > 0, "from {eye}: no cluster was skipped");
+        assert_eq!(grouped, plain, "from {eye}");
+    }
 }
 
 #[test]

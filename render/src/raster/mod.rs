@@ -2,11 +2,13 @@
 //!
 //! One frame runs in four steps, single-threaded, with buffers reused between frames:
 //! 1. **Geometry.** Instances outside the view frustum (bounding sphere test) are skipped; the
-//!    rest are sorted front to back. Each instance's vertices are transformed into camera
-//!    space once, with outcodes for trivial rejection and clipping. Triangles are back-face
-//!    culled in exact fixed point, near-plane (and guard-band) clipped when needed, and only the
-//!    vertices of triangles that cover a pixel centre in front of what is already drawn are lit
-//!    (per vertex, [`lighting`]).
+//!    rest are sorted front to back. An instance, or a cluster of a clustered mesh
+//!    ([`crate::Mesh::clustered`]), is skipped whole when what was drawn before it hides it
+//!    ([`hiz`]); a cluster also when it lies outside the view or its normal cone faces away.
+//!    The vertices drawn are transformed into camera space once, with outcodes for trivial
+//!    rejection and clipping. Triangles are back-face culled in exact fixed point, near-plane
+//!    (and guard-band) clipped when needed, and only the vertices of triangles that cover a
+//!    pixel centre in front of what is already drawn are lit (per vertex, [`lighting`]).
 //! 2. **Visibility.** Opaque triangles are rasterized depth-only into a visibility buffer: per
 //!    pixel, `1/z` and the index of the nearest triangle ([`triangle`] does exact coverage at
 //!    pixel centres).
@@ -19,6 +21,7 @@
 //!    side) and added to the face's pixels.
 
 mod clip;
+mod hiz;
 mod lighting;
 mod shadow;
 mod triangle;
@@ -27,6 +30,7 @@ use glam::{Mat3, Vec2, Vec3};
 use thiserror::Error;
 
 use self::clip::{ClipSpace, ClipVert, Polygon, SphereClass, GUARD_FIXED, MUST_CLIP, REJECT};
+use self::hiz::HiZ;
 use self::lighting::{LightRig, Lit};
 use self::shadow::ShadowMap;
 use self::triangle::{box_holds_centre, orientation, snap, Plane, Setup};
@@ -73,6 +77,18 @@ pub struct RenderStats {
     /// Vertices lit: only those of triangles that cover a pixel centre in front of what was
     /// drawn before them.
     pub vertices_lit: usize,
+    /// Triangle clusters of clustered meshes skipped whole: outside the view or facing away.
+    pub clusters_culled: usize,
+    /// Clusters and instances skipped whole because what was drawn before hides them.
+    pub hidden: usize,
+}
+
+impl RenderStats {
+    fn add(&mut self, a: Assembled) {
+        self.vertices_lit += a.lit;
+        self.clusters_culled += a.culled;
+        self.hidden += a.hidden;
+    }
 }
 
 /// Why a frame could not be rendered.
@@ -204,6 +220,25 @@ impl View {
         outside != 0 || behind
     }
 
+    /// Whether `sink` says a camera-space sphere is hidden behind what is drawn: it must lie in
+    /// front of the eye, and its nearest point behind every pixel its projection can cover.
+    fn hidden(&self, sink: &mut impl Sink, c: Vec3, r: f32) -> bool {
+        let (z0, z1) = (c.z - r, c.z + r);
+        if !(z0 > 0.0) {
+            return false;
+        }
+        // x/z over the box around the sphere is extreme at its corners; one pixel of margin.
+        let range = |m: f32, f: f32, o: f32, size: u32| {
+            let q = [(m - r) / z0, (m - r) / z1, (m + r) / z0, (m + r) / z1].map(|q| f * q + o);
+            let (lo, hi) = (q.iter().fold(f32::INFINITY, |a, &b| a.min(b)), q.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b)));
+            let clamp = |x: f32| (x.max(0.0).min(size as f32 - 1.0)) as u32;
+            (clamp(lo - 1.0), clamp(hi + 2.0))
+        };
+        let (x0, x1) = range(c.x, self.k.fx, self.k.cx, self.width);
+        let (y0, y1) = range(c.y, self.k.fy, self.k.cy, self.height);
+        sink.hidden([x0, y0, x1, y1], 1.0 / z0)
+    }
+
     /// The part of this view from pixel `(x0, y0)` to `(x1, y1)` (inclusive), as a view of its own.
     fn cropped(mut self, x0: u32, y0: u32, x1: u32, y1: u32, near: f32) -> View {
         self.k.cx -= x0 as f32;
@@ -239,6 +274,7 @@ pub struct Renderer {
     /// Visibility buffer: `1/z` (0 = empty) and triangle index per pixel.
     depth: Vec<f32>,
     tri_id: Vec<u32>,
+    hiz: HiZ,
     records: Vec<TriRecord>,
     /// Per-record colour of the shadow-casting light (only while shadows are active).
     shadow_rgb: Vec<[Plane; 3]>,
@@ -315,6 +351,7 @@ impl Renderer {
         self.depth.resize(n, 0.0);
         self.tri_id.clear();
         self.tri_id.resize(n, NO_TRIANGLE);
+        self.hiz.reset(view.width, view.height);
         self.records.clear();
         self.shadow_rgb.clear();
 
@@ -454,35 +491,22 @@ impl Renderer {
 
     fn draw_opaque(&mut self, scene: &Scene, visible: &Visible, view: &View) {
         let (idx, inst) = (visible.index, &scene.instances[visible.index as usize]);
-        let shadows = self.shadows_active;
-        let (depth, tri_id, records, shadow_rgb) = (&mut self.depth, &mut self.tri_id, &mut self.records, &mut self.shadow_rgb);
-        let mut rasterized = 0;
+        let mut sink = Opaque {
+            depth: &mut self.depth,
+            tri_id: &mut self.tri_id,
+            records: &mut self.records,
+            shadow_rgb: &mut self.shadow_rgb,
+            hiz: &mut self.hiz,
+            view,
+            inst,
+            idx,
+            shadows: self.shadows_active,
+            rasterized: 0,
+        };
         let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, poly: &mut self.poly, rig: &self.rig };
-        let lit = front.assemble(inst, visible.inside, view, |setup, iz, light| {
-            rasterized += 1;
-            // Depth test and write first, under the id the record is about to get: a triangle
-            // that loses every test (common: instances go front to back) wrote nothing, and is
-            // neither lit nor recorded.
-            let id = records.len() as u32;
-            let plane = setup.plane(iz);
-            let mut won = 0u32;
-            let keep = view.keep.map(|k| k.test);
-            setup.for_each_span(|j, first, last| {
-                let base = j as usize * view.width as usize;
-                let range = base + first as usize..base + last as usize + 1;
-                won |= depth_span(&mut depth[range.clone()], &mut tri_id[range], first, j, &plane, keep.as_ref(), id);
-            });
-            if won == 0 {
-                return;
-            }
-            let (rec, sh) = build_record(&setup, &light(), inst, idx, shadows);
-            records.push(rec);
-            if let Some(sh) = sh {
-                shadow_rgb.push(sh);
-            }
-        });
-        self.stats.triangles_rasterized += rasterized;
-        self.stats.vertices_lit += lit;
+        let done = front.assemble(inst, visible.inside, view, &mut sink);
+        self.stats.triangles_rasterized += sink.rasterized;
+        self.stats.add(done);
     }
 
     fn draw_blended(&mut self, scene: &Scene, visible: &Visible, view: &View, out: &mut Frame) {
@@ -491,7 +515,7 @@ impl Renderer {
         let depth = &self.depth;
         let mut rasterized = 0;
         let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, poly: &mut self.poly, rig: &self.rig };
-        let lit = front.assemble(inst, visible.inside, view, |setup, _, light| {
+        let done = front.assemble(inst, visible.inside, view, &mut |setup: Setup, _: [f32; 3], light: &mut dyn FnMut() -> [ScreenVert; 3]| {
             let (rec, sh) = build_record(&setup, &light(), inst, idx, shadows.is_some());
             rasterized += 1;
             let texture = texture_of(&rec, scene);
@@ -509,7 +533,7 @@ impl Renderer {
             });
         });
         self.stats.triangles_rasterized += rasterized;
-        self.stats.vertices_lit += lit;
+        self.stats.add(done);
     }
 
     /// Shades every pixel once from the visibility buffer, one run of same-triangle pixels at
@@ -619,40 +643,186 @@ struct Frontend<'a> {
 }
 
 impl Frontend<'_> {
-    /// Transforms, culls, clips and lights one instance, calling `emit` with each screen
-    /// triangle that covers a pixel centre, its vertices' `1/z` and a function that lights its
-    /// vertices (in the order its setup uses). Vertices are lit only when `emit` asks. Returns
-    /// how many vertices were lit.
-    fn assemble(&mut self, inst: &Instance, inside: bool, view: &View, mut emit: impl FnMut(Setup, [f32; 3], &mut dyn FnMut() -> [ScreenVert; 3])) -> usize {
+    /// Transforms, culls, clips and lights one instance, sending `sink` each screen triangle
+    /// that covers a pixel centre (vertices are lit only when the sink asks).
+    fn assemble(&mut self, inst: &Instance, inside: bool, view: &View, sink: &mut impl Sink) -> Assembled {
         let mesh = &*inst.mesh;
         let t = &inst.transform;
         let linear = mul_mat3_mat3(&view.rot, &t.linear);
         let trans = mul_mat3(&view.rot, t.translation - view.position);
-        let normal_m = mul_mat3_mat3(&view.rot, &t.normal_matrix());
-        let surface = self.rig.surface(&inst.material);
-        let double_sided = inst.material.double_sided;
-        let uvs = inst.material.texture.as_ref().and(mesh.uvs());
-        let (uv_scale, uv_offset) = (inst.material.uv_scale, inst.material.uv_offset);
-        let uv_of = |i: usize| uvs.map_or(Vec2::ZERO, |u| u[i] * uv_scale + uv_offset);
-        let (w, h) = (view.width, view.height);
-
-        self.verts.fill(mesh.positions(), |p| {
+        let to_screen = |p: Vec3| {
             let cam = mul_mat3(&linear, p) + trans;
             let code = if inside { 0 } else { view.clip.outcode(cam) };
             let (xy, iz) = if code & MUST_CLIP == 0 { view.project(cam) } else { ([0, 0], 0.0) };
             (cam, xy, iz, code)
-        });
+        };
+        let uvs = inst.material.texture.as_ref().and(mesh.uvs());
+        let placed = Placed {
+            normals: mesh.normals(),
+            normal_m: mul_mat3_mat3(&view.rot, &t.normal_matrix()),
+            surface: self.rig.surface(&inst.material),
+            double_sided: inst.material.double_sided,
+            uvs,
+            uv_scale: inst.material.uv_scale,
+            uv_offset: inst.material.uv_offset,
+            rig: self.rig,
+        };
+        let scale = t.max_scale();
+        let mut done = Assembled::default();
+        let b = mesh.bounds();
+        if view.hidden(sink, mul_mat3(&linear, b.center) + trans, b.radius * scale) {
+            done.hidden += 1;
+            return done;
+        }
         self.lit.begin(mesh.vertex_count());
-        let verts = &*self.verts;
-        let normals = mesh.normals();
-        let rig = self.rig;
+        let clusters = mesh.clusters();
+        if clusters.list.is_empty() {
+            self.verts.fill(mesh.positions(), to_screen);
+            placed.draw(mesh.triangles(), &*self.verts, &mut *self.lit, &mut *self.poly, view, sink);
+        } else {
+            self.verts.begin(mesh.vertex_count());
+            let cones = !inst.material.double_sided && is_similarity(&t.linear);
+            for c in &clusters.list {
+                let centre = mul_mat3(&linear, c.centre) + trans;
+                let outside = !inside && view.clip.classify_sphere(centre, c.radius * scale, view.far) == SphereClass::Outside;
+                let apex = mul_mat3(&linear, c.cone_apex) + trans;
+                let faces_away = cones && dot(normalize(apex), normalize(mul_mat3(&linear, c.cone_axis))) >= c.cone_cutoff + CONE_MARGIN;
+                if outside || faces_away {
+                    done.culled += 1;
+                    continue;
+                }
+                if view.hidden(sink, centre, c.radius * scale) {
+                    done.hidden += 1;
+                    continue;
+                }
+                let used = &clusters.vertices[c.first_vertex as usize..(c.first_vertex + c.vertex_count) as usize];
+                self.verts.ensure(used, mesh.positions(), to_screen);
+                let tris = &mesh.triangles()[c.first as usize..(c.first + c.count) as usize];
+                placed.draw(tris, &*self.verts, &mut *self.lit, &mut *self.poly, view, sink);
+            }
+        }
+        done.lit = self.lit.count;
+        done
+    }
+}
+
+/// What [`Frontend::assemble`] did with one instance, for [`RenderStats`].
+#[derive(Clone, Copy, Default)]
+struct Assembled {
+    lit: usize,
+    culled: usize,
+    hidden: usize,
+}
+
+/// Where the geometry stage sends what it assembled.
+trait Sink {
+    /// Whether every pixel of `rect` (inclusive `[x0, y0, x1, y1]`) already shows a surface
+    /// clearly nearer than `1/z = nearest`, so nothing at that depth or beyond can show there.
+    fn hidden(&mut self, _rect: [u32; 4], _nearest: f32) -> bool {
+        false
+    }
+
+    /// A screen triangle covering a pixel centre, its vertices' `1/z`, and a function that
+    /// lights its vertices (in the order its setup uses).
+    fn triangle(&mut self, setup: Setup, iz: [f32; 3], light: &mut dyn FnMut() -> [ScreenVert; 3]);
+}
+
+/// Any such function is a sink that hides nothing.
+impl<F: FnMut(Setup, [f32; 3], &mut dyn FnMut() -> [ScreenVert; 3])> Sink for F {
+    fn triangle(&mut self, setup: Setup, iz: [f32; 3], light: &mut dyn FnMut() -> [ScreenVert; 3]) {
+        self(setup, iz, light)
+    }
+}
+
+/// The opaque pass: depth-tests triangles into the visibility buffer and records the winners.
+struct Opaque<'a> {
+    depth: &'a mut [f32],
+    tri_id: &'a mut [u32],
+    records: &'a mut Vec<TriRecord>,
+    shadow_rgb: &'a mut Vec<[Plane; 3]>,
+    hiz: &'a mut HiZ,
+    view: &'a View,
+    inst: &'a Instance,
+    idx: u32,
+    shadows: bool,
+    rasterized: usize,
+}
+
+impl Sink for Opaque<'_> {
+    fn hidden(&mut self, rect: [u32; 4], nearest: f32) -> bool {
+        self.hiz.hidden(self.depth, self.view.width, rect, nearest)
+    }
+
+    fn triangle(&mut self, setup: Setup, iz: [f32; 3], light: &mut dyn FnMut() -> [ScreenVert; 3]) {
+        self.rasterized += 1;
+        // Depth test and write first, under the id the record is about to get: a triangle that
+        // loses every test (common: instances go front to back) wrote nothing, and is neither
+        // lit nor recorded.
+        let id = self.records.len() as u32;
+        let plane = setup.plane(iz);
+        let mut won = 0u32;
+        let view = self.view;
+        let keep = view.keep.map(|k| k.test);
+        let (depth, tri_id, hiz) = (&mut *self.depth, &mut *self.tri_id, &mut *self.hiz);
+        setup.for_each_span(|j, first, last| {
+            let base = j as usize * view.width as usize;
+            let range = base + first as usize..base + last as usize + 1;
+            let mask = depth_span(&mut depth[range.clone()], &mut tri_id[range], first, j, &plane, keep.as_ref(), id);
+            if mask != 0 {
+                hiz.mark(j, first, last);
+            }
+            won |= mask;
+        });
+        if won == 0 {
+            return;
+        }
+        let (rec, sh) = build_record(&setup, &light(), self.inst, self.idx, self.shadows);
+        self.records.push(rec);
+        if let Some(sh) = sh {
+            self.shadow_rgb.push(sh);
+        }
+    }
+}
+
+/// How far inside its cone's cutoff the eye must be before a cluster counts as facing away: its
+/// triangles then face away by a clear angle, so none of them could come out front-facing from
+/// the renderer's fixed-point orientation test.
+const CONE_MARGIN: f32 = 0.01;
+
+/// Whether `m` is a rotation times a uniform positive scale (normal cones keep their angles).
+fn is_similarity(m: &Mat3) -> bool {
+    let (a, b, c) = (m.x_axis, m.y_axis, m.z_axis);
+    let s = dot(a, a);
+    let near = |x: f32, y: f32| (x - y).abs() <= 1e-4 * s;
+    near(dot(b, b), s) && near(dot(c, c), s) && near(dot(a, b), 0.0) && near(dot(b, c), 0.0) && near(dot(a, c), 0.0) && dot(cross(a, b), c) > 0.0
+}
+
+/// Per-instance constants for shading its triangles.
+struct Placed<'a> {
+    normals: &'a [Vec3],
+    /// Mesh → camera for normals.
+    normal_m: Mat3,
+    surface: lighting::Surface<'a>,
+    double_sided: bool,
+    uvs: Option<&'a [Vec2]>,
+    uv_scale: Vec2,
+    uv_offset: Vec2,
+    rig: &'a LightRig,
+}
+
+impl Placed<'_> {
+    /// Culls, clips and emits `tris`, whose vertices are in `verts`.
+    fn draw(&self, tris: &[[u32; 3]], verts: &Verts, lit: &mut LitCache, poly: &mut Polygon, view: &View, sink: &mut impl Sink) {
+        let (w, h) = (view.width, view.height);
+        let uv_of = |i: usize| self.uvs.map_or(Vec2::ZERO, |u| u[i] * self.uv_scale + self.uv_offset);
         let light = |i: usize, back: bool| {
-            let nrm = mul_mat3(&normal_m, normals[i]);
-            rig.shade(&surface, verts.cam[i], if back { -nrm } else { nrm })
+            let nrm = mul_mat3(&self.normal_m, self.normals[i]);
+            self.rig.shade(&self.surface, verts.cam[i], if back { -nrm } else { nrm })
         };
         let xy = |i: usize| (verts.xy[i][0] as i64, verts.xy[i][1] as i64);
+        let double_sided = self.double_sided;
 
-        for tri in mesh.triangles() {
+        for tri in tris {
             let [a, b, c] = tri.map(|i| i as usize);
             let (ca, cb, cc) = (verts.code[a], verts.code[b], verts.code[c]);
             if ca & cb & cc & REJECT != 0 {
@@ -673,8 +843,8 @@ impl Frontend<'_> {
                 let (b, c) = if back { (b, c) } else { (c, b) };
                 let Some(setup) = Setup::new([xy(a), xy(b), xy(c)], w, h) else { continue };
                 let sv = |i: usize, lit: Lit| ScreenVert { xy: xy(i), iz: verts.iz[i], lit, uv: uv_of(i) };
-                let lit = &mut *self.lit;
-                emit(setup, [verts.iz[a], verts.iz[b], verts.iz[c]], &mut || {
+                let lit = &mut *lit;
+                sink.triangle(setup, [verts.iz[a], verts.iz[b], verts.iz[c]], &mut || {
                     let (la, lb, lc) = (lit.get(a, back, &light), lit.get(b, back, &light), lit.get(c, back, &light));
                     [sv(a, la), sv(b, lb), sv(c, lc)]
                 });
@@ -687,25 +857,24 @@ impl Frontend<'_> {
                     continue;
                 }
                 let cv = |i: usize, lit: Lit| ClipVert { p: verts.cam[i], lit, uv: uv_of(i) };
-                let (la, lb, lc) = (self.lit.get(a, back, &light), self.lit.get(b, back, &light), self.lit.get(c, back, &light));
-                let count = view.clip.clip([cv(a, la), cv(b, lb), cv(c, lc)], clip_bits, self.poly);
+                let (la, lb, lc) = (lit.get(a, back, &light), lit.get(b, back, &light), lit.get(c, back, &light));
+                let count = view.clip.clip([cv(a, la), cv(b, lb), cv(c, lc)], clip_bits, poly);
                 let on_screen = |v: &ClipVert| {
                     let (xy, iz) = view.project(v.p);
                     ScreenVert { xy: (xy[0] as i64, xy[1] as i64), iz, lit: v.lit, uv: v.uv }
                 };
                 for k in 1..count.saturating_sub(1) {
-                    let p = &self.poly.verts;
+                    let p = &poly.verts;
                     let mut sv = [on_screen(&p[0]), on_screen(&p[k]), on_screen(&p[k + 1])];
                     if orientation([sv[0].xy, sv[1].xy, sv[2].xy]) < 0 {
                         sv.swap(1, 2);
                     }
                     if let Some(setup) = Setup::new([sv[0].xy, sv[1].xy, sv[2].xy], w, h) {
-                        emit(setup, sv.map(|v| v.iz), &mut || sv);
+                        sink.triangle(setup, sv.map(|v| v.iz), &mut || sv);
                     }
                 }
             }
         }
-        self.lit.count
     }
 }
 
@@ -749,7 +918,8 @@ impl LitCache {
 }
 
 /// Per-vertex results of one instance, in separate arrays so that the culling loop touches
-/// only screen positions and outcodes.
+/// only screen positions and outcodes. A clustered mesh fills only the vertices of the clusters
+/// it draws; a stamp per vertex says which are filled for the current instance.
 #[derive(Default)]
 struct Verts {
     cam: Vec<Vec3>,
@@ -757,10 +927,13 @@ struct Verts {
     xy: Vec<[i32; 2]>,
     iz: Vec<f32>,
     code: Vec<u16>,
+    stamps: Vec<u32>,
+    current: u32,
 }
 
 impl Verts {
-    fn fill(&mut self, positions: &[Vec3], mut f: impl FnMut(Vec3) -> (Vec3, [i32; 2], f32, u16)) {
+    /// Fills every vertex.
+    fn fill(&mut self, positions: &[Vec3], f: impl Fn(Vec3) -> (Vec3, [i32; 2], f32, u16)) {
         self.cam.clear();
         self.xy.clear();
         self.iz.clear();
@@ -771,6 +944,36 @@ impl Verts {
             self.xy.push(xy);
             self.iz.push(iz);
             self.code.push(code);
+        }
+    }
+
+    /// Starts an instance whose vertices are filled on demand by [`Verts::ensure`].
+    fn begin(&mut self, vertices: usize) {
+        if self.stamps.len() < vertices {
+            self.stamps.resize(vertices, 0);
+        }
+        if self.cam.len() < vertices {
+            self.cam.resize(vertices, Vec3::ZERO);
+            self.xy.resize(vertices, [0; 2]);
+            self.iz.resize(vertices, 0.0);
+            self.code.resize(vertices, 0);
+        }
+        self.current = self.current.wrapping_add(1);
+        if self.current == 0 {
+            self.stamps.fill(0);
+            self.current = 1;
+        }
+    }
+
+    /// Fills the vertices `used` that this instance has not filled yet.
+    #[inline]
+    fn ensure(&mut self, used: &[u32], positions: &[Vec3], f: impl Fn(Vec3) -> (Vec3, [i32; 2], f32, u16)) {
+        for &v in used {
+            let v = v as usize;
+            if self.stamps[v] != self.current {
+                self.stamps[v] = self.current;
+                (self.cam[v], self.xy[v], self.iz[v], self.code[v]) = f(positions[v]);
+            }
         }
     }
 }

@@ -62,7 +62,7 @@ const LOD_PIXELS_M: [f32; 4] = [0.002, 0.004, 0.008, 0.016];
 
 /// How the files are turned into drawings, hashed into the look: a change that alters the asset
 /// look's pixels gets a new name here, so results drawn before and after never share a look.
-const DRAWING: &str = "quadric LODs within a pixel\n";
+const DRAWING: &str = "quadric LODs within a pixel\ntriangle clusters\n";
 
 /// A coarser copy is kept only if it has at most this fraction of the previous one's triangles.
 const LOD_KEEP: f32 = 0.75;
@@ -76,7 +76,7 @@ fn lods_of(mesh: &Mesh, scale: [f64; 3]) -> Lods {
     for pixel in LOD_PIXELS_M {
         let finer = out.last().map_or(mesh, |(_, m)| &**m);
         if let Some(coarse) = finer.simplified(0.5 * pixel / s).filter(|m| (m.triangle_count() as f32) <= LOD_KEEP * finer.triangle_count() as f32) {
-            out.push((pixel, Arc::new(coarse)));
+            out.push((pixel, Arc::new(coarse.clustered())));
         }
     }
     out.into()
@@ -156,7 +156,7 @@ impl Loaded {
             .or_insert_with(|| {
                 let bytes = std::fs::read(&at.path).map_err(|e| format!("{}: cannot read: {e}", at.path.display()))?;
                 hashes.insert(rel, blob_sha1(&bytes));
-                load_mesh(&at.path).map(Arc::new).map_err(|e| e.to_string())
+                load_mesh(&at.path).map(|m| Arc::new(m.clustered())).map_err(|e| e.to_string())
             })
             .clone()
     }
@@ -170,7 +170,7 @@ impl Loaded {
         let mesh = self.mesh(rel, at)?;
         let uvs = Some(vec![Vec2::ZERO; mesh.vertex_count()]);
         let flat = Mesh::new(mesh.positions().to_vec(), mesh.normals().to_vec(), uvs, mesh.triangles().to_vec()).map_err(|e| format!("{rel}: {e}"))?;
-        let flat = Arc::new(flat);
+        let flat = Arc::new(flat.clustered());
         self.constant_uv_meshes.insert(at.path.clone(), flat.clone());
         Ok(flat)
     }

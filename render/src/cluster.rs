@@ -66,11 +66,13 @@ impl Mesh {
             let bytes = &meshlets.triangles[m.triangle_offset as usize..(m.triangle_offset + 3 * m.triangle_count) as usize];
             let first = triangles.len() as u32;
             triangles.extend(bytes.chunks_exact(3).map(|t| [local[t[0] as usize], local[t[1] as usize], local[t[2] as usize]]));
-            let own: Vec<u32> = triangles[first as usize..].iter().flatten().copied().collect();
-            let Ok(cone) = compute_cluster_bounds(&own, Positions::from_packed(&positions), &mut workspace) else {
+            // Bounds from the cluster's own vertices (meshoptimizer scans every position given).
+            let points: Vec<Vec3> = local.iter().map(|&v| self.positions()[v as usize]).collect();
+            let packed: Vec<[f32; 3]> = points.iter().map(|p| p.to_array()).collect();
+            let own: Vec<u32> = bytes.iter().map(|&b| b as u32).collect();
+            let Ok(cone) = compute_cluster_bounds(&own, Positions::from_packed(&packed), &mut workspace) else {
                 return self;
             };
-            let points: Vec<Vec3> = local.iter().map(|&v| self.positions()[v as usize]).collect();
             let (sphere, _) = bounding_sphere(&points);
             clusters.list.push(Cluster {
                 first,

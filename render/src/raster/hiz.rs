@@ -32,6 +32,11 @@ impl HiZ {
         self.stale.resize(n, false);
     }
 
+    /// Notes that any pixel may have been written.
+    pub(super) fn mark_all(&mut self) {
+        self.stale.fill(true);
+    }
+
     /// Notes that pixels `first..=last` of row `j` were written.
     #[inline]
     pub(super) fn mark(&mut self, j: u32, first: u32, last: u32) {

@@ -285,9 +285,11 @@ pub struct Renderer {
     order: Vec<Visible>,
     blended: Vec<Visible>,
     supersampled: Frame,
-    /// The mirrored view and the pixels showing the mirror (reused between frames).
+    /// The mirrored view, the pixels showing the mirror, and the same pixels in the mirrored
+    /// view (reused between frames).
     reflected: Frame,
     mirror_pixels: Vec<u32>,
+    mirrored_pixels: Vec<u32>,
     mirrored_scene: Scene,
 }
 
@@ -336,14 +338,16 @@ impl Renderer {
 
     fn render_view(&mut self, scene: &Scene, camera: &Camera, out: &mut Frame) {
         self.stats = RenderStats::default();
-        self.draw_pass(scene, camera, &View::new(camera), out);
+        self.draw_pass(scene, camera, &View::new(camera), out, None);
         if let Some(mirror) = &scene.mirror {
             self.reflect(scene, camera, mirror, out);
         }
     }
 
     /// Draws `scene` through `view` (of `camera`) into `out`: geometry, resolve, transparency.
-    fn draw_pass(&mut self, scene: &Scene, camera: &Camera, view: &View, out: &mut Frame) {
+    /// With `only`, just those pixels of the view (indices) are drawn; the rest keep the
+    /// background.
+    fn draw_pass(&mut self, scene: &Scene, camera: &Camera, view: &View, out: &mut Frame, only: Option<&[u32]>) {
         let n = view.width as usize * view.height as usize;
         self.shadows_active = self.options.shadows && self.shadow.build(scene, camera, self.options.shadow_map_size);
         self.rig.prepare(scene, camera, self.shadows_active);
@@ -352,6 +356,15 @@ impl Renderer {
         self.tri_id.clear();
         self.tri_id.resize(n, NO_TRIANGLE);
         self.hiz.reset(view.width, view.height);
+        if let Some(only) = only {
+            // The other pixels start nearer than anything can be (1/z = ∞): nothing is drawn
+            // there, and the hi-z skips what would only show there.
+            self.depth.fill(f32::INFINITY);
+            for &q in only {
+                self.depth[q as usize] = 0.0;
+            }
+            self.hiz.mark_all();
+        }
         self.records.clear();
         self.shadow_rgb.clear();
 
@@ -441,11 +454,16 @@ impl Renderer {
             let view = View::new(&cam).cropped(last - x1, y0, last - x0, y1, cam.near).keeping(point, normal);
             let mut image = std::mem::take(&mut self.reflected);
             image.resize(view.width, view.height);
-            self.draw_pass(&mirrored, &cam, &view, &mut image);
             let cw = view.width as usize;
-            for &p in &pixels {
+            let mut mirrored_pixels = std::mem::take(&mut self.mirrored_pixels);
+            mirrored_pixels.clear();
+            mirrored_pixels.extend(pixels.iter().map(|&p| {
                 let (i, j) = (p as usize % w, p as usize / w);
-                let q = (j - y0 as usize) * cw + (last as usize - i - (last - x1) as usize);
+                ((j - y0 as usize) * cw + (last as usize - i - (last - x1) as usize)) as u32
+            }));
+            self.draw_pass(&mirrored, &cam, &view, &mut image, Some(&mirrored_pixels));
+            for (&p, &q) in pixels.iter().zip(&mirrored_pixels) {
+                let q = q as usize;
                 for c in 0..3 {
                     let sum = u16::from(out.color.data[3 * p as usize + c]) + u16::from(image.color.data[3 * q + c]);
                     out.color.data[3 * p as usize + c] = sum.min(255) as u8;
@@ -453,6 +471,7 @@ impl Renderer {
             }
             self.reflected = image;
             self.mirrored_scene = mirrored;
+            self.mirrored_pixels = mirrored_pixels;
         }
         self.mirror_pixels = pixels;
     }

@@ -228,15 +228,16 @@ impl View {
             return false;
         }
         // x/z over the box around the sphere is extreme at its corners; one pixel of margin.
+        let (iz0, iz1) = (1.0 / z0, 1.0 / z1);
         let range = |m: f32, f: f32, o: f32, size: u32| {
-            let q = [(m - r) / z0, (m - r) / z1, (m + r) / z0, (m + r) / z1].map(|q| f * q + o);
+            let q = [(m - r) * iz0, (m - r) * iz1, (m + r) * iz0, (m + r) * iz1].map(|q| f * q + o);
             let (lo, hi) = (q.iter().fold(f32::INFINITY, |a, &b| a.min(b)), q.iter().fold(f32::NEG_INFINITY, |a, &b| a.max(b)));
             let clamp = |x: f32| (x.max(0.0).min(size as f32 - 1.0)) as u32;
             (clamp(lo - 1.0), clamp(hi + 2.0))
         };
         let (x0, x1) = range(c.x, self.k.fx, self.k.cx, self.width);
         let (y0, y1) = range(c.y, self.k.fy, self.k.cy, self.height);
-        sink.hidden([x0, y0, x1, y1], 1.0 / z0)
+        sink.hidden([x0, y0, x1, y1], iz0)
     }
 
     /// The part of this view from pixel `(x0, y0)` to `(x1, y1)` (inclusive), as a view of its own.

@@ -7,7 +7,7 @@
 
 use anyhow::Result;
 use serde::Serialize;
-use vifo_render::{Frame, Renderer};
+use vifo_render::{Frame, RenderStats, Renderer};
 use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
 
 use std::sync::Arc;
@@ -38,6 +38,9 @@ pub struct RenderBench {
     pub triangles: usize,
     pub triangles_in_view_agentview: usize,
     pub triangles_in_view_eye_in_hand: usize,
+    /// What each camera's frame skipped and drew.
+    pub culling_agentview: Culling,
+    pub culling_eye_in_hand: Culling,
     pub ms_per_frame_agentview_256: f64,
     pub ms_per_frame_eye_in_hand_256: f64,
     /// Posing the scene from the simulation.
@@ -53,6 +56,24 @@ pub struct RenderBench {
     pub peak_rss_mb_all_40_tasks: Option<f64>,
 }
 
+/// What a frame skipped whole and what it drew (the renderer's counts).
+#[derive(Debug, Serialize)]
+pub struct Culling {
+    /// Triangle clusters outside the view or facing away.
+    pub clusters_culled: usize,
+    /// Clusters and instances hidden behind what was drawn before them.
+    pub hidden: usize,
+    /// Triangles that covered a pixel centre and reached the depth test.
+    pub triangles_rasterized: usize,
+    pub vertices_lit: usize,
+}
+
+impl From<RenderStats> for Culling {
+    fn from(s: RenderStats) -> Culling {
+        Culling { clusters_culled: s.clusters_culled, hidden: s.hidden, triangles_rasterized: s.triangles_rasterized, vertices_lit: s.vertices_lit }
+    }
+}
+
 /// Runs the benchmark on initial state 0 from `source`.
 pub fn run(source: InitSource, batches: usize, look: Option<Arc<Look>>) -> Result<RenderBench> {
     let request = RenderRequest { size: SIZE, look, ..RenderRequest::still(TASK, source) };
@@ -66,10 +87,10 @@ pub fn run(source: InitSource, batches: usize, look: Option<Arc<Look>>) -> Resul
     let batches = batches.max(1);
 
     let ms_per_frame_agentview_256 = median_ms(batches, BATCH_MS, || Ok(view.render_into(&mut renderer, &agent, ImageOrder::Upright, &mut frame)?))?;
-    let triangles_in_view_agentview = renderer.stats().triangles_in_view;
+    let (triangles_in_view_agentview, culling_agentview) = (renderer.stats().triangles_in_view, renderer.stats().into());
     let wrist = cameras.eye_in_hand(&sim);
     let ms_per_frame_eye_in_hand_256 = median_ms(batches, BATCH_MS, || Ok(view.render_into(&mut renderer, &wrist, ImageOrder::Upright, &mut frame)?))?;
-    let triangles_in_view_eye_in_hand = renderer.stats().triangles_in_view;
+    let (triangles_in_view_eye_in_hand, culling_eye_in_hand) = (renderer.stats().triangles_in_view, renderer.stats().into());
     let ms_per_update = median_ms(batches, BATCH_MS, || {
         view.update(&sim);
         Ok(())
@@ -99,6 +120,8 @@ pub fn run(source: InitSource, batches: usize, look: Option<Arc<Look>>) -> Resul
         triangles: view.triangle_count(),
         triangles_in_view_agentview,
         triangles_in_view_eye_in_hand,
+        culling_agentview,
+        culling_eye_in_hand,
         ms_per_frame_agentview_256,
         ms_per_frame_eye_in_hand_256,
         ms_per_update,

@@ -35,6 +35,7 @@ use self::lighting::{LightRig, Lit};
 use self::shadow::ShadowMap;
 use self::triangle::{box_holds_centre, orientation, snap, Plane, Setup};
 use crate::camera::{Camera, Intrinsics};
+use crate::cluster::Cluster;
 use crate::frame::Frame;
 use crate::scene::{Background, Instance, Light, LightKind, Mirror, Scene};
 use crate::texture::Texture;
@@ -702,12 +703,12 @@ impl Frontend<'_> {
         } else {
             self.verts.begin(mesh.vertex_count());
             let cones = !inst.material.double_sided && is_similarity(&t.linear);
+            // The eye is at the origin of camera space.
+            let faces_away = |c: &Cluster| dot(normalize(mul_mat3(&linear, c.cone_apex) + trans), normalize(mul_mat3(&linear, c.cone_axis))) >= c.cone_cutoff + CONE_MARGIN;
             for c in &clusters.list {
                 let centre = mul_mat3(&linear, c.centre) + trans;
                 let outside = !inside && view.clip.classify_sphere(centre, c.radius * scale, view.far) == SphereClass::Outside;
-                let apex = mul_mat3(&linear, c.cone_apex) + trans;
-                let faces_away = cones && dot(normalize(apex), normalize(mul_mat3(&linear, c.cone_axis))) >= c.cone_cutoff + CONE_MARGIN;
-                if outside || faces_away {
+                if outside || (cones && faces_away(c)) {
                     done.culled += 1;
                     continue;
                 }

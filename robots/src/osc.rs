@@ -6,7 +6,8 @@
 //! operational-space inertias, full bias-force compensation, and a nullspace pull toward the
 //! reset configuration, clipped to the motor limits.
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::allocator::Allocator;
+use nalgebra::{Const, DefaultAllocator, DimDiff, DimSub, SMatrix, SVector, U1};
 use serde::{Deserialize, Serialize};
 
 use crate::spatial::{Mat3, Vec3, rotation_from_axis_angle_vector};
@@ -89,19 +90,32 @@ pub fn orientation_error(desired: &Mat3, current: &Mat3) -> Vec3 {
     (0..3).map(|c| current.column(c).cross(&desired.column(c))).fold(Vec3::zeros(), |a, b| a + b) * 0.5
 }
 
-/// numpy's `pinv` (singular values below 1e-15·σ_max dropped), for the two sizes the
-/// controller inverts (nalgebra's SVD needs concrete dimensions).
-macro_rules! pinv {
-    ($name:ident, $d:literal) => {
-        fn $name(m: &SMatrix<f64, $d, $d>) -> SMatrix<f64, $d, $d> {
-            let svd = m.svd(true, true);
-            let cutoff = 1e-15 * svd.singular_values.max();
-            svd.pseudo_inverse(cutoff).expect("both factors were computed")
+/// numpy's `pinv` (singular values below 1e-15·σ_max dropped) of a symmetric positive
+/// semi-definite matrix, the only kind the controller inverts (`J M⁻¹ Jᵀ`). Away from
+/// singularities that is the plain inverse, taken by Cholesky; where the Cholesky pivots span
+/// more than [`PIVOT_SPREAD`] (near a singular arm pose) it takes numpy's route: the singular
+/// values of such a matrix are its eigenvalues, and the small ones are dropped.
+fn pinv_psd<const D: usize>(m: &SMatrix<f64, D, D>) -> SMatrix<f64, D, D>
+where
+    Const<D>: DimSub<U1>,
+    DefaultAllocator: Allocator<DimDiff<Const<D>, U1>>,
+{
+    if let Some(c) = m.cholesky() {
+        let pivots = c.l_dirty().diagonal().map(|l| l * l);
+        if pivots.min() > pivots.max() / PIVOT_SPREAD {
+            return c.inverse();
         }
-    };
+    }
+    let eigen = m.symmetric_eigen();
+    let cutoff = 1e-15 * eigen.eigenvalues.amax();
+    let inverted = eigen.eigenvalues.map(|l| if l.abs() > cutoff { 1.0 / l } else { 0.0 });
+    let v = &eigen.eigenvectors;
+    v * SMatrix::<f64, D, D>::from_diagonal(&inverted) * v.transpose()
 }
-pinv!(pinv3, 3);
-pinv!(pinv6, 6);
+
+/// Largest ratio of Cholesky pivots for which [`pinv_psd`] trusts the plain inverse: the
+/// condition number is then far below numpy's 1e15 cutoff, so no singular value is dropped.
+const PIVOT_SPREAD: f64 = 1e10;
 
 /// The OSC torques (before clipping to the motor limits).
 pub fn torques<const A: usize>(params: &OscParams, goal: &OscGoal, s: &OscInput<'_, A>) -> SVector<f64, A> {
@@ -114,10 +128,12 @@ pub fn torques<const A: usize>(params: &OscParams, goal: &OscGoal, s: &OscInput<
     let force = (goal.pos() - s.ee_pos) * kp - vel * kd;
     let torque = orientation_error(&goal.ori(), s.ee_ori) * kp - ang_vel * kd;
 
-    let m_inv = s.mass.try_inverse().expect("the mass matrix is positive definite");
-    let lambda_full = pinv6(&(s.jacobian * m_inv * s.jacobian.transpose()));
-    let lambda_pos = pinv3(&(j_pos * m_inv * j_pos.transpose()));
-    let lambda_ori = pinv3(&(j_ori * m_inv * j_ori.transpose()));
+    // M⁻¹ Jᵀ by a Cholesky solve (M is symmetric positive definite); its column blocks give
+    // the position and orientation halves.
+    let m_inv_jt = s.mass.cholesky().expect("the mass matrix is positive definite").solve(&s.jacobian.transpose());
+    let lambda_full = pinv_psd(&(s.jacobian * m_inv_jt));
+    let lambda_pos = pinv_psd(&(j_pos * m_inv_jt.fixed_columns::<3>(0)));
+    let lambda_ori = pinv_psd(&(j_ori * m_inv_jt.fixed_columns::<3>(3)));
 
     let mut wrench = SVector::<f64, 6>::zeros();
     wrench.fixed_rows_mut::<3>(0).copy_from(&(lambda_pos * force));
@@ -125,7 +141,7 @@ pub fn torques<const A: usize>(params: &OscParams, goal: &OscGoal, s: &OscInput<
     let mut tau = s.jacobian.transpose() * wrench + s.bias;
 
     // Nullspace: N = I − J̄ J with J̄ = M⁻¹ Jᵀ Λ, torque Nᵀ M (kp (q0 − q) − kv q̇).
-    let j_bar = m_inv * s.jacobian.transpose() * lambda_full;
+    let j_bar = m_inv_jt * lambda_full;
     let nullspace = SMatrix::<f64, A, A>::identity() - j_bar * s.jacobian;
     let kv = 2.0 * params.nullspace_kp.sqrt();
     let pose_torque = s.mass * ((s.q0 - s.q) * params.nullspace_kp - s.qd * kv);
@@ -145,6 +161,22 @@ mod tests {
         let desired = rotation_from_axis_angle_vector(&delta) * current;
         let err = orientation_error(&desired, &current);
         assert!((err - delta).norm() < 1e-8, "{err:?}");
+    }
+
+    #[test]
+    fn pinv_of_a_psd_matrix_is_numpys_svd_pinv_and_drops_a_null_direction() {
+        let a = SMatrix::<f64, 6, 4>::from_fn(|r, c| ((r * 7 + c * 3) % 5) as f64 - 1.7 + 0.1 * r as f64);
+        // Rank 4 of 6: two zero singular values, which numpy's pinv drops.
+        let m = a * a.transpose();
+        let svd = m.svd(true, true);
+        let numpy = svd.pseudo_inverse(1e-15 * svd.singular_values.max()).unwrap();
+        let ours = pinv_psd(&m);
+        assert!((ours - numpy).amax() < 1e-9 * numpy.amax(), "{ours} vs {numpy}");
+        // Full rank: the Cholesky inverse, equal to numpy's pinv within rounding.
+        let full = m + SMatrix::<f64, 6, 6>::identity();
+        let svd = full.svd(true, true);
+        let numpy = svd.pseudo_inverse(1e-15 * svd.singular_values.max()).unwrap();
+        assert!((pinv_psd(&full) - numpy).amax() < 1e-12 * numpy.amax());
     }
 
     #[test]

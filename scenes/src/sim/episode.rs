@@ -96,6 +96,7 @@ impl Sim {
             mb.forward_kinematics(&r.bodies, true);
             mb.update_rigid_bodies(&mut r.bodies, true);
         }
+        self.wake(entity);
     }
 
     /// Puts a movable entity (a prop such as a cue object) at `at`, at rest.
@@ -144,6 +145,16 @@ impl Sim {
         mb.generalized_velocity_mut()[dof] = 0.0;
         mb.forward_kinematics(&r.bodies, true);
         mb.update_rigid_bodies(&mut r.bodies, true);
+        self.wake(entity);
+    }
+
+    /// Wakes an entity's bodies after a direct write, so that they answer the contacts of their
+    /// new pose instead of sleeping through them.
+    fn wake(&mut self, entity: usize) {
+        let r = self.world.rapier_mut();
+        for &body in &self.model.entities[entity].bodies {
+            r.bodies[body].wake_up(true);
+        }
     }
 
     /// Position of an entity's articulation joint (m or rad).

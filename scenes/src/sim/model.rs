@@ -235,9 +235,9 @@ fn insert_entity(world: &mut World, name: &str, model: &'static ObjectModel) -> 
                 RigidBodyBuilder::dynamic().linear_damping(FREE_JOINT_DAMPING / m).angular_damping(FREE_JOINT_DAMPING / m)
             }
             (0, ObjectKind::Fixture) => RigidBodyBuilder::fixed(),
-            // Articulated parts (drawers, doors, knobs) stay awake: they are moved by joint
-            // writes when states load, which must not leave them asleep in a new contact.
-            _ => RigidBodyBuilder::dynamic().can_sleep(false),
+            // Articulated parts (drawers, doors, knobs) may sleep like anything else still (a
+            // multibody sleeps and wakes as a whole); joint writes wake them (`Sim::set_joint`).
+            _ => RigidBodyBuilder::dynamic(),
         };
         let handle = r.bodies.insert(builder.additional_mass_properties(mass_properties(&body.inertial)));
         if i == 0 && model.kind == ObjectKind::Movable {

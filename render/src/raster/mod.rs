@@ -627,7 +627,8 @@ fn depth_span(depth: &mut [f32], tri_id: &mut [u32], first: u32, j: u32, plane: 
 fn span_where(depth: &mut [f32], tri_id: &mut [u32], first: u32, j: u32, plane: &Plane, id: u32, kept: impl Fn(f32, f32) -> bool) -> u32 {
     let row_key = plane.b * j as f32 + plane.c;
     let mut won = 0u32;
-    for ((d, t), i) in depth.iter_mut().zip(tri_id).zip(first..) {
+    // Columns as i32: the same floats as from u32, but the signed conversion vectorizes.
+    for ((d, t), i) in depth.iter_mut().zip(tri_id).zip(first as i32..) {
         let iz = plane.a * i as f32 + row_key;
         // Bit selects rather than branches: depth-test outcomes are hard to predict.
         let mask = (((iz > *d) & kept(i as f32, iz)) as u32).wrapping_neg();

@@ -238,7 +238,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         let clips = filmed.contains(&policy).then(|| out.join("report"));
         run_policy(policy, &specs, &path, clips.as_deref(), &args)?;
         if args.sample.is_some() {
-            estimate::print(&all_specs, &specs, &path, args.threads)?;
+            let filmed_keys = match clips {
+                Some(_) => report::clips::first_episodes(&specs).values().map(|s| s.key()).collect(),
+                None => Default::default(),
+            };
+            estimate::print(&all_specs, &specs, &filmed_keys, &path, args.threads)?;
         }
         results.push(path);
     }

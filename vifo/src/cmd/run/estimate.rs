@@ -1,7 +1,7 @@
 //! `vifo run --sample N`: time a representative part of a selection and extrapolate the time
 //! of all of it (the gate measurement of the whole benchmark in ≤ 60 min on 2 cores).
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
 
 use vifo_protocols::runner::{final_records, read_records};
@@ -9,19 +9,18 @@ use vifo_protocols::spec::{EpisodeSpec, Outcome};
 use vifo_protocols::Protocol;
 
 /// Prints per protocol the sample's mean episode time and the extrapolated time of `all`
-/// on `threads` threads (0: every core), assuming episodes keep the cores busy.
-pub fn print(all: &[EpisodeSpec], sample: &[EpisodeSpec], results: &Path, threads: usize) -> anyhow::Result<()> {
+/// on `threads` threads (0: every core), assuming episodes keep the cores busy. The sample's
+/// `filmed` episodes (spec keys; the report's clips) are left out of the means: a whole run
+/// films one episode per cue family too, not a share of every episode, so what filming cost
+/// over an unfilmed episode is added once.
+pub fn print(all: &[EpisodeSpec], sample: &[EpisodeSpec], filmed: &BTreeSet<String>, results: &Path, threads: usize) -> anyhow::Result<()> {
     let threads = if threads == 0 { rayon::current_num_threads() } else { threads };
-    let keys: std::collections::BTreeSet<String> = sample.iter().map(EpisodeSpec::key).collect();
+    let keys: BTreeSet<String> = sample.iter().map(EpisodeSpec::key).collect();
     let records = final_records(read_records(results)?.records);
-    let mut measured: BTreeMap<Protocol, (f64, usize, usize)> = BTreeMap::new();
-    for r in records.values().filter(|r| keys.contains(&r.spec.key())) {
-        let m = measured.entry(r.spec.protocol).or_default();
-        m.0 += r.wall_ms;
-        m.1 += 1;
-        if let Outcome::Completed { steps, .. } = r.outcome {
-            m.2 += steps;
-        }
+    let sampled: Vec<_> = records.values().filter(|r| keys.contains(&r.spec.key())).collect();
+    let mut measured: BTreeMap<Protocol, Measured> = BTreeMap::new();
+    for r in &sampled {
+        measured.entry(r.spec.protocol).or_default().add(r.wall_ms, &r.outcome, filmed.contains(&r.spec.key()));
     }
     let mut counts: BTreeMap<Protocol, usize> = BTreeMap::new();
     for s in all {
@@ -31,17 +30,71 @@ pub fn print(all: &[EpisodeSpec], sample: &[EpisodeSpec], results: &Path, thread
     println!("  | protocol | episodes | sampled | mean s/episode | mean steps | estimate (min) |");
     println!("  |---|---|---|---|---|---|");
     let mut total = 0.0;
+    let mut surplus_ms = 0.0;
     for (protocol, count) in &counts {
-        let Some(&(ms, n, steps)) = measured.get(protocol).filter(|m| m.1 > 0) else { continue };
-        let mean = ms / n as f64 / 1e3;
+        let Some(m) = measured.get(protocol).filter(|m| m.n > 0) else { continue };
+        let mean = m.mean_ms() / 1e3;
         let minutes = mean * *count as f64 / threads as f64 / 60.0;
         total += minutes;
-        println!(
-            "  | {} | {count} | {n} | {mean:.2} | {:.0} | {minutes:.1} |",
-            protocol.name(),
-            steps as f64 / n as f64
-        );
+        surplus_ms += m.filmed_surplus_ms();
+        println!("  | {} | {count} | {} | {mean:.2} | {:.0} | {minutes:.1} |", protocol.name(), m.n, m.steps as f64 / m.n as f64);
+    }
+    let filmed_count: usize = measured.values().map(|m| m.filmed.len()).sum();
+    if filmed_count > 0 {
+        let minutes = surplus_ms / 1e3 / threads as f64 / 60.0;
+        total += minutes;
+        println!("  | filming the clips, once | {filmed_count} | | | | {minutes:.1} |");
     }
     println!("  | all | {} | {} | | | **{total:.1}** |", all.len(), keys.len());
     Ok(())
+}
+
+/// One protocol's sampled episodes: unfilmed ones summed, filmed ones kept apart.
+#[derive(Default)]
+struct Measured {
+    ms: f64,
+    n: usize,
+    steps: usize,
+    filmed: Vec<f64>,
+}
+
+impl Measured {
+    fn add(&mut self, wall_ms: f64, outcome: &Outcome, filmed: bool) {
+        if filmed {
+            self.filmed.push(wall_ms);
+            return;
+        }
+        self.ms += wall_ms;
+        self.n += 1;
+        if let Outcome::Completed { steps, .. } = outcome {
+            self.steps += steps;
+        }
+    }
+
+    fn mean_ms(&self) -> f64 {
+        self.ms / self.n as f64
+    }
+
+    /// What the filmed episodes took beyond an unfilmed episode's mean.
+    fn filmed_surplus_ms(&self) -> f64 {
+        self.filmed.iter().map(|w| w - self.mean_ms()).sum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn filmed_episodes_stay_out_of_the_mean_and_count_their_surplus_once() {
+        let done = Outcome::Completed { language_success: Some(true), cue_success: None, steps: 100 };
+        let mut m = Measured::default();
+        for wall in [800.0, 1000.0, 1200.0] {
+            m.add(wall, &done, false);
+        }
+        m.add(2500.0, &done, true);
+        assert_eq!((m.n, m.steps, m.filmed.len()), (3, 300, 1));
+        assert_eq!(m.mean_ms(), 1000.0);
+        assert_eq!(m.filmed_surplus_ms(), 1500.0);
+    }
 }

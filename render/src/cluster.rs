@@ -98,6 +98,7 @@ impl Mesh {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec2;
 
     #[test]
     fn clustering_keeps_every_triangle_and_bounds_every_vertex() {
@@ -130,6 +131,15 @@ mod tests {
             }
         }
         assert_eq!(next as usize, c.triangle_count());
+    }
+
+    #[test]
+    fn zero_uvs_keep_the_triangles_and_clusters() {
+        let c = Mesh::sphere(1.0, 32).clustered();
+        let flat = c.with_zero_uvs();
+        assert_eq!(flat.triangles(), c.triangles());
+        assert_eq!(flat.clusters(), c.clusters());
+        assert_eq!(flat.uvs(), Some(&vec![Vec2::ZERO; c.vertex_count()][..]));
     }
 
     #[test]

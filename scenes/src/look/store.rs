@@ -167,10 +167,7 @@ impl Loaded {
         if let Some(mesh) = self.constant_uv_meshes.get(&at.path) {
             return Ok(mesh.clone());
         }
-        let mesh = self.mesh(rel, at)?;
-        let uvs = Some(vec![Vec2::ZERO; mesh.vertex_count()]);
-        let flat = Mesh::new(mesh.positions().to_vec(), mesh.normals().to_vec(), uvs, mesh.triangles().to_vec()).map_err(|e| format!("{rel}: {e}"))?;
-        let flat = Arc::new(flat.clustered());
+        let flat = Arc::new(self.mesh(rel, at)?.with_zero_uvs());
         self.constant_uv_meshes.insert(at.path.clone(), flat.clone());
         Ok(flat)
     }

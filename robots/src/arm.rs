@@ -154,8 +154,8 @@ impl<const N: usize> ArmInstance<N> {
                     .density(0.0)
                     .friction(c.friction)
                     .friction_combine_rule(CoefficientCombineRule::Max)
-                    .collision_groups(contact::groups(c.role))
-                    .solver_groups(contact::groups(c.role));
+                    .collision_groups(contact::groups(c.role, model.links_touch_fingers))
+                    .solver_groups(contact::groups(c.role, model.links_touch_fingers));
                 let handle = r.colliders.insert_with_parent(collider, rigid_body[b], &mut r.bodies);
                 colliders.push(ArmCollider { handle, body: b, name: c.name, role: c.role });
             }

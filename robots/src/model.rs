@@ -154,6 +154,9 @@ pub struct ArmModel {
     /// Number of arm joints (the first `arm_dofs` coordinates); the rest are gripper fingers.
     pub arm_dofs: usize,
     pub sites: Vec<Site>,
+    /// Whether the links collide with the gripper's fingers and pads ([`crate::contact::groups`]),
+    /// as robosuite's contype/conaffinity make the Panda's: a hand folded back touches the arm.
+    pub links_touch_fingers: bool,
 }
 
 impl ArmModel {

@@ -261,7 +261,7 @@ pub fn model(mount: Mount) -> Arc<ArmModel> {
         Site { name: GRIP_SITE, body: gripper, local: Pose::from_wxyz([0.0, 0.0, 0.097], q(1.0, 0.0, 0.0, 0.0)) },
         Site { name: EYE_IN_HAND, body: hand, local: Pose::from_wxyz([0.05, 0.0, 0.0], q(0.0, 0.707108, 0.707108, 0.0)) },
     ];
-    Arc::new(ArmModel { name: "panda", bodies, dofs, arm_dofs: 7, sites }.validated())
+    Arc::new(ArmModel { name: "panda", bodies, dofs, arm_dofs: 7, sites, links_touch_fingers: true }.validated())
 }
 
 /// World pose of the robot base when LIBERO places the robot at `xpos` (robosuite

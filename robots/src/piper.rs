@@ -185,7 +185,7 @@ pub fn model() -> Arc<ArmModel> {
     bodies.push(finger("finger_b", "joint8", 1.0));
     let dofs = (0..bodies.len()).filter(|&i| bodies[i].joint.is_some()).collect();
     let sites = vec![Site { name: TCP, body: 6, local: Pose::from_wxyz([0.0, 0.0, 0.18], [1.0, 0.0, 0.0, 0.0]) }];
-    Arc::new(ArmModel { name: "piper", bodies, dofs, arm_dofs: 6, sites }.validated())
+    Arc::new(ArmModel { name: "piper", bodies, dofs, arm_dofs: 6, sites, links_touch_fingers: false }.validated())
 }
 
 /// The controller's per-episode state: joint and gripper targets, and the pose goal of the

@@ -185,13 +185,13 @@ impl Mesh {
         &self.normals
     }
 
-    /// Per-vertex texture coordinates, if any.
     /// The same mesh (triangles and clusters in their order) with texture coordinate zero at
     /// every vertex, as MuJoCo samples a texture on a mesh that has no coordinates of its own.
     pub fn with_zero_uvs(&self) -> Mesh {
         Mesh { uvs: Some(vec![Vec2::ZERO; self.positions.len()]), ..self.clone() }
     }
 
+    /// Per-vertex texture coordinates, if any.
     pub fn uvs(&self) -> Option<&[Vec2]> {
         self.uvs.as_deref()
     }

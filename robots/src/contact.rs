@@ -45,7 +45,8 @@ pub const PART_GROUPS: InteractionGroups =
 /// right finger hits link 2 in the `j4_lo_j2_lo` limit sequence), but never each other:
 /// robosuite's link meshes do touch beyond parent–child pairs, but our primitive link shapes
 /// meet where the meshes do not (with those pairs the `fast_j1_hi...` sequence parted from
-/// MuJoCo by 14.5 mm instead of 0.38). Parent–child pairs never touch (`joint::one_dof`).
+/// MuJoCo by 14.5 mm instead of 0.38; with two capsules per link fitted to robosuite's hulls,
+/// by 133 mm: see the README's limit sequences). Parent–child pairs never touch (`joint::one_dof`).
 pub fn groups(role: ContactRole, links_touch_fingers: bool) -> InteractionGroups {
     let gripper = if links_touch_fingers { FINGER.union(PAD) } else { Group::NONE };
     let link = if links_touch_fingers { LINK } else { Group::NONE };

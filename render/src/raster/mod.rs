@@ -1181,4 +1181,37 @@ mod tests {
         cache.get(2, true, &light);
         assert_eq!((calls.get(), cache.count, cache.current), (3, 1, 1));
     }
+
+    #[test]
+    fn the_opaque_resolve_writes_what_shade_computes() {
+        // A lit, textured (bilinear, mipmapped) sphere and a lit untextured plane behind it: every
+        // pixel must get the bits `shade` gives it, also where the resolve's own row-hoisted
+        // Gouraud loop (the plane) stands in for `shade`.
+        use crate::{Instance, Material, Mesh, Texture, Transform};
+        use std::sync::Arc;
+        let data: Vec<u8> = (0..32 * 32 * 3).map(|i| ((i * 37) % 251) as u8).collect();
+        let tex = Arc::new(Texture::from_rgb8(32, 32, &data).unwrap());
+        let textured = Material { rgba: [0.9, 0.8, 0.7, 1.0], specular: 0.5, shininess: 0.3, texture: Some(tex), uv_scale: Vec2::splat(3.0), ..Material::default() };
+        let sphere = Instance::new(Arc::new(Mesh::sphere(0.5, 24)), Transform::IDENTITY, 1).with_material(textured);
+        let plane = Instance::new(Arc::new(Mesh::plane(2.0, 2.0)), Transform::from_translation(Vec3::new(0.0, 0.0, -1.0)), 2)
+            .with_material(Material { rgba: [0.4, 0.5, 0.6, 1.0], specular: 0.3, ..Material::default() });
+        let scene = Scene { instances: vec![sphere, plane], ..Scene::default() };
+        let camera = Camera::look_at(Vec3::new(0.3, -1.5, 1.2), Vec3::ZERO, Vec3::Z, 50.0, 96, 80);
+        let mut r = Renderer::new(RenderOptions::default());
+        let frame = r.render(&scene, &camera).unwrap();
+        let view = View::new(&camera);
+        let (mut textured_px, mut plain_px) = (0, 0);
+        for (p, (&id, &iz)) in r.tri_id.iter().zip(&r.depth).enumerate() {
+            if id == NO_TRIANGLE {
+                continue;
+            }
+            let rec = &r.records[id as usize];
+            let texture = texture_of(rec, &scene);
+            *if texture.is_some() { &mut textured_px } else { &mut plain_px } += 1;
+            let (i, j) = ((p % 96) as u32, (p / 96) as u32);
+            let c = shade(rec, None, None, texture, &view, i, j, 1.0 / iz);
+            assert_eq!(frame.color.data[3 * p..3 * p + 3], [to_u8(c[0]), to_u8(c[1]), to_u8(c[2])], "pixel ({i}, {j})");
+        }
+        assert!(textured_px > 1000 && plain_px > 1000, "{textured_px} textured and {plain_px} plain pixels");
+    }
 }

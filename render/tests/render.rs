@@ -160,6 +160,29 @@ fn what_is_hidden_behind_what_is_drawn_is_skipped_and_not_lit() {
 }
 
 #[test]
+fn large_triangles_behind_what_is_drawn_are_skipped_without_changing_a_pixel() {
+    // A wall over the left half of the view, and behind it a tessellated floor-like plane over
+    // all of it: the plane's triangles wholly behind the wall are skipped before their pixels
+    // are tested. Every pixel must still be the nearer of the two drawn alone.
+    let cam = Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y, 45.0, 96, 96);
+    let wall = Instance::new(Arc::new(Mesh::plane(0.6, 1.5)), Transform::from_translation(Vec3::new(-0.6, 0.0, 0.8)), 1)
+        .with_material(Material::rgba([0.8, 0.3, 0.2, 1.0]));
+    let back = Instance::new(Arc::new(Mesh::grid(3.0, 3.0, 12, 12)), Transform::IDENTITY, 2).with_material(Material::rgba([0.2, 0.5, 0.7, 1.0]));
+    let lit = |instances| Scene { instances, headlight: Headlight::default(), ..Scene::default() };
+    let mut r = Renderer::default();
+    let wall_alone = r.render(&lit(vec![wall.clone()]), &cam).unwrap();
+    let back_alone = r.render(&lit(vec![back.clone()]), &cam).unwrap();
+    assert_eq!(r.stats().triangles_hidden, 0, "nothing hides the plane drawn alone");
+    let both = r.render(&lit(vec![back, wall]), &cam).unwrap();
+    assert!(r.stats().triangles_hidden >= 8, "only {} triangles skipped", r.stats().triangles_hidden);
+    for p in 0..both.depth.len() {
+        let near = if wall_alone.depth[p] <= back_alone.depth[p] { &wall_alone } else { &back_alone };
+        assert_eq!(both.color.data[3 * p..3 * p + 3], near.color.data[3 * p..3 * p + 3], "pixel {p}");
+        assert_eq!((both.segmentation[p], both.depth[p]), (near.segmentation[p], near.depth[p]), "pixel {p}");
+    }
+}
+
+#[test]
 fn clustered_meshes_draw_the_same_pixels_and_skip_clusters_facing_away() {
     let dense = Mesh::sphere(0.3, 48);
     let clustered = dense.clone().clustered();

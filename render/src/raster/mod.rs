@@ -82,6 +82,9 @@ pub struct RenderStats {
     pub clusters_culled: usize,
     /// Clusters and instances skipped whole because what was drawn before hides them.
     pub hidden: usize,
+    /// Large triangles (counted in `triangles_rasterized`) skipped before their pixels were
+    /// depth-tested, because what was drawn before hides them.
+    pub triangles_hidden: usize,
 }
 
 impl RenderStats {
@@ -523,10 +526,12 @@ impl Renderer {
             idx,
             shadows: self.shadows_active,
             rasterized: 0,
+            hidden: 0,
         };
         let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, poly: &mut self.poly, rig: &self.rig };
         let done = front.assemble(inst, visible.inside, view, &mut sink);
         self.stats.triangles_rasterized += sink.rasterized;
+        self.stats.triangles_hidden += sink.hidden;
         self.stats.add(done);
     }
 
@@ -768,6 +773,8 @@ struct Opaque<'a> {
     idx: u32,
     shadows: bool,
     rasterized: usize,
+    /// Triangles skipped by the hi-z.
+    hidden: usize,
 }
 
 impl Sink for Opaque<'_> {
@@ -777,11 +784,24 @@ impl Sink for Opaque<'_> {
 
     fn triangle(&mut self, setup: Setup, iz: [f32; 3], light: &mut dyn FnMut() -> [ScreenVert; 3]) {
         self.rasterized += 1;
+        let plane = setup.plane(iz);
+        // A large triangle behind what is drawn (the floor under the table, a cabinet behind
+        // the robot) is skipped before its pixels are tested. No pixel of it gets a `1/z` above
+        // its nearest vertex's by more than the rounding of the plane's f32 coefficients and
+        // evaluation (under 4 ε of the terms' magnitudes), so nothing it could win is lost.
+        // Small triangles are tested pixel by pixel, which costs less than the hi-z's query.
+        let [i0, j0, i1, j1] = setup.bounds();
+        if (i1 - i0 + 1) * (j1 - j0 + 1) >= HIZ_TRIANGLE_AREA {
+            let rounding = 4.0 * f32::EPSILON * (plane.a.abs() * i1 as f32 + plane.b.abs() * j1 as f32 + plane.c.abs());
+            if self.hiz.hidden(self.depth, self.view.width, setup.bounds(), iz[0].max(iz[1]).max(iz[2]) + rounding) {
+                self.hidden += 1;
+                return;
+            }
+        }
         // Depth test and write first, under the id the record is about to get: a triangle that
         // loses every test (common: instances go front to back) wrote nothing, and is neither
         // lit nor recorded.
         let id = self.records.len() as u32;
-        let plane = setup.plane(iz);
         let mut won = 0u32;
         let view = self.view;
         let keep = view.keep.map(|k| k.test);
@@ -805,6 +825,10 @@ impl Sink for Opaque<'_> {
         }
     }
 }
+
+/// Pixels in a triangle's bounding box from which the opaque pass asks the hi-z whether the
+/// triangle is hidden before testing its pixels.
+const HIZ_TRIANGLE_AREA: u32 = 128;
 
 /// How far inside its cone's cutoff the eye must be before a cluster counts as facing away: its
 /// triangles then face away by a clear angle, so none of them could come out front-facing from

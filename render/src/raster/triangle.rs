@@ -110,6 +110,11 @@ impl Setup {
         })
     }
 
+    /// Inclusive pixel bounds `[i0, j0, i1, j1]` (inside the image).
+    pub(crate) fn bounds(&self) -> [u32; 4] {
+        [self.i0, self.j0, self.i1, self.j1]
+    }
+
     /// The plane through the vertex values `a` (one per vertex, in setup order).
     pub(crate) fn plane(&self, a: [f32; 3]) -> Plane {
         let a0 = a[0] as f64;

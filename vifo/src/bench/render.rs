@@ -65,12 +65,14 @@ pub struct Culling {
     pub hidden: usize,
     /// Triangles that covered a pixel centre and reached the depth test.
     pub triangles_rasterized: usize,
+    /// Of those, large ones skipped whole because what was drawn before hides them.
+    pub triangles_hidden: usize,
     pub vertices_lit: usize,
 }
 
 impl From<RenderStats> for Culling {
     fn from(s: RenderStats) -> Culling {
-        Culling { clusters_culled: s.clusters_culled, hidden: s.hidden, triangles_rasterized: s.triangles_rasterized, vertices_lit: s.vertices_lit }
+        Culling { clusters_culled: s.clusters_culled, hidden: s.hidden, triangles_rasterized: s.triangles_rasterized, triangles_hidden: s.triangles_hidden, vertices_lit: s.vertices_lit }
     }
 }
 

@@ -101,8 +101,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 println!("triangles: {} in the scene, {} in agentview, {} in robot0_eye_in_hand", r.triangles, r.triangles_in_view_agentview, r.triangles_in_view_eye_in_hand);
                 for (camera, c) in [("agentview", &r.culling_agentview), ("robot0_eye_in_hand", &r.culling_eye_in_hand)] {
                     println!(
-                        "{camera}: {} clusters outside or facing away, {} clusters or instances hidden; {} triangles rasterized, {} vertices lit",
-                        c.clusters_culled, c.hidden, c.triangles_rasterized, c.vertices_lit
+                        "{camera}: {} clusters outside or facing away, {} clusters or instances hidden; {} triangles rasterized ({} of them hidden), {} vertices lit",
+                        c.clusters_culled, c.hidden, c.triangles_rasterized, c.triangles_hidden, c.vertices_lit
                     );
                 }
                 println!("agentview frame          {:>8.4} ms  ({:.0} fps)", r.ms_per_frame_agentview_256, r.fps_agentview_256);

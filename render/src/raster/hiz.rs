@@ -1,7 +1,8 @@
 //! The farthest surface per 8 × 8 tile of the visibility buffer, so that a cluster or an
-//! instance hidden behind what is already drawn is skipped before its vertices are transformed
-//! (instances are drawn front to back, and in LIBERO's scenes most triangles that reach the
-//! depth test lose it everywhere: table legs, the robot's inner links, the floor under the table).
+//! instance hidden behind what is already drawn is skipped before its vertices are transformed,
+//! and a large triangle before its pixels are tested (instances are drawn front to back, and in
+//! LIBERO's scenes most triangles that reach the depth test lose it everywhere: table legs, the
+//! robot's inner links, the floor under the table).
 //!
 //! Tiles are refreshed lazily: a depth write marks its tiles stale, a query recomputes the stale
 //! tiles it reads. The test is conservative, so skipping changes no pixel.

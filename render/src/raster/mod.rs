@@ -11,7 +11,8 @@
 //!    pixel centre in front of what is already drawn are lit (per vertex, [`lighting`]).
 //! 2. **Visibility.** Opaque triangles are rasterized depth-only into a visibility buffer: per
 //!    pixel, `1/z` and the index of the nearest triangle ([`triangle`] does exact coverage at
-//!    pixel centres).
+//!    pixel centres). A large triangle that the hi-z shows hidden is skipped before its pixels
+//!    are tested.
 //! 3. **Resolve.** Each pixel is shaded once from its triangle's screen-space attribute planes
 //!    (perspective-correct colour and UV), textured, and written with depth and segment id;
 //!    uncovered pixels get the background.

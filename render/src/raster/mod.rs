@@ -794,7 +794,7 @@ impl Sink for Opaque<'_> {
         let [i0, j0, i1, j1] = setup.bounds();
         if (i1 - i0 + 1) * (j1 - j0 + 1) >= HIZ_TRIANGLE_AREA {
             let rounding = 4.0 * f32::EPSILON * (plane.a.abs() * i1 as f32 + plane.b.abs() * j1 as f32 + plane.c.abs());
-            if self.hiz.hidden(self.depth, self.view.width, setup.bounds(), iz[0].max(iz[1]).max(iz[2]) + rounding) {
+            if self.hiz.hidden(self.depth, self.view.width, [i0, j0, i1, j1], iz[0].max(iz[1]).max(iz[2]) + rounding) {
                 self.hidden += 1;
                 return;
             }

@@ -169,7 +169,8 @@ fn large_triangles_behind_what_is_drawn_are_skipped_without_changing_a_pixel() {
         .with_material(Material::rgba([0.8, 0.3, 0.2, 1.0]));
     let back = Instance::new(Arc::new(Mesh::grid(3.0, 3.0, 12, 12)), Transform::IDENTITY, 2).with_material(Material::rgba([0.2, 0.5, 0.7, 1.0]));
     let lit = |instances| Scene { instances, headlight: Headlight::default(), ..Scene::default() };
-    let mut r = Renderer::default();
+    // Without the static layer, which would draw the unmoved plane first.
+    let mut r = Renderer::new(RenderOptions { static_layer: false, ..RenderOptions::default() });
     let wall_alone = r.render(&lit(vec![wall.clone()]), &cam).unwrap();
     let back_alone = r.render(&lit(vec![back.clone()]), &cam).unwrap();
     assert_eq!(r.stats().triangles_hidden, 0, "nothing hides the plane drawn alone");
@@ -474,5 +475,67 @@ fn busy_scene() -> Scene {
         headlight: Headlight::default(),
         background: Background::Gradient { up: [0.9, 0.9, 1.0], down: [0.2, 0.3, 0.4] },
         mirror: None,
+    }
+}
+
+/// A fixed camera keeps a layer of what did not move (`RenderOptions::static_layer`): every
+/// frame must be the frame a renderer without layers draws, bit for bit, while objects move,
+/// stop and move again, a moved copy ties exactly in depth with a static one, a transparent
+/// instance and a mirror are in view, and a second, moving camera shares the renderer.
+#[test]
+fn a_fixed_camera_reuses_what_did_not_move_and_draws_the_same_pixels() {
+    let mut base = busy_scene();
+    let bowl = base.instances[3].clone();
+    // The copy comes first in the scene, so that a whole frame draws it before the original
+    // where they coincide: there it takes every pixel on a tie.
+    let copy = Instance { segment: 40, material: Material::rgba([0.9, 0.9, 0.1, 1.0]), ..bowl.clone() };
+    base.instances.insert(0, copy);
+    base.mirror = Some(Mirror { instance: 1, face_z: 0.025, reflectance: 0.3 });
+    base.instances.push(Instance::new(Arc::new(Mesh::sphere(0.05, 16)), Transform::IDENTITY, 41).with_material(Material::rgba([0.2, 0.8, 0.3, 1.0])));
+    base.instances.push(
+        Instance::new(Arc::new(Mesh::cuboid(Vec3::new(0.05, 0.05, 0.05))), Transform::from_translation(Vec3::new(0.1, 0.1, 0.96)), 42)
+            .with_material(Material::rgba([0.9, 0.2, 0.2, 0.5])),
+    );
+    let (copy, ball) = (0, base.instances.len() - 2);
+    let cam = agentview(96, 96);
+    let mut layered = Renderer::default();
+    let mut plain = Renderer::new(RenderOptions { static_layer: false, ..RenderOptions::default() });
+    let (mut reused, mut tied) = (vec![0; 22], 0);
+    for k in 0..22 {
+        let mut scene = base.clone();
+        // The ball rolls across the table, rests for frames 6-16, then rolls on.
+        let t = if (6..=16).contains(&k) { 6.0 } else { k as f32 - 10.0 };
+        scene.instances[ball].transform = Transform::from_translation(Vec3::new(-0.3 + 0.05 * t, 0.2 - 0.04 * t, 0.95));
+        // The copy jumps between a place of its own and the original's pose.
+        if k % 2 == 0 {
+            scene.instances[copy].transform = Transform::from_translation(Vec3::new(0.25, 0.3, 0.9 + 0.001 * k as f32));
+        }
+        let wrist = Camera::look_at(Vec3::new(0.1 + 0.02 * k as f32, 0.0, 1.3), Vec3::new(0.0, 0.0, 0.9), Vec3::Z, 75.0, 64, 64);
+        for c in [cam, wrist] {
+            let want = plain.render(&scene, &c).unwrap();
+            assert_eq!(plain.stats().instances_reused, 0);
+            let got = layered.render(&scene, &c).unwrap();
+            assert!(got == want, "frame {k}, {}×{} camera: the layer changed pixels", c.width, c.height);
+            if c == cam {
+                reused[k] = layered.stats().instances_reused;
+                tied += (k % 2 == 1 && covered(&got, 40).len() > 50) as usize;
+            } else {
+                assert_eq!(layered.stats().instances_reused, 0, "frame {k}: the moving camera reused a layer");
+            }
+        }
+    }
+    // From frame 1 the table, floor and five bowls come from the layer (the transparent box is
+    // blended anew in every frame); the resting ball joins them once it has not moved for a
+    // few frames, and leaves when it rolls on.
+    assert_eq!(reused[0], 0);
+    assert!(reused[1..].iter().all(|&r| r >= 7), "{reused:?}");
+    assert!(reused[14..=16].contains(&8) && reused[20] == 7, "{reused:?}");
+    assert!(tied >= 5, "the copy won its ties in only {tied} frames");
+    // A static instance that moves, and a light that changes, are drawn anew.
+    let mut scene = base.clone();
+    scene.instances[2].transform = Transform::from_translation(Vec3::new(0.0, 0.0, 0.5));
+    scene.lights[0].diffuse = [0.3; 3];
+    for _ in 0..2 {
+        assert!(layered.render(&scene, &cam).unwrap() == plain.render(&scene, &cam).unwrap());
     }
 }

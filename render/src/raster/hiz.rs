@@ -33,6 +33,13 @@ impl HiZ {
         self.stale.resize(n, false);
     }
 
+    /// Becomes a copy of `other`, reusing its own memory.
+    pub(super) fn copy_from(&mut self, other: &HiZ) {
+        self.tiles_wide = other.tiles_wide;
+        self.far.clone_from(&other.far);
+        self.stale.clone_from(&other.stale);
+    }
+
     /// Notes that any pixel may have been written.
     pub(super) fn mark_all(&mut self) {
         self.stale.fill(true);

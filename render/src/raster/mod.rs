@@ -20,9 +20,13 @@
 //! 5. **Reflection.** Where the scene has a [`Mirror`] and its face is visible, the scene is
 //!    drawn again from the camera mirrored in the face's plane (clipped to the plane's outer
 //!    side) and added to the face's pixels.
+//!
+//! Steps 1–3 keep, per camera, a [`layer`] of the instances that did not move since the last
+//! frame, so that a fixed camera draws only what moved; the pixels come out the same.
 
 mod clip;
 mod hiz;
+mod layer;
 mod lighting;
 mod shadow;
 mod triangle;
@@ -32,6 +36,7 @@ use thiserror::Error;
 
 use self::clip::{ClipSpace, ClipVert, Polygon, SphereClass, GUARD_FIXED, MUST_CLIP, REJECT};
 use self::hiz::HiZ;
+use self::layer::{Layers, Plan};
 use self::lighting::{LightRig, Lit};
 use self::shadow::ShadowMap;
 use self::triangle::{box_holds_centre, orientation, snap, Plane, Setup};
@@ -57,11 +62,14 @@ pub struct RenderOptions {
     /// segmentation come from the sample at offset `(k/2, k/2)` of each block, which is the
     /// pixel centre for odd `k`.
     pub supersample: u32,
+    /// Keep what a camera saw of the instances that did not move, and draw only the others in
+    /// its next frame ([`layer`]). Changes no pixel; off, every frame is drawn whole.
+    pub static_layer: bool,
 }
 
 impl Default for RenderOptions {
     fn default() -> Self {
-        RenderOptions { shadows: false, shadow_map_size: 1024, supersample: 1 }
+        RenderOptions { shadows: false, shadow_map_size: 1024, supersample: 1, static_layer: true }
     }
 }
 
@@ -86,6 +94,9 @@ pub struct RenderStats {
     /// Large triangles (counted in `triangles_rasterized`) skipped before their pixels were
     /// depth-tested, because what was drawn before hides them.
     pub triangles_hidden: usize,
+    /// Instances inside the view (counted in `instances_drawn`) taken from the camera's static
+    /// layer instead of drawn.
+    pub instances_reused: usize,
 }
 
 impl RenderStats {
@@ -297,6 +308,7 @@ pub struct Renderer {
     mirror_pixels: Vec<u32>,
     mirrored_pixels: Vec<u32>,
     mirrored_scene: Scene,
+    layers: Layers,
 }
 
 impl Renderer {
@@ -344,7 +356,9 @@ impl Renderer {
 
     fn render_view(&mut self, scene: &Scene, camera: &Camera, out: &mut Frame) {
         self.stats = RenderStats::default();
-        self.draw_pass(scene, camera, &View::new(camera), out, None);
+        // Shadows move with what casts them, over static surfaces too.
+        let plan = if self.options.static_layer && !self.options.shadows { self.layers.plan(scene, camera) } else { Plan::Plain };
+        self.draw_pass(scene, camera, &View::new(camera), out, None, plan);
         if let Some(mirror) = &scene.mirror {
             self.reflect(scene, camera, mirror, out);
         }
@@ -352,11 +366,80 @@ impl Renderer {
 
     /// Draws `scene` through `view` (of `camera`) into `out`: geometry, resolve, transparency.
     /// With `only`, just those pixels of the view (indices) are drawn; the rest keep the
-    /// background.
-    fn draw_pass(&mut self, scene: &Scene, camera: &Camera, view: &View, out: &mut Frame, only: Option<&[u32]>) {
-        let n = view.width as usize * view.height as usize;
+    /// background. `plan` says which instances come from the camera's static layer.
+    fn draw_pass(&mut self, scene: &Scene, camera: &Camera, view: &View, out: &mut Frame, only: Option<&[u32]>, plan: Plan) {
         self.shadows_active = self.options.shadows && self.shadow.build(scene, camera, self.options.shadow_map_size);
         self.rig.prepare(scene, camera, self.shadows_active);
+        self.sort_instances(scene, view);
+        let order = std::mem::take(&mut self.order);
+        match plan {
+            Plan::Plain => {
+                self.clear(view, only);
+                for v in &order {
+                    self.draw_opaque(scene, v, view, None);
+                }
+                self.resolve(scene, view, out, 0);
+            }
+            Plan::Rebuild(statics) => {
+                self.clear(view, None);
+                let mut layer = self.layers.spare();
+                layer.order.clear();
+                layer.order.resize(scene.instances.len(), f32::NAN);
+                for v in order.iter().filter(|v| statics[v.index as usize]) {
+                    layer.order[v.index as usize] = v.depth;
+                    self.draw_opaque(scene, v, view, None);
+                }
+                layer.statics = statics;
+                layer.image.resize(view.width, view.height);
+                self.resolve(scene, view, &mut layer.image, 0);
+                layer.depth.clone_from(&self.depth);
+                layer.tri_id.clone_from(&self.tri_id);
+                layer.records.clone_from(&self.records);
+                layer.hiz.copy_from(&self.hiz);
+                self.layers.store(layer);
+                self.draw_moved(scene, view, out, &order);
+            }
+            Plan::Reuse => {
+                if let Some(layer) = self.layers.layer() {
+                    self.depth.clone_from(&layer.depth);
+                    self.tri_id.clone_from(&layer.tri_id);
+                    self.records.clone_from(&layer.records);
+                    self.hiz.copy_from(&layer.hiz);
+                    self.shadow_rgb.clear();
+                }
+                self.draw_moved(scene, view, out, &order);
+            }
+        }
+        self.order = order;
+        let blended = std::mem::take(&mut self.blended);
+        for v in &blended {
+            self.draw_blended(scene, v, view, out);
+        }
+        self.blended = blended;
+    }
+
+    /// On the visibility buffer of the camera's static layer: starts `out` from the layer's
+    /// pixels, then draws and shades the instances of `order` that are not in the layer.
+    fn draw_moved(&mut self, scene: &Scene, view: &View, out: &mut Frame, order: &[Visible]) {
+        let Some(layer) = self.layers.layer() else { return };
+        out.color.data.copy_from_slice(&layer.image.color.data);
+        out.depth.copy_from_slice(&layer.image.depth);
+        out.segmentation.copy_from_slice(&layer.image.segmentation);
+        let layer_records = layer.records.len() as u32;
+        for v in order {
+            if self.layers.layer().is_some_and(|l| l.statics.get(v.index as usize) == Some(&true)) {
+                self.stats.instances_reused += 1;
+            } else {
+                self.draw_opaque(scene, v, view, Some(layer_records));
+            }
+        }
+        self.resolve(scene, view, out, layer_records);
+    }
+
+    /// Empties the visibility buffer, records and hi-z for `view` (see [`Renderer::draw_pass`]
+    /// for `only`).
+    fn clear(&mut self, view: &View, only: Option<&[u32]>) {
+        let n = view.width as usize * view.height as usize;
         self.depth.clear();
         self.depth.resize(n, 0.0);
         self.tri_id.clear();
@@ -373,19 +456,6 @@ impl Renderer {
         }
         self.records.clear();
         self.shadow_rgb.clear();
-
-        self.sort_instances(scene, view);
-        let order = std::mem::take(&mut self.order);
-        for v in &order {
-            self.draw_opaque(scene, v, view);
-        }
-        self.order = order;
-        self.resolve(scene, view, out);
-        let blended = std::mem::take(&mut self.blended);
-        for v in &blended {
-            self.draw_blended(scene, v, view, out);
-        }
-        self.blended = blended;
     }
 
     /// Adds what `mirror` reflects to the pixels of `out` that show its face, as MuJoCo does:
@@ -467,7 +537,7 @@ impl Renderer {
                 let (i, j) = (p as usize % w, p as usize / w);
                 ((j - y0 as usize) * cw + (last as usize - i - (last - x1) as usize)) as u32
             }));
-            self.draw_pass(&mirrored, &cam, &view, &mut image, Some(&mirrored_pixels));
+            self.draw_pass(&mirrored, &cam, &view, &mut image, Some(&mirrored_pixels), Plan::Plain);
             for (&p, &q) in pixels.iter().zip(&mirrored_pixels) {
                 let q = q as usize;
                 for c in 0..3 {
@@ -514,8 +584,11 @@ impl Renderer {
         self.blended.sort_unstable_by(|a, b| by_key(b, a));
     }
 
-    fn draw_opaque(&mut self, scene: &Scene, visible: &Visible, view: &View) {
+    /// Draws one opaque instance into the visibility buffer. With `layer_records`, the buffer
+    /// starts from the camera's static layer, whose records are the first `layer_records`.
+    fn draw_opaque(&mut self, scene: &Scene, visible: &Visible, view: &View, layer_records: Option<u32>) {
         let (idx, inst) = (visible.index, &scene.instances[visible.index as usize]);
+        let ties = layer_records.and_then(|n| Some(Ties { layer: self.layers.layer()?, records: n, depth: visible.depth, index: idx }));
         let mut sink = Opaque {
             depth: &mut self.depth,
             tri_id: &mut self.tri_id,
@@ -526,6 +599,7 @@ impl Renderer {
             inst,
             idx,
             shadows: self.shadows_active,
+            ties,
             rasterized: 0,
             hidden: 0,
         };
@@ -564,8 +638,9 @@ impl Renderer {
     }
 
     /// Shades every pixel once from the visibility buffer, one run of same-triangle pixels at
-    /// a time.
-    fn resolve(&self, scene: &Scene, view: &View, out: &mut Frame) {
+    /// a time. With `from > 0`, only pixels of records from `from` on: `out` holds the others
+    /// (the static layer's).
+    fn resolve(&self, scene: &Scene, view: &View, out: &mut Frame, from: u32) {
         let shadows = self.shadows_active.then_some(&self.shadow);
         let sky = Sky::new(scene.background, view);
         let w = view.width as usize;
@@ -581,7 +656,9 @@ impl Renderer {
             while start < w {
                 let id = ids[start];
                 let end = start + ids[start..].iter().take_while(|&&x| x == id).count();
-                if id == NO_TRIANGLE {
+                if from > 0 && (id < from || id == NO_TRIANGLE) {
+                    // Already in `out`.
+                } else if id == NO_TRIANGLE {
                     for k in start..end {
                         depth_out[k] = f32::INFINITY;
                         seg_out[k] = 0;
@@ -616,33 +693,82 @@ impl Renderer {
     }
 }
 
+/// What a span's depth test does besides comparing depths.
+#[derive(Clone, Copy)]
+enum SpanTest<'a> {
+    Plain,
+    /// A mirror's pass: only pixels on the kept side of its plane count.
+    Keep(&'a PlaneTest),
+    /// Over the camera's static layer: exact ties with it go as a whole frame would draw them.
+    Ties(&'a Ties<'a>),
+}
+
 /// Depth-tests one span of a triangle (row `j`, pixels from `first`, whose depth and id slices
-/// are given) and writes where it wins; returns the won pixels' masks or-ed. With `keep` (a
-/// mirror's pass) only pixels on its kept side count; the plain pass is compiled without that
-/// test, which would cost the innermost loop a fifth of its time.
+/// are given) and writes where it wins; returns the won pixels' masks or-ed. Each [`SpanTest`]
+/// compiles its own loop: the plain pass's has no plane test, which would cost the innermost
+/// loop a fifth of its time.
 #[inline(always)]
-fn depth_span(depth: &mut [f32], tri_id: &mut [u32], first: u32, j: u32, plane: &Plane, keep: Option<&PlaneTest>, id: u32) -> u32 {
-    match keep {
-        Some(k) => span_where(depth, tri_id, first, j, plane, id, |i, iz| k.at(i, j as f32, iz) >= 0.0),
-        None => span_where(depth, tri_id, first, j, plane, id, |_, _| true),
+fn depth_span(depth: &mut [f32], tri_id: &mut [u32], first: u32, j: u32, plane: &Plane, test: SpanTest, id: u32) -> u32 {
+    match test {
+        SpanTest::Keep(k) => span_where::<false>(depth, tri_id, first, j, plane, id, |i, iz| k.at(i, j as f32, iz) >= 0.0).0,
+        SpanTest::Plain => span_where::<false>(depth, tri_id, first, j, plane, id, |_, _| true).0,
+        SpanTest::Ties(t) => {
+            let (won, tied) = span_where::<true>(depth, tri_id, first, j, plane, id, |_, _| true);
+            if tied == 0 {
+                return won;
+            }
+            won | t.settle(depth, tri_id, first, j, plane, id)
+        }
     }
 }
 
-/// [`depth_span`]'s loop, counting only pixels where `kept(i, 1/z)` holds.
+/// [`depth_span`]'s loop, counting only pixels where `kept(i, 1/z)` holds. With `TIES`, also
+/// returns whether any pixel tied (equal `1/z`) before the writes.
 #[inline(always)]
-fn span_where(depth: &mut [f32], tri_id: &mut [u32], first: u32, j: u32, plane: &Plane, id: u32, kept: impl Fn(f32, f32) -> bool) -> u32 {
+fn span_where<const TIES: bool>(depth: &mut [f32], tri_id: &mut [u32], first: u32, j: u32, plane: &Plane, id: u32, kept: impl Fn(f32, f32) -> bool) -> (u32, u32) {
     let row_key = plane.b * j as f32 + plane.c;
-    let mut won = 0u32;
+    let (mut won, mut tied) = (0u32, 0u32);
     // Columns as i32: the same floats as from u32, but the signed conversion vectorizes.
     for ((d, t), i) in depth.iter_mut().zip(tri_id).zip(first as i32..) {
         let iz = plane.a * i as f32 + row_key;
+        if TIES {
+            tied |= (iz == *d) as u32;
+        }
         // Bit selects rather than branches: depth-test outcomes are hard to predict.
         let mask = (((iz > *d) & kept(i as f32, iz)) as u32).wrapping_neg();
         won |= mask;
         *t = (*t & !mask) | (id & mask);
         *d = f32::from_bits((d.to_bits() & !mask) | (iz.to_bits() & mask));
     }
-    won
+    (won, tied)
+}
+
+/// How an instance drawn over the camera's static layer settles exact depth ties with it.
+struct Ties<'a> {
+    layer: &'a layer::Layer,
+    /// The layer's records are the first `records`.
+    records: u32,
+    /// The instance's key in the front-to-back order, and its index.
+    depth: f32,
+    index: u32,
+}
+
+impl Ties<'_> {
+    /// After a span's depth test: takes the pixels where it tied with a layer record that a
+    /// whole frame would have drawn after it. Returns a non-zero mask if it took any.
+    #[cold]
+    fn settle(&self, depth: &[f32], tri_id: &mut [u32], first: u32, j: u32, plane: &Plane, id: u32) -> u32 {
+        let row_key = plane.b * j as f32 + plane.c;
+        let mut won = 0u32;
+        for ((&d, t), i) in depth.iter().zip(tri_id).zip(first as i32..) {
+            let iz = plane.a * i as f32 + row_key;
+            if iz == d && *t < self.records && self.layer.wins_tie(*t, self.depth, self.index) {
+                *t = id;
+                won = u32::MAX;
+            }
+        }
+        won
+    }
 }
 
 /// Bounding box `(x0, y0, x1, y1)` of pixel indices in an image `width` wide.
@@ -773,6 +899,8 @@ struct Opaque<'a> {
     inst: &'a Instance,
     idx: u32,
     shadows: bool,
+    /// Set when drawing over the camera's static layer.
+    ties: Option<Ties<'a>>,
     rasterized: usize,
     /// Triangles skipped by the hi-z.
     hidden: usize,
@@ -806,11 +934,16 @@ impl Sink for Opaque<'_> {
         let mut won = 0u32;
         let view = self.view;
         let keep = view.keep.map(|k| k.test);
+        let test = match (keep.as_ref(), self.ties.as_ref()) {
+            (Some(k), _) => SpanTest::Keep(k),
+            (None, Some(t)) => SpanTest::Ties(t),
+            (None, None) => SpanTest::Plain,
+        };
         let (depth, tri_id, hiz) = (&mut *self.depth, &mut *self.tri_id, &mut *self.hiz);
         setup.for_each_span(|j, first, last| {
             let base = j as usize * view.width as usize;
             let range = base + first as usize..base + last as usize + 1;
-            let mask = depth_span(&mut depth[range.clone()], &mut tri_id[range], first, j, &plane, keep.as_ref(), id);
+            let mask = depth_span(&mut depth[range.clone()], &mut tri_id[range], first, j, &plane, test, id);
             if mask != 0 {
                 hiz.mark(j, first, last);
             }

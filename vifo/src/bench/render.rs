@@ -2,28 +2,36 @@
 //! LIBERO's initial state 0), one thread.
 //!
 //! A control step of an evaluation updates the scene from the simulation and renders both
-//! cameras; that is timed as a whole, and each camera alone. Times are medians over batches
-//! after a warm-up, in this thread's CPU time where Linux reports it (the machine is shared).
+//! cameras. The bench first runs the scripted expert through one whole episode (reach, grasp,
+//! carry, place) and keeps the posed scene and wrist camera of every step; then it renders those
+//! steps in order, as an evaluation does, so that each camera's static layer is kept, rebuilt
+//! and drawn over exactly as it would be (a still robot would leave the whole scene static and
+//! time nothing but copies). Each camera alone and both per step are timed; the two cameras
+//! also with the static layer off. Times are medians over whole passes, in this thread's CPU
+//! time where Linux reports it (the machine is shared).
 
 use anyhow::Result;
 use serde::Serialize;
-use vifo_render::{Frame, RenderStats, Renderer};
-use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
+use vifo_expert::Expert;
+use vifo_render::{Camera, Frame, RenderOptions, RenderStats, Renderer};
+use vifo_scenes::view::{Cameras, ImageOrder, SceneView};
 
 use std::sync::Arc;
 
 use vifo_scenes::look::Look;
 use vifo_scenes::sim::SceneModel;
 
-use super::timing::{Clock, median_ms};
+use super::timing::{Clock, median_ms, median_pass_ms};
 use crate::look::label;
-use crate::start::InitSource;
 use crate::render::{RenderRequest, episode};
+use crate::start::InitSource;
 
 const TASK: &str = "libero_spatial/0";
 const SIZE: u32 = 256;
-/// Target length of one timed batch.
+/// Target length of one timed batch of the scene update.
 const BATCH_MS: f64 = 100.0;
+/// The expert's episode is cut here if it has not succeeded yet.
+const MAX_STEPS: usize = 400;
 
 /// What `vifo bench render` prints.
 #[derive(Debug, Serialize)]
@@ -32,13 +40,16 @@ pub struct RenderBench {
     pub size: u32,
     /// `thread CPU time` or `wall-clock time`.
     pub clock: &'static str,
-    /// Timed batches of about 100 ms each; every figure is the median batch's mean.
-    pub batches: usize,
-    /// Triangles in the scene, and in each camera's view frustum.
+    /// Control steps of the expert's episode that are rendered, and whether it succeeded.
+    pub episode_steps: usize,
+    pub episode_success: bool,
+    /// Timed passes over the episode; every figure is the median pass's mean per step.
+    pub passes: usize,
+    /// Triangles in the scene, and in each camera's view frustum (first step).
     pub triangles: usize,
     pub triangles_in_view_agentview: usize,
     pub triangles_in_view_eye_in_hand: usize,
-    /// What each camera's frame skipped and drew.
+    /// What each camera's frames skipped and drew, per frame over the episode.
     pub culling_agentview: Culling,
     pub culling_eye_in_hand: Culling,
     pub ms_per_frame_agentview_256: f64,
@@ -47,6 +58,8 @@ pub struct RenderBench {
     pub ms_per_update: f64,
     /// Update plus both cameras: the rendering cost of one control step.
     pub ms_per_step_two_cameras_256: f64,
+    /// The same with the static layer off: every frame drawn whole.
+    pub ms_per_step_two_cameras_256_whole: f64,
     pub fps_agentview_256: f64,
     pub steps_per_second_two_cameras_256: f64,
     /// `built-in` or `libero-assets:<hash>`.
@@ -56,54 +69,98 @@ pub struct RenderBench {
     pub peak_rss_mb_all_40_tasks: Option<f64>,
 }
 
-/// What a frame skipped whole and what it drew (the renderer's counts).
-#[derive(Debug, Serialize)]
+/// What a camera's frames skipped whole and drew, per frame over the episode (the renderer's
+/// counts).
+#[derive(Debug, Default, Serialize)]
 pub struct Culling {
     /// Triangle clusters outside the view or facing away.
-    pub clusters_culled: usize,
+    pub clusters_culled: f64,
     /// Clusters and instances hidden behind what was drawn before them.
-    pub hidden: usize,
+    pub hidden: f64,
     /// Triangles that covered a pixel centre and reached the depth test.
-    pub triangles_rasterized: usize,
+    pub triangles_rasterized: f64,
     /// Of those, large ones skipped whole because what was drawn before hides them.
-    pub triangles_hidden: usize,
-    pub vertices_lit: usize,
+    pub triangles_hidden: f64,
+    pub vertices_lit: f64,
+    /// Instances in view taken from the camera's static layer instead of drawn.
+    pub instances_reused: f64,
+    pub instances_drawn: f64,
 }
 
-impl From<RenderStats> for Culling {
-    fn from(s: RenderStats) -> Culling {
-        Culling { clusters_culled: s.clusters_culled, hidden: s.hidden, triangles_rasterized: s.triangles_rasterized, triangles_hidden: s.triangles_hidden, vertices_lit: s.vertices_lit }
+impl Culling {
+    fn add(&mut self, s: RenderStats, n: usize) {
+        let n = n as f64;
+        self.clusters_culled += s.clusters_culled as f64 / n;
+        self.hidden += s.hidden as f64 / n;
+        self.triangles_rasterized += s.triangles_rasterized as f64 / n;
+        self.triangles_hidden += s.triangles_hidden as f64 / n;
+        self.vertices_lit += s.vertices_lit as f64 / n;
+        self.instances_reused += s.instances_reused as f64 / n;
+        self.instances_drawn += s.instances_drawn as f64 / n;
     }
 }
 
-/// Runs the benchmark on initial state 0 from `source`.
-pub fn run(source: InitSource, batches: usize, look: Option<Arc<Look>>) -> Result<RenderBench> {
-    let request = RenderRequest { size: SIZE, look, ..RenderRequest::still(TASK, source) };
-    let sim = episode(&request)?;
-    let mut view = SceneView::with_look(sim.model(), request.look.as_deref());
-    view.update(&sim);
-    let cameras = Cameras::new(SIZE, SIZE);
-    let mut renderer = Renderer::default();
-    let mut frame = Frame::default();
-    let agent = cameras.agentview(sim.model().class);
-    let batches = batches.max(1);
+/// One control step of the episode, ready to render.
+struct Posed {
+    view: SceneView,
+    wrist: Camera,
+}
 
-    let ms_per_frame_agentview_256 = median_ms(batches, BATCH_MS, || Ok(view.render_into(&mut renderer, &agent, ImageOrder::Upright, &mut frame)?))?;
-    let (triangles_in_view_agentview, culling_agentview) = (renderer.stats().triangles_in_view, renderer.stats().into());
-    let wrist = cameras.eye_in_hand(&sim);
-    let ms_per_frame_eye_in_hand_256 = median_ms(batches, BATCH_MS, || Ok(view.render_into(&mut renderer, &wrist, ImageOrder::Upright, &mut frame)?))?;
-    let (triangles_in_view_eye_in_hand, culling_eye_in_hand) = (renderer.stats().triangles_in_view, renderer.stats().into());
-    let ms_per_update = median_ms(batches, BATCH_MS, || {
+/// Runs the benchmark on initial state 0 from `source`.
+pub fn run(source: InitSource, passes: usize, look: Option<Arc<Look>>) -> Result<RenderBench> {
+    let request = RenderRequest { size: SIZE, look, ..RenderRequest::still(TASK, source) };
+    let mut sim = episode(&request)?;
+    let mut view = SceneView::with_look(sim.model(), request.look.as_deref());
+    let cameras = Cameras::new(SIZE, SIZE);
+    let agent = cameras.agentview(sim.model().class);
+    let passes = passes.max(1);
+
+    view.update(&sim);
+    let ms_per_update = median_ms(passes, BATCH_MS, || {
         view.update(&sim);
         Ok(())
     })?;
-    let ms_per_step_two_cameras_256 = median_ms(batches, BATCH_MS, || {
+    let mut expert = Expert::new(&sim)?;
+    let mut steps = Vec::new();
+    let episode_success = loop {
         view.update(&sim);
-        for name in CameraName::ALL {
-            view.render_into(&mut renderer, &cameras.get(name, &sim), ImageOrder::Upright, &mut frame)?;
+        steps.push(Posed { view: view.clone(), wrist: cameras.eye_in_hand(&sim) });
+        if sim.success()? {
+            break true;
         }
-        Ok(())
-    })?;
+        if steps.len() >= MAX_STEPS {
+            break false;
+        }
+        sim.step(&expert.act(&sim));
+    };
+    let n = steps.len();
+
+    let mut frame = Frame::default();
+    let (mut renderer, mut whole) = (Renderer::default(), Renderer::new(RenderOptions { static_layer: false, ..RenderOptions::default() }));
+    let mut draw = |renderer: &mut Renderer, s: &Posed, camera: &Camera| s.view.render_into(renderer, camera, ImageOrder::Upright, &mut frame);
+    let first = &steps[0];
+    draw(&mut renderer, first, &agent)?;
+    let triangles_in_view_agentview = renderer.stats().triangles_in_view;
+    draw(&mut renderer, first, &first.wrist)?;
+    let triangles_in_view_eye_in_hand = renderer.stats().triangles_in_view;
+    let (mut culling_agentview, mut culling_eye_in_hand) = (Culling::default(), Culling::default());
+    let mut counter = Renderer::default();
+    for s in &steps {
+        draw(&mut counter, s, &agent)?;
+        culling_agentview.add(counter.stats(), n);
+        draw(&mut counter, s, &s.wrist)?;
+        culling_eye_in_hand.add(counter.stats(), n);
+    }
+
+    let ms_per_frame_agentview_256 = median_pass_ms(passes, n, |k| Ok(draw(&mut renderer, &steps[k], &agent)?))?;
+    let ms_per_frame_eye_in_hand_256 = median_pass_ms(passes, n, |k| Ok(draw(&mut renderer, &steps[k], &steps[k].wrist)?))?;
+    let mut both = |renderer: &mut Renderer, k: usize| -> Result<()> {
+        draw(renderer, &steps[k], &agent)?;
+        Ok(draw(renderer, &steps[k], &steps[k].wrist)?)
+    };
+    let ms_per_step_two_cameras_256 = ms_per_update + median_pass_ms(passes, n, |k| both(&mut renderer, k))?;
+    let ms_per_step_two_cameras_256_whole = ms_per_update + median_pass_ms(passes, n, |k| both(&mut whole, k))?;
+
     // Every task's scene alive at once, as a process evaluating all 40 tasks holds them.
     let mut all = Vec::new();
     for task in vifo_scenes::all_tasks() {
@@ -118,7 +175,9 @@ pub fn run(source: InitSource, batches: usize, look: Option<Arc<Look>>) -> Resul
         task: TASK,
         size: SIZE,
         clock: if Clock::cpu_ns().is_some() { "thread CPU time" } else { "wall-clock time" },
-        batches,
+        episode_steps: n,
+        episode_success,
+        passes,
         triangles: view.triangle_count(),
         triangles_in_view_agentview,
         triangles_in_view_eye_in_hand,
@@ -128,6 +187,7 @@ pub fn run(source: InitSource, batches: usize, look: Option<Arc<Look>>) -> Resul
         ms_per_frame_eye_in_hand_256,
         ms_per_update,
         ms_per_step_two_cameras_256,
+        ms_per_step_two_cameras_256_whole,
         fps_agentview_256: 1e3 / ms_per_frame_agentview_256,
         steps_per_second_two_cameras_256: 1e3 / ms_per_step_two_cameras_256,
     })

@@ -53,3 +53,23 @@ pub fn median_ms(batches: usize, batch_ms: f64, mut work: impl FnMut() -> Result
     times.sort_by(f64::total_cmp);
     Ok(times[times.len() / 2])
 }
+
+/// Median over `passes` of the mean time of `work(k)`, called for `k` in `0..n` in order in
+/// each pass, after one warm-up pass: for work whose cost depends on what came before it (a
+/// camera's static layer), each pass is one whole sequence.
+pub fn median_pass_ms(passes: usize, n: usize, mut work: impl FnMut(usize) -> Result<()>) -> Result<f64> {
+    let n = n.max(1);
+    for k in 0..n {
+        work(k)?;
+    }
+    let mut times = Vec::with_capacity(passes.max(1));
+    for _ in 0..passes.max(1) {
+        let clock = Clock::now();
+        for k in 0..n {
+            work(k)?;
+        }
+        times.push(clock.elapsed_ms() / n as f64);
+    }
+    times.sort_by(f64::total_cmp);
+    Ok(times[times.len() / 2])
+}

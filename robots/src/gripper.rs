@@ -31,8 +31,8 @@ impl GripperRamp {
             0.0
         };
         let delta = [-RAMP_PER_SUBSTEP * s, RAMP_PER_SUBSTEP * s];
-        for k in 0..2 {
-            self.current[k] = (self.current[k] + delta[k]).clamp(-1.0, 1.0);
+        for (c, d) in self.current.iter_mut().zip(delta) {
+            *c = (*c + d).clamp(-1.0, 1.0);
         }
         self.targets()
     }

@@ -2,6 +2,9 @@
 //! visual geoms of every catalog category and of the Panda (numbers and upstream paths only).
 //! Do not edit by hand.
 
+// Numbers as the upstream files write them (0.707107, 1.5708, 3.14159) or as the generator converts them.
+#![allow(clippy::approx_constant)]
+
 use super::parts::{MaterialFact, PartFact, Shape, TextureFact};
 
 /// Category, its asset XML (relative to LIBERO's `assets/`), and its visual parts.

@@ -103,3 +103,40 @@ fn the_look_dresses_only_the_panda() {
     assert_eq!(hand_instances(Some(&look)), 0);
     assert!(hand_instances(None) > 0);
 }
+
+/// The renderer's static layer (each camera keeps what did not move) draws every frame of an
+/// expert episode as a whole frame would: a scene with a drawer the expert opens, both cameras,
+/// the built-in look and, where installed, LIBERO's.
+#[test]
+fn the_static_layer_draws_an_expert_episode_as_whole_frames() {
+    use vifo_render::RenderOptions;
+    let roots = look::discover(None, None).unwrap();
+    let assets = (!roots.libero.is_empty() && roots.robot.is_some()).then(|| Look::load(roots));
+    if assets.is_none() {
+        println!("the_static_layer_draws_an_expert_episode_as_whole_frames: LIBERO's look skipped, no asset wheels or robosuite installed");
+    }
+    for look in std::iter::once(None).chain(assets.as_ref().map(Some)) {
+        // libero_goal/0: open the middle drawer of the cabinet.
+        let mut sim = episode(&RenderRequest::still("libero_goal/0", InitSource::Shipped)).unwrap();
+        let mut view = SceneView::with_look(sim.model(), look);
+        let cameras = Cameras::new(128, 128);
+        let mut expert = vifo_expert::Expert::new(&sim).unwrap();
+        let (mut layered, mut whole) = (Renderer::default(), Renderer::new(RenderOptions { static_layer: false, ..RenderOptions::default() }));
+        let mut reused = 0;
+        for step in 0..45 {
+            view.update(&sim);
+            for camera in CameraName::ALL {
+                let c = cameras.get(camera, &sim);
+                let want = view.render(&mut whole, &c, ImageOrder::Upright).unwrap();
+                let got = view.render(&mut layered, &c, ImageOrder::Upright).unwrap();
+                assert!(got == want, "step {step}, {camera}, look {}: the static layer changed the frame", look.is_some());
+                if camera == CameraName::AgentView {
+                    reused += layered.stats().instances_reused;
+                }
+            }
+            sim.step(&expert.act(&sim));
+        }
+        // From the second frame on, at least 20 instances (table, floor, walls, cabinet, objects).
+        assert!(reused >= 44 * 20, "look {}: only {reused} instances came from the layer in 45 frames", look.is_some());
+    }
+}

@@ -71,12 +71,12 @@ impl Layers {
         let slot = match self.entries.iter().position(|e| e.key == key) {
             Some(k) => k,
             None if self.entries.len() < ENTRIES => {
-                self.entries.push(Entry { key, used: 0, last: Vec::new(), still: Vec::new(), layer: None });
+                self.entries.push(Entry::new(key));
                 self.entries.len() - 1
             }
             None => {
                 let k = (0..self.entries.len()).min_by_key(|&k| self.entries[k].used).unwrap_or(0);
-                let old = std::mem::replace(&mut self.entries[k], Entry { key, used: 0, last: Vec::new(), still: Vec::new(), layer: None });
+                let old = std::mem::replace(&mut self.entries[k], Entry::new(key));
                 self.spare = old.layer.or(self.spare.take());
                 k
             }
@@ -136,6 +136,10 @@ struct Entry {
 }
 
 impl Entry {
+    fn new(key: Key) -> Entry {
+        Entry { key, used: 0, last: Vec::new(), still: Vec::new(), layer: None }
+    }
+
     /// Counts which of `instances` are the same as in the last frame, then makes them the last
     /// frame's.
     fn remember(&mut self, instances: &[Instance]) {

@@ -94,8 +94,8 @@ pub struct RenderStats {
     /// Large triangles (counted in `triangles_rasterized`) skipped before their pixels were
     /// depth-tested, because what was drawn before hides them.
     pub triangles_hidden: usize,
-    /// Instances inside the view (counted in `instances_drawn`) taken from the camera's static
-    /// layer instead of drawn.
+    /// Instances inside the view (counted in `instances_drawn`) that came from the camera's
+    /// static layer: taken from it, or, in a frame that rebuilt it, drawn into it.
     pub instances_reused: usize,
 }
 

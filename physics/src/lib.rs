@@ -9,6 +9,7 @@
 //! This crate knows nothing of robots, tasks, cameras or cues.
 
 mod fingerprint;
+pub mod inert;
 mod params;
 mod world;
 

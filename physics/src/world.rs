@@ -2,6 +2,7 @@
 
 use rapier3d::prelude::*;
 
+use crate::inert::InertContacts;
 use crate::{Fingerprint, SimParams};
 
 /// Contact points closer than this (m) count as touching (soft contacts rest with a small
@@ -77,7 +78,7 @@ impl World {
     /// User forces set on bodies before the call act during this step and are then cleared, so
     /// controllers set them afresh every step, as robosuite writes `ctrl` every substep.
     pub fn step(&mut self) {
-        self.rapier.step();
+        self.rapier.step_with_events(&InertContacts { dt: self.params.dt }, &());
         for (_, body) in self.rapier.bodies.iter_mut() {
             if body.user_force() != Vector::ZERO || body.user_torque() != Vector::ZERO {
                 body.reset_forces(false);

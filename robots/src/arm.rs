@@ -10,6 +10,7 @@
 use std::sync::Arc;
 
 use vifo_physics::World;
+use vifo_physics::inert::INERT_CONTACT_HOOKS;
 use vifo_physics::rapier::prelude::*;
 
 use crate::contact;
@@ -155,7 +156,8 @@ impl<const N: usize> ArmInstance<N> {
                     .friction(c.friction)
                     .friction_combine_rule(CoefficientCombineRule::Max)
                     .collision_groups(contact::groups(c.role, model.links_touch_fingers))
-                    .solver_groups(contact::groups(c.role, model.links_touch_fingers));
+                    .solver_groups(contact::groups(c.role, model.links_touch_fingers))
+                    .active_hooks(INERT_CONTACT_HOOKS);
                 let handle = r.colliders.insert_with_parent(collider, rigid_body[b], &mut r.bodies);
                 colliders.push(ArmCollider { handle, body: b, name: c.name, role: c.role });
             }

@@ -8,6 +8,7 @@ use std::sync::Arc;
 
 use thiserror::Error;
 use vifo_physics::rapier::prelude::*;
+use vifo_physics::inert::INERT_CONTACT_HOOKS;
 use vifo_physics::{Snapshot, World};
 use vifo_robots::contact::{ARENA_GROUPS, FRAME_GROUPS, PART_GROUPS, SCENE_GROUPS};
 use vifo_robots::convert::{dmat3, rapier_pose, vector};
@@ -282,6 +283,10 @@ fn insert_entity(world: &mut World, name: &str, model: &'static ObjectModel) -> 
         let (mb, _) = r.multibody_joints.get_mut(*jh).expect("fixture joint");
         mb.set_self_contacts_enabled(false);
         mb.forward_kinematics(&r.bodies, true);
+        // All of an articulated fixture's bodies are links of its multibody.
+        for &c in &colliders {
+            r.colliders[c].set_active_hooks(INERT_CONTACT_HOOKS);
+        }
     }
     SceneEntity { name: name.to_string(), category: model.category.clone(), model, bodies, joints, anchor, colliders }
 }

@@ -4,7 +4,9 @@
 //! [`FrameInputs`] (projected anchors, and for F3/F4 the RGBA layers or pictures it rendered).
 //! An [`Inserter`] keeps a cache of everything static per cue (text, codes, signs, panel
 //! frames) keyed by the spec, its parameters and the frame size, so after the first frame only
-//! compositing is left.
+//! compositing is left. It also keeps the last drawn layers of scene-anchored cues: a fixed
+//! camera sees its anchors unchanged until the object moves, and a layer drawn from the same
+//! spec, size and anchor bits is the same layer.
 //!
 //! # Anchors outside the image (scene-anchored cues)
 //!
@@ -97,11 +99,32 @@ pub struct Placed {
 /// long-running process cycles through many specs).
 const CACHE_LIMIT: usize = 512;
 
+/// Drawn layers kept for the next frames: one per camera of an episode.
+const DRAWN_KEPT: usize = 2;
+
 /// Inserts cues into frames, caching static parts between calls. One per thread.
 #[derive(Default)]
 pub struct Inserter {
     cache: HashMap<String, Arc<Pixmap>>,
+    /// The scratch layer, transparent.
     layer: Option<Pixmap>,
+    /// The latest layers drawn from the anchors alone, oldest first.
+    drawn: Vec<Drawn>,
+}
+
+/// A finished layer of a cue that drew only into its layer, with what it was drawn from.
+struct Drawn {
+    key: String,
+    anchors: Anchors,
+    layer: Pixmap,
+    dirty: bool,
+    report: InsertReport,
+}
+
+/// Equal anchors, bit for bit (a NaN anchor included).
+fn same_anchors(a: &Anchors, b: &Anchors) -> bool {
+    let bits = |x: &Option<Anchor>| x.map(|a| (a.u.to_bits(), a.v.to_bits(), a.radius.map(f64::to_bits), a.in_front));
+    bits(&a.source) == bits(&b.source) && bits(&a.target) == bits(&b.target)
 }
 
 impl Inserter {
@@ -133,10 +156,6 @@ impl Inserter {
         if self.cache.len() > CACHE_LIMIT {
             self.cache.clear();
         }
-        let layer = match self.layer.take() {
-            Some(l) if (l.width(), l.height()) == (frame.width, frame.height) => l,
-            _ => Pixmap::new(frame.width, frame.height).ok_or(CueError::BadParam("frame too large".into()))?,
-        };
         let key_prefix = format!(
             "{}|{}|{}x{}",
             spec.id(),
@@ -144,6 +163,24 @@ impl Inserter {
             frame.width,
             frame.height
         );
+        // Only the anchors vary between frames of a cue without ghost layers or pictures.
+        let from_anchors = inputs.ghost_layers.is_empty() && inputs.pictures.is_empty();
+        if from_anchors {
+            let same = |d: &Drawn| d.key == key_prefix && same_anchors(&d.anchors, &inputs.anchors);
+            if let Some(i) = self.drawn.iter().position(same) {
+                let d = self.drawn.remove(i);
+                if d.dirty {
+                    draw::composite(frame, &d.layer, 0, 0, 1.0);
+                }
+                let report = d.report;
+                self.drawn.push(d);
+                return Ok(report);
+            }
+        }
+        let layer = match self.layer.take() {
+            Some(l) if (l.width(), l.height()) == (frame.width, frame.height) => l,
+            _ => Pixmap::new(frame.width, frame.height).ok_or(CueError::BadParam("frame too large".into()))?,
+        };
         let mut ctx = Ctx {
             frame,
             spec,
@@ -152,11 +189,12 @@ impl Inserter {
             key_prefix,
             layer,
             layer_dirty: false,
+            frame_touched: false,
             report: InsertReport { source: AnchorUse::NotUsed, target: AnchorUse::NotUsed, drawn: false },
             clamped: Vec::new(),
         };
         let result = (variant.draw)(&mut ctx);
-        let Ctx { mut layer, mut layer_dirty, report, clamped, .. } = ctx;
+        let Ctx { mut layer, mut layer_dirty, frame_touched, report, clamped, key_prefix, .. } = ctx;
         if result.is_ok() && report.drawn {
             for (at, toward, color) in clamped {
                 draw_offscreen_indicator(&mut layer, at, toward, color, frame.width.min(frame.height) as f32 / 256.0);
@@ -165,6 +203,15 @@ impl Inserter {
         }
         if result.is_ok() && layer_dirty {
             draw::composite(frame, &layer, 0, 0, 1.0);
+        }
+        if result.is_ok() && from_anchors && !frame_touched {
+            // Keep the layer; the oldest kept one becomes the scratch layer.
+            self.drawn.push(Drawn { key: key_prefix, anchors: inputs.anchors, layer, dirty: layer_dirty, report });
+            if self.drawn.len() <= DRAWN_KEPT {
+                return Ok(report);
+            }
+            let oldest = self.drawn.remove(0);
+            (layer, layer_dirty) = (oldest.layer, oldest.dirty);
         }
         if layer_dirty {
             layer.fill(tiny_skia::Color::TRANSPARENT);
@@ -183,6 +230,8 @@ pub struct Ctx<'a> {
     key_prefix: String,
     layer: Pixmap,
     layer_dirty: bool,
+    /// Whether the variant drew into the frame itself: its result then depends on the frame.
+    frame_touched: bool,
     report: InsertReport,
     clamped: Vec<(V2, V2, Rgba)>,
 }
@@ -275,6 +324,7 @@ impl Ctx<'_> {
     /// The frame itself, for cues that blend into it directly (ghost layers).
     pub fn frame_mut(&mut self) -> &mut RgbImage {
         self.report.drawn = true;
+        self.frame_touched = true;
         self.frame
     }
 
@@ -282,6 +332,7 @@ impl Ctx<'_> {
     pub fn blit(&mut self, pm: &Pixmap, x: i32, y: i32) {
         draw::composite(self.frame, pm, x, y, 1.0);
         self.report.drawn = true;
+        self.frame_touched = true;
     }
 
     /// The spec's fixed region (or `default`) in pixels.

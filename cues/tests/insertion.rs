@@ -221,6 +221,35 @@ fn same_inputs_give_the_same_bytes() {
     }
 }
 
+/// The inserter keeps the layers it drew from anchors alone: frames of two cameras, one whose
+/// anchors move and one whose stay, over two backgrounds, must come out as a fresh inserter
+/// draws them. Variants that need ghost layers or pictures fail without them and are skipped.
+#[test]
+fn kept_layers_give_the_bytes_of_a_fresh_draw() {
+    let moved = |k: u32| Anchors {
+        source: Some(Anchor::at(SRC.0 + f64::from(k % 2) * 9.0, SRC.1).with_radius(16.0)),
+        target: Some(Anchor::at(TGT.0, TGT.1).with_radius(22.0)),
+    };
+    let mut dark = base(W, W);
+    dark.data.iter_mut().for_each(|c| *c /= 3);
+    let mut kept = Inserter::new();
+    for v in VARIANTS {
+        let spec = spec_for(TASK, v);
+        for k in 0..6 {
+            for (camera, anchors) in [("still", anchors()), ("moving", moved(k / 2))] {
+                let background = if k % 3 == 0 { &dark } else { &base(W, W) };
+                let inputs = FrameInputs::anchored(anchors);
+                let (mut want, mut got) = (background.clone(), background.clone());
+                let fresh = Inserter::new().insert(&mut want, &spec, &inputs);
+                let again = kept.insert(&mut got, &spec, &inputs);
+                assert_eq!(fresh.is_ok(), again.is_ok(), "{}", v.name);
+                assert_eq!(fresh.ok(), again.ok(), "{}", v.name);
+                assert!(got == want, "{}: frame {k} of the {camera} camera differs from a fresh draw", v.name);
+            }
+        }
+    }
+}
+
 #[test]
 fn anchors_outside_the_image_are_clamped_with_an_indicator() {
     let spec = spec_for(TASK, variants::find("glow_halo").unwrap());

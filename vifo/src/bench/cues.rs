@@ -7,9 +7,11 @@
 //! episode's cue (the expert's demonstration for ghosts and goal pictures) is timed once per
 //! instance and reported apart.
 //!
-//! Agentview is fixed, so after the first frame its ghost layers are reused; the wrist camera
-//! moves with the arm, so its ghosts are timed with three cameras in turn (1 mm apart), which
-//! defeats the layer cache and renders the K layers on every call, as a moving arm does.
+//! Agentview is fixed and the scene here still, so after the first frame its ghost layers are
+//! reused, and so is a scene-anchored cue's drawn layer (the inserter keeps the last two): its
+//! figure is the cost while the anchored objects rest. The wrist camera moves with the arm, so
+//! it is timed with three cameras in turn (1 mm apart), which defeats both caches and renders
+//! the K ghost layers and draws the cue on every call, as a moving arm does.
 
 use std::time::Instant;
 

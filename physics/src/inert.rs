@@ -41,10 +41,11 @@ impl PhysicsHooks for InertContacts {
         let Some(manifold) = context.rigid_mut() else { return };
         let normal = *manifold.normal;
         let velocity = |rb: Option<RigidBodyHandle>, at: Vector| rb.and_then(|h| bodies.get(h)).map_or(Vector::ZERO, |b| b.velocity_at_point(at));
-        // The gap after the step at the start-of-step velocities, as rapier predicts it.
+        // The gap after the step at the start-of-step velocities, as rapier predicts it
+        // (the normal points from the first body to the second: positive speed opens the gap).
         let inert = manifold.solver_contacts.iter().all(|c| {
-            let closing = (velocity(rb2, c.anchor2) - velocity(rb1, c.anchor1)).dot(normal);
-            c.dist + closing * self.dt > MARGIN
+            let opening = (velocity(rb2, c.anchor2) - velocity(rb1, c.anchor1)).dot(normal);
+            c.dist + opening * self.dt > MARGIN
         });
         if inert {
             manifold.solver_contacts.clear();

@@ -5,7 +5,7 @@
 //! what resets and "simulated futures" (ghost trajectories) are built on. Like MuJoCo's split of
 //! `mjModel` and `mjData`, the immutable parts (collision shapes) are shared by reference between
 //! a world and its snapshots, so a snapshot costs a copy of the small per-body state only.
-//! Each step skips the contact rows of multibody links that cannot act within it ([`inert`]).
+//! Each step skips the contact rows that cannot act within it ([`inert`]).
 //!
 //! This crate knows nothing of robots, tasks, cameras or cues.
 

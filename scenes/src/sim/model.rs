@@ -184,6 +184,7 @@ fn scene_collider(shape: SharedShape, local: &Pose, friction: f64, groups: Inter
         .friction_combine_rule(CoefficientCombineRule::Max)
         .collision_groups(groups)
         .solver_groups(groups)
+        .active_hooks(INERT_CONTACT_HOOKS)
 }
 
 /// The table top slabs (or the floor) as fixed colliders.
@@ -283,10 +284,6 @@ fn insert_entity(world: &mut World, name: &str, model: &'static ObjectModel) -> 
         let (mb, _) = r.multibody_joints.get_mut(*jh).expect("fixture joint");
         mb.set_self_contacts_enabled(false);
         mb.forward_kinematics(&r.bodies, true);
-        // All of an articulated fixture's bodies are links of its multibody.
-        for &c in &colliders {
-            r.colliders[c].set_active_hooks(INERT_CONTACT_HOOKS);
-        }
     }
     SceneEntity { name: name.to_string(), category: model.category.clone(), model, bodies, joints, anchor, colliders }
 }

@@ -1,12 +1,13 @@
-//! Skipping the contact constraints of multibody links that cannot act within the step.
+//! Skipping the contact constraints that cannot act within the step.
 //!
-//! rapier keeps a solver contact for every point closer than its prediction distance (20 mm
-//! here, its 1 m default; see `SimParams::length_unit`), so that a fast approach is caught
+//! rapier keeps a solver contact for every point closer than its prediction distance (5 mm
+//! for LIBERO, see `SimParams::prediction_distance`), so that a fast approach is caught
 //! before it penetrates. For two rigid bodies such a row is cheap. For a multibody link (the
 //! arm's hand and fingers, a cabinet's drawer) every row costs an LU solve of the multibody's
 //! mass matrix when it is built, and a pass over all its degrees of freedom at every solver
 //! iteration. Around a grasp most of them are far: in the scripted expert's episode of
-//! libero_object's first task, 182 multibody solver contacts per step, 25 of them within 1 mm.
+//! libero_object's first task, at rapier's default 20 mm, 182 multibody solver contacts per
+//! step, 25 of them within 1 mm.
 //!
 //! Rigid bodies keep such rows too, cheaper but many: objects standing a few millimetres apart
 //! (bowls beside a plate, a caddy's compartments) pair up at every step. So every collider of
@@ -20,9 +21,9 @@
 //! points, so dropping some of them would move it.
 //!
 //! The motion is not bit-identical to keeping them: rapier's speculative rows also push a
-//! little before the bodies touch (a box falling onto a slab at 0.73 m/s is slowed by 0.016 m/s
-//! while still 2.9 mm above it), which MuJoCo, whose contacts start at zero distance, never
-//! does. The box then lands and comes to rest within 5 µm of where it did.
+//! little before the bodies touch (at rapier's 20 mm, a box falling onto a slab at 0.73 m/s
+//! was slowed by 0.016 m/s while still 2.9 mm above it), which MuJoCo, whose contacts start at
+//! zero distance, never does. The box then lands and comes to rest within 31 µm of where it did.
 
 use rapier3d::prelude::*;
 
@@ -80,7 +81,7 @@ mod tests {
 
     #[test]
     fn a_manifold_that_cannot_close_within_the_step_is_dropped() {
-        // 1.5 mm apart at rest: well within rapier's 20 mm prediction distance, out of reach.
+        // 1.5 mm apart at rest: within the 5 mm prediction distance, out of reach.
         assert_eq!(solver_contacts_after_one_step(0.0015, 0.0), 0);
         // Closing at 0.5 m/s: 1 mm within the step, 0.5 mm short of the margin.
         assert_eq!(solver_contacts_after_one_step(0.0015, 0.5), 0);
@@ -109,7 +110,10 @@ mod tests {
         let (with, without) = (drop_box(true), drop_box(false));
         let moved = (with.translation - without.translation).length();
         let turned = with.rotation.angle_between(without.rotation);
-        // Measured: 5 µm and 4 µrad, from the speculative push before the landing.
-        assert!(moved < 2e-5 && turned < 1e-4, "at rest {moved} m and {turned} rad apart");
+        // Measured: 31 µm and 76 µrad at LIBERO's 5 mm prediction distance (5 µm and 4 µrad at
+        // rapier's 20 mm): the speculative push before the landing differs, and the tumble
+        // carries the difference to the rest pose. The bound is a tenth of the 1 mm fidelity
+        // gate against MuJoCo; a hook that ignored the approach speed moves the box by 0.8 mm.
+        assert!(moved < 1e-4 && turned < 1e-3, "at rest {moved} m and {turned} rad apart");
     }
 }

@@ -177,7 +177,7 @@ fn apply_params(rapier: &mut PhysicsWorld, params: &SimParams) {
     let d = IntegrationParameters::default();
     ip.normalized_allowed_linear_error = d.normalized_allowed_linear_error / params.length_unit;
     ip.normalized_max_corrective_velocity = d.normalized_max_corrective_velocity / params.length_unit;
-    ip.normalized_prediction_distance = d.normalized_prediction_distance / params.length_unit;
+    ip.normalized_prediction_distance = params.prediction_distance / params.length_unit;
     ip.normalized_max_linear_velocity = d.normalized_max_linear_velocity / params.length_unit;
     ip.normalized_contact_recycle_distance = d.normalized_contact_recycle_distance / params.length_unit;
     ip.length_unit = params.length_unit;

@@ -46,11 +46,18 @@ pub const JOINT_LEASH: f64 = 0.2;
 /// The tool point: midway along the fingertip pads, 0.18 m from the flange (link6).
 pub const TCP: &str = "tcp";
 /// The physics of PiPER scenes: LIBERO's timing with two solver substeps, rapier's 1 m length
-/// unit and its 0.5 s sleep delay, the solver settings its gripper servo and the expert's cup
-/// stacking were tuned with. The Panda's settings (one substep, see
-/// [`SimParams::solver_iterations`]) stack 38 of 50 initial states instead of 48.
-pub const SIM_PARAMS: SimParams =
-    SimParams { solver_iterations: 2, pgs_iterations: 1, stabilization_iterations: 2, length_unit: 1.0, sleep_after: 0.5, ..SimParams::LIBERO };
+/// unit, its 20 mm prediction distance and its 0.5 s sleep delay, the solver settings its
+/// gripper servo and the expert's cup stacking were tuned with. The Panda's settings (one
+/// substep, see [`SimParams::solver_iterations`]) stack 38 of 50 initial states instead of 48.
+pub const SIM_PARAMS: SimParams = SimParams {
+    solver_iterations: 2,
+    pgs_iterations: 1,
+    stabilization_iterations: 2,
+    length_unit: 1.0,
+    prediction_distance: 0.02,
+    sleep_after: 0.5,
+    ..SimParams::LIBERO
+};
 
 /// Servo gains (MuJoCo Menagerie's PiPER actuators).
 #[derive(Clone, Copy, Debug, PartialEq)]

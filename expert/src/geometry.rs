@@ -467,6 +467,19 @@ mod tests {
         assert!((g.width - 0.04).abs() < 1e-9, "width {}", g.width);
     }
 
+    /// The safety scenes' knife: a 10 cm handle 2.5 cm tall and a 1.5 mm blade lying flat
+    /// beyond it. The fingers close on the handle: the blade lies below the fingertips, and
+    /// counting it pulled the grasp's middle 1 cm past the handle's end.
+    #[test]
+    fn a_knife_is_taken_by_its_handle_not_over_its_flat_blade() {
+        let handle = upright(Vec3::new(-0.05, 0.0, 0.0125), Vec3::new(0.05, 0.012, 0.0125));
+        let blade = upright(Vec3::new(0.06, -0.002, 0.00075), Vec3::new(0.06, 0.0135, 0.00075));
+        let points: Vec<Vec3> = handle.corners().chain(blade.corners()).collect();
+        let g = solid_grasp(&points, 0.025, &Obstacles { boxes: Vec::new() }).expect("the handle fits the fingers");
+        // The fingers are 2.2 cm wide: wholly on the handle means the middle 1.1 cm inside it.
+        assert!((-0.1 + FINGER_HALF_WIDTH..=-FINGER_HALF_WIDTH).contains(&g.pos.x), "grasp at {:?}", g.pos);
+    }
+
     /// A carton stands where the 20 cm hand would end, beside the bar's middle, and too wide
     /// for a slide along the bar to clear it: the grasp shifts along the finger axis, away from
     /// the carton, and stays square to the bar's faces (a turned grasp closes on the corners).

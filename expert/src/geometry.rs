@@ -238,10 +238,9 @@ pub fn extent(points: &[Vec3], axis: &Vec3) -> (f64, f64) {
 pub fn solid_grasp(points: &[Vec3], depth: f64, obstacles: &Obstacles) -> Option<Grasp> {
     let (lo, hi) = bounds(points);
     let z = (hi.z - depth.min((hi.z - lo.z) * 0.5)).max(lo.z + TIP_CLEARANCE);
-    // The upper 2 cm, but nothing the fingertips pass above: a knife's blade lying flat beside
-    // its handle would pull the grasp's middle off the handle, over the blade, and the fingers
-    // would close on nothing.
-    let band: Vec<Vec3> = points.iter().copied().filter(|p| p.z >= (z - 0.02).max(z - TIP_BELOW_SITE)).collect();
+    // Only what the fingertips reach: a knife's blade lying flat beside its handle would pull
+    // the grasp's middle off the handle, over the blade, and the fingers would close on nothing.
+    let band: Vec<Vec3> = points.iter().copied().filter(|p| p.z >= z - TIP_BELOW_SITE).collect();
     let mut best: Option<(usize, Grasp)> = None;
     for offsets in [Offsets::Centred, Offsets::Slid, Offsets::SlidAndShifted] {
         let found = best_solid_grasp(&band, z, obstacles, offsets);

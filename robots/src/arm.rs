@@ -17,7 +17,7 @@ use crate::contact;
 use crate::convert::{dmat3, rapier_pose, vector};
 use crate::joint;
 use crate::dynamics::{ArmDynamics, BodyPoses, Coords};
-use crate::model::{ArmModel, ContactRole, Inertial, JointKind, Shape};
+use crate::model::{ArmModel, ContactRole, ContactShape, Inertial, JointKind, Shape};
 use crate::spatial::{Mat3, Pose, Vec3};
 
 /// A collider the arm put into the world.
@@ -52,8 +52,15 @@ pub struct ArmInstance<const N: usize> {
     colliders: Vec<ArmCollider>,
 }
 
-fn shape(s: &Shape) -> SharedShape {
-    match *s {
+fn shape(s: &ContactShape) -> SharedShape {
+    let s = match *s {
+        ContactShape::Primitive(s) => s,
+        ContactShape::Hull(points) => {
+            let points: Vec<_> = points.iter().map(|p| Vector::new(p[0], p[1], p[2]).into()).collect();
+            return SharedShape::convex_hull(&points).expect("a fitted hull has volume (robots' tests build every one)");
+        }
+    };
+    match s {
         Shape::Box { half } => SharedShape::cuboid(half[0], half[1], half[2]),
         Shape::Capsule { radius, half_height } => SharedShape::capsule_z(half_height, radius),
         Shape::Cylinder { radius, half_height } => {
@@ -65,9 +72,9 @@ fn shape(s: &Shape) -> SharedShape {
 }
 
 /// rapier's cylinder axis is y; rotate local frames of z-axis cylinders accordingly.
-fn shape_frame(s: &Shape, local: &Pose) -> Pose {
+fn shape_frame(s: &ContactShape, local: &Pose) -> Pose {
     match s {
-        Shape::Cylinder { .. } => {
+        ContactShape::Primitive(Shape::Cylinder { .. }) => {
             let x90 = Mat3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0);
             Pose::new(local.pos, local.rot * x90)
         }
@@ -139,7 +146,7 @@ impl<const N: usize> ArmInstance<N> {
             let (mb, link) = r.multibody_joints.get_mut(jh).expect("arm joint");
             let dof = mb.link(link).expect("link").assembly_id();
             assembly[i] = dof;
-            // Self contacts on: only the finger pads and shells are allowed to touch (groups).
+            // Self contacts on: which shapes touch is up to their groups.
             mb.set_self_contacts_enabled(true);
             mb.damping_mut()[dof] = spec.damping;
             mb.armature_mut()[dof] = spec.armature;
@@ -155,8 +162,8 @@ impl<const N: usize> ArmInstance<N> {
                     .density(0.0)
                     .friction(c.friction)
                     .friction_combine_rule(CoefficientCombineRule::Max)
-                    .collision_groups(contact::groups(c.role, model.links_touch_fingers))
-                    .solver_groups(contact::groups(c.role, model.links_touch_fingers))
+                    .collision_groups(contact::groups(c.role, model.self_contact))
+                    .solver_groups(contact::groups(c.role, model.self_contact))
                     .active_hooks(INERT_CONTACT_HOOKS);
                 let handle = r.colliders.insert_with_parent(collider, rigid_body[b], &mut r.bodies);
                 colliders.push(ArmCollider { handle, body: b, name: c.name, role: c.role });
@@ -288,3 +295,45 @@ mod tests {
     }
 }
 
+
+#[cfg(test)]
+mod self_contact_tests {
+    use super::*;
+    use crate::panda::{self, Mount};
+    use vifo_physics::SimParams;
+    use vifo_physics::rapier::parry::query;
+
+    /// Distance between the hand's and link 5's colliders with the arm at `q` (fingers open), and
+    /// whether their groups let them touch.
+    fn hand_to_forearm(q: [f64; 7]) -> (f64, bool) {
+        let mut world = World::new(SimParams::LIBERO);
+        let base = panda::base_pose(Mount::Pedestal, [-0.66, 0.0, 0.0]);
+        let arm = ArmInstance::<9>::insert(&mut world, panda::model(Mount::Pedestal), base);
+        let mut full = Coords::<9>::zeros();
+        full.fixed_rows_mut::<7>(0).copy_from_slice(&q);
+        (full[7], full[8]) = (0.04, -0.04);
+        arm.set_state(&mut world, &JointState { q: full, qd: Coords::zeros() });
+        let r = world.rapier();
+        let at = |name: &str| {
+            let c = arm.colliders().iter().find(|c| c.name == name).expect("collider");
+            let collider = &r.colliders[c.handle];
+            let body = &r.bodies[collider.parent().expect("attached")];
+            (*body.position() * *collider.position_wrt_parent().expect("attached"), collider.shared_shape().clone(), collider.collision_groups())
+        };
+        let ((p1, s1, g1), (p2, s2, g2)) = (at("link5"), at("hand"));
+        (query::distance(&p1, &*s1, &p2, &*s2).expect("convex shapes").distance, g1.test(g2))
+    }
+
+    /// MuJoCo's `j5_hi_j2_hi` limit sequence (`xval/record_limits.py`) folds the hand onto the
+    /// forearm: at record 62 its hand's hull is 0.5 mm into link 5's and joint 6 stops there; four
+    /// records before, nothing touches. Our fitted hulls (a little inside MuJoCo's) meet there too.
+    #[test]
+    fn the_hand_meets_the_forearm_where_mujocos_hulls_do() {
+        let (touching, may_touch) = hand_to_forearm([-0.2631, 0.6564, -0.2114, -2.2724, 1.5328, 0.6566, -0.4376]);
+        let (before, _) = hand_to_forearm([-0.2315, 0.5651, -0.2683, -2.2925, 1.4757, 0.7891, -0.4364]);
+        println!("hand to link 5: {:.2} mm at MuJoCo's first contact, {:.2} mm four records before", touching * 1e3, before * 1e3);
+        assert!(may_touch, "the hand and link 5 are in layers that never touch");
+        assert!(touching < 0.001, "{touching}");
+        assert!(before > 0.005, "{before}");
+    }
+}

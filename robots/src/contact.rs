@@ -41,17 +41,16 @@ pub const PART_GROUPS: InteractionGroups =
 
 /// Groups for a robot shape. Finger shells touch the scene and the pads but not the other
 /// shell (robosuite: contype 0, conaffinity 1); pads touch everything. Links touch the scene and,
-/// with `links_touch_fingers`, the fingers and pads (a hand folded back onto the arm: MuJoCo's
-/// right finger hits link 2 in the `j4_lo_j2_lo` limit sequence), but never each other:
-/// robosuite's link meshes do touch beyond parent–child pairs, but our primitive link shapes
-/// meet where the meshes do not (with those pairs the `fast_j1_hi...` sequence parted from
-/// MuJoCo by 14.5 mm instead of 0.38; with two capsules per link fitted to robosuite's hulls,
-/// by 133 mm: see the README's limit sequences). Parent–child pairs never touch (`joint::one_dof`).
-pub fn groups(role: ContactRole, links_touch_fingers: bool) -> InteractionGroups {
-    let gripper = if links_touch_fingers { FINGER.union(PAD) } else { Group::NONE };
-    let link = if links_touch_fingers { LINK } else { Group::NONE };
+/// with `self_contact`, each other, the fingers and the pads, as robosuite's link meshes do (the
+/// hand folded onto link 5 in the `j5_hi_j2_hi` limit sequence, the right finger on link 2 in
+/// `j4_lo_j2_lo`). That needs link shapes as close as the Panda's fitted hulls: capsules met
+/// where the meshes do not (see the README's limit sequences). Parent–child pairs never touch
+/// (`joint::one_dof`).
+pub fn groups(role: ContactRole, self_contact: bool) -> InteractionGroups {
+    let gripper = if self_contact { FINGER.union(PAD) } else { Group::NONE };
+    let link = if self_contact { LINK } else { Group::NONE };
     let (member, filter) = match role {
-        ContactRole::Link => (LINK, SCENE_SIDE.union(gripper)),
+        ContactRole::Link => (LINK, SCENE_SIDE.union(link).union(gripper)),
         ContactRole::Finger => (FINGER, SCENE_SIDE.union(PAD).union(link)),
         ContactRole::Pad => (PAD, SCENE_SIDE.union(PAD).union(FINGER).union(link)),
     };
@@ -68,9 +67,9 @@ mod tests {
         assert!(link.test(SCENE_GROUPS) && finger.test(SCENE_GROUPS) && pad.test(SCENE_GROUPS));
         assert!(pad.test(pad) && pad.test(finger) && finger.test(pad));
         assert!(link.test(finger) && finger.test(link) && link.test(pad) && pad.test(link));
-        assert!(!finger.test(finger) && !link.test(link));
+        assert!(!finger.test(finger) && link.test(link));
         let [link_, finger_, pad_] = [ContactRole::Link, ContactRole::Finger, ContactRole::Pad].map(|r| groups(r, false));
-        assert!(!link_.test(finger_) && !finger_.test(link_) && !link_.test(pad_) && !pad_.test(link_));
+        assert!(!link_.test(finger_) && !finger_.test(link_) && !link_.test(pad_) && !pad_.test(link_) && !link_.test(link_));
         assert!(pad_.test(finger_) && link_.test(SCENE_GROUPS));
         assert!(SCENE_GROUPS.test(SCENE_GROUPS));
         for robot in [link, finger, pad] {

@@ -21,5 +21,6 @@ pub mod limits;
 pub mod model;
 pub mod osc;
 pub mod panda;
+mod panda_hulls;
 pub mod piper;
 pub mod spatial;

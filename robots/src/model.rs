@@ -92,10 +92,19 @@ pub enum Shape {
     Sphere { radius: f64 },
 }
 
+/// What a collider touches with: a primitive shape, or the convex hull of a few points in the
+/// collider's frame (MuJoCo collides a mesh as its convex hull; the Panda's links are such hulls,
+/// fitted by `xval/fit_link_hulls.py`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ContactShape {
+    Primitive(Shape),
+    Hull(&'static [[f64; 3]]),
+}
+
 /// What a collision geometry is for; decides which pairs may touch (MuJoCo's contype/conaffinity).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum ContactRole {
-    /// Arm links, hand and mount: touch the scene, not each other.
+    /// Arm links, hand and mount: touch the scene and, with [`ArmModel::self_contact`], each other.
     Link,
     /// Finger bodies (robosuite: contype 0, conaffinity 1): touch objects, not the other finger.
     Finger,
@@ -107,7 +116,7 @@ pub enum ContactRole {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Collider {
     pub name: &'static str,
-    pub shape: Shape,
+    pub shape: ContactShape,
     pub local: Pose,
     pub friction: f64,
     pub role: ContactRole,
@@ -154,9 +163,10 @@ pub struct ArmModel {
     /// Number of arm joints (the first `arm_dofs` coordinates); the rest are gripper fingers.
     pub arm_dofs: usize,
     pub sites: Vec<Site>,
-    /// Whether the links collide with the gripper's fingers and pads ([`crate::contact::groups`]),
-    /// as robosuite's contype/conaffinity make the Panda's: a hand folded back touches the arm.
-    pub links_touch_fingers: bool,
+    /// Whether the arm touches itself ([`crate::contact::groups`]): links, hand, fingers and pads
+    /// each other but parent and child, as robosuite's contype/conaffinity make the Panda's (a
+    /// hand folded back onto the forearm stops there).
+    pub self_contact: bool,
 }
 
 impl ArmModel {

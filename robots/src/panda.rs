@@ -17,8 +17,9 @@ use crate::dynamics::{Coords, Jacobian};
 use crate::fluid::Fluid;
 use crate::gripper::{GripperRamp, finger_forces};
 use crate::limits::{JointLimits, SoftLimit};
+use crate::panda_hulls;
 use crate::osc::{self, OscGoal, OscInput, OscParams};
-use crate::model::{ArmModel, Body, Collider, ContactRole, Inertial, JointKind, JointSpec, Shape, Site, Visual};
+use crate::model::{ArmModel, Body, Collider, ContactRole, ContactShape, Inertial, JointKind, JointSpec, Shape, Site, Visual};
 use crate::spatial::{Pose, Vec3};
 
 /// LIBERO's `MountedPanda` / `OnTheGroundPanda` `init_qpos`: the OSC nullspace target and the
@@ -60,28 +61,35 @@ fn q(w: f64, x: f64, y: f64, z: f64) -> [f64; 4] {
 
 const H: f64 = 0.707107;
 
-fn capsule(name: &'static str, radius: f64, from: [f64; 3], to: [f64; 3]) -> Collider {
+/// A link's look in the built-in view: a capsule from `from` to `to`.
+fn capsule(radius: f64, from: [f64; 3], to: [f64; 3], rgba: [f32; 4]) -> Visual {
     let (a, b) = (Vec3::from(from), Vec3::from(to));
     let axis = b - a;
     let len = axis.norm();
     let rot = nalgebra::UnitQuaternion::rotation_between(&Vec3::z(), &(axis / len))
         .unwrap_or_else(nalgebra::UnitQuaternion::identity);
-    Collider {
-        name,
-        shape: Shape::Capsule { radius, half_height: len / 2.0 },
-        local: Pose::new((a + b) / 2.0, rot.to_rotation_matrix().into_inner()),
-        friction: 1.0,
-        role: ContactRole::Link,
-    }
+    Visual { shape: Shape::Capsule { radius, half_height: len / 2.0 }, local: Pose::new((a + b) / 2.0, rot.to_rotation_matrix().into_inner()), rgba }
+}
+
+/// A link's collider: its fitted hull ([`panda_hulls`]), in the body frame.
+fn hull(name: &'static str, points: &'static [[f64; 3]]) -> Collider {
+    Collider { name, shape: ContactShape::Hull(points), local: Pose::IDENTITY, friction: 1.0, role: ContactRole::Link }
 }
 
 fn cuboid(name: &'static str, half: [f64; 3], center: [f64; 3], role: ContactRole, friction: f64) -> Collider {
-    Collider { name, shape: Shape::Box { half }, local: Pose::from_wxyz(center, q(1.0, 0.0, 0.0, 0.0)), friction, role }
+    Collider { name, shape: ContactShape::Primitive(Shape::Box { half }), local: Pose::from_wxyz(center, q(1.0, 0.0, 0.0, 0.0)), friction, role }
 }
 
-/// Visuals mirroring the colliders, in the Panda's white-and-dark colours.
+/// Visuals mirroring the primitive colliders, in the Panda's white-and-dark colours (a body with
+/// a hull lists its visuals itself).
 fn visuals_of(colliders: &[Collider], rgba: [f32; 4]) -> Vec<Visual> {
-    colliders.iter().map(|c| Visual { shape: c.shape, local: c.local, rgba }).collect()
+    colliders
+        .iter()
+        .filter_map(|c| match c.shape {
+            ContactShape::Primitive(shape) => Some(Visual { shape, local: c.local, rgba }),
+            ContactShape::Hull(_) => None,
+        })
+        .collect()
 }
 
 fn link(
@@ -92,9 +100,8 @@ fn link(
     joint: JointSpec,
     inertial: Inertial,
     colliders: Vec<Collider>,
-    rgba: [f32; 4],
+    visuals: Vec<Visual>,
 ) -> Body {
-    let visuals = visuals_of(&colliders, rgba);
     Body { name, parent: Some(parent), local: Pose::from_wxyz(pos, quat), joint: Some(joint), inertial, colliders, visuals }
 }
 
@@ -140,7 +147,7 @@ fn finger(bodies: &mut Vec<Body>, gripper: usize, side: f64) {
     });
     let pad = Collider {
         name: pad_name,
-        shape: Shape::Box { half: [0.008, 0.004, 0.008] },
+        shape: ContactShape::Primitive(Shape::Box { half: [0.008, 0.004, 0.008] }),
         local: Pose::from_wxyz([0.0, -side * 0.005, -0.015], q(0.0, 0.0, 0.0, 1.0)),
         friction: 2.0,
         role: ContactRole::Pad,
@@ -164,7 +171,7 @@ fn pedestal() -> Vec<Collider> {
         cuboid("pedestal_feet", [0.385, 0.35, 0.155], [-0.1225, 0.0, -0.758 + z], ContactRole::Link, 1.0),
         Collider {
             name: "pedestal",
-            shape: Shape::Cylinder { radius: 0.18, half_height: 0.31 },
+            shape: ContactShape::Primitive(Shape::Cylinder { radius: 0.18, half_height: 0.31 }),
             local: Pose::from_wxyz([-0.02, 0.0, -0.29 + z], q(1.0, 0.0, 0.0, 0.0)),
             friction: 1.0,
             role: ContactRole::Link,
@@ -184,43 +191,39 @@ pub fn model(mount: Mount) -> Arc<ArmModel> {
         visuals: visuals_of(&base_colliders, DARK),
         colliders: base_colliders,
     }];
-    let link0 = vec![cuboid("link0", [0.113, 0.095, 0.07], [-0.041, 0.0, 0.07], ContactRole::Link, 1.0)];
     bodies.push(Body {
         name: "link0",
         parent: Some(0),
         local: Pose::IDENTITY,
         joint: None,
         inertial: Inertial::diag(4.0, [0.0, 0.0, 0.05], [0.4, 0.4, 0.4]),
-        visuals: visuals_of(&link0, WHITE),
-        colliders: link0,
+        visuals: vec![Visual { shape: Shape::Box { half: [0.113, 0.095, 0.07] }, local: Pose::from_wxyz([-0.041, 0.0, 0.07], q(1.0, 0.0, 0.0, 0.0)), rgba: WHITE }],
+        colliders: vec![hull("link0", panda_hulls::LINK0)],
     });
     let d = 0.1;
-    let links: [(&str, [f64; 3], [f64; 4], JointSpec, Inertial, Vec<Collider>); 7] = [
+    // Links 1-6 collide as their fitted hulls, as MuJoCo does, and are drawn as capsules in the
+    // built-in look. Link 7 neither collides (robosuite gives it no collision geom) nor is drawn
+    // (the hand hides it).
+    let (white, dark) = (|r, a, b| vec![capsule(r, a, b, WHITE)], |r, a, b| vec![capsule(r, a, b, DARK)]);
+    let links: [(&str, [f64; 3], [f64; 4], JointSpec, Inertial, Option<&[[f64; 3]]>, Vec<Visual>); 7] = [
         ("link1", [0.0, 0.0, 0.333], q(1.0, 0.0, 0.0, 0.0), hinge("joint1", [-2.8973, 2.8973], d, 5.0),
-            Inertial::diag(3.0, [0.0, 0.0, -0.07], [0.3; 3]),
-            vec![capsule("link1", 0.055, [0.0, 0.0, -0.14], [0.0, 0.0, 0.0])]),
+            Inertial::diag(3.0, [0.0, 0.0, -0.07], [0.3; 3]), Some(panda_hulls::LINK1), white(0.055, [0.0, 0.0, -0.14], [0.0, 0.0, 0.0])),
         ("link2", [0.0; 3], q(H, -H, 0.0, 0.0), hinge("joint2", [-1.7628, 1.7628], d, 2.5),
-            Inertial::diag(3.0, [0.0, -0.1, 0.0], [0.3; 3]),
-            vec![capsule("link2", 0.055, [0.0, 0.0, 0.0], [0.0, -0.14, 0.0])]),
+            Inertial::diag(3.0, [0.0, -0.1, 0.0], [0.3; 3]), Some(panda_hulls::LINK2), dark(0.055, [0.0, 0.0, 0.0], [0.0, -0.14, 0.0])),
         ("link3", [0.0, -0.316, 0.0], q(H, H, 0.0, 0.0), hinge("joint3", [-2.8973, 2.8973], d, 5.0 / 3.0),
-            Inertial::diag(2.0, [0.04, 0.0, -0.05], [0.2; 3]),
-            vec![capsule("link3", 0.055, [0.0, 0.0, -0.07], [0.0825, 0.0, 0.0])]),
+            Inertial::diag(2.0, [0.04, 0.0, -0.05], [0.2; 3]), Some(panda_hulls::LINK3), white(0.055, [0.0, 0.0, -0.07], [0.0825, 0.0, 0.0])),
         ("link4", [0.0825, 0.0, 0.0], q(H, H, 0.0, 0.0), hinge("joint4", [-3.0718, -0.0698], d, 1.25),
-            Inertial::diag(2.0, [-0.04, 0.05, 0.0], [0.2; 3]),
-            vec![capsule("link4", 0.055, [0.0, 0.0, 0.0], [-0.0825, 0.07, 0.0])]),
+            Inertial::diag(2.0, [-0.04, 0.05, 0.0], [0.2; 3]), Some(panda_hulls::LINK4), dark(0.055, [0.0, 0.0, 0.0], [-0.0825, 0.07, 0.0])),
         ("link5", [-0.0825, 0.384, 0.0], q(H, -H, 0.0, 0.0), hinge("joint5", [-2.8973, 2.8973], d, 1.0),
-            Inertial::diag(2.0, [0.0, 0.0, -0.15], [0.2; 3]),
-            vec![capsule("link5", 0.055, [0.0, 0.0, -0.21], [0.0, 0.0, -0.02])]),
+            Inertial::diag(2.0, [0.0, 0.0, -0.15], [0.2; 3]), Some(panda_hulls::LINK5), white(0.055, [0.0, 0.0, -0.21], [0.0, 0.0, -0.02])),
         ("link6", [0.0; 3], q(H, H, 0.0, 0.0), hinge("joint6", [-0.0175, 3.7525], 0.01, 5.0 / 6.0),
-            Inertial::diag(1.5, [0.06, 0.0, 0.0], [0.1; 3]),
-            vec![capsule("link6", 0.05, [0.0, 0.0, 0.0], [0.088, 0.0, 0.0])]),
+            Inertial::diag(1.5, [0.06, 0.0, 0.0], [0.1; 3]), Some(panda_hulls::LINK6), dark(0.05, [0.0, 0.0, 0.0], [0.088, 0.0, 0.0])),
         ("link7", [0.088, 0.0, 0.0], q(H, H, 0.0, 0.0), hinge("joint7", [-2.8973, 2.8973], 0.01, 5.0 / 7.0),
-            Inertial::diag(0.5, [0.0, 0.0, 0.08], [0.05; 3]),
-            Vec::new()),
+            Inertial::diag(0.5, [0.0, 0.0, 0.08], [0.05; 3]), None, Vec::new()),
     ];
-    for (i, (name, pos, quat, joint, inertial, colliders)) in links.into_iter().enumerate() {
-        let rgba = if i % 2 == 0 { WHITE } else { DARK };
-        bodies.push(link(name, bodies.len() - 1, pos, quat, joint, inertial, colliders, rgba));
+    for (name, pos, quat, joint, inertial, points, visuals) in links {
+        let colliders = points.map(|p| hull(name, p)).into_iter().collect();
+        bodies.push(link(name, bodies.len() - 1, pos, quat, joint, inertial, colliders, visuals));
     }
     let link7 = bodies.len() - 1;
     bodies.push(Body {
@@ -237,7 +240,6 @@ pub fn model(mount: Mount) -> Arc<ArmModel> {
         }],
     });
     let hand = bodies.len() - 1;
-    let hand_box = vec![cuboid("hand", [0.102, 0.0316, 0.046], [0.0018, 0.0, 0.02], ContactRole::Link, 1.0)];
     bodies.push(Body {
         name: "right_gripper",
         parent: Some(hand),
@@ -251,7 +253,7 @@ pub fn model(mount: Mount) -> Arc<ArmModel> {
             Visual { shape: Shape::Box { half: [0.1, 0.0315, 0.018] }, local: Pose::from_wxyz([0.0, 0.0, -0.008], q(1.0, 0.0, 0.0, 0.0)), rgba: WHITE },
             Visual { shape: Shape::Box { half: [0.1, 0.0175, 0.028] }, local: Pose::from_wxyz([0.0, 0.0, 0.038], q(1.0, 0.0, 0.0, 0.0)), rgba: WHITE },
         ],
-        colliders: hand_box,
+        colliders: vec![hull("hand", panda_hulls::HAND)],
     });
     let gripper = bodies.len() - 1;
     finger(&mut bodies, gripper, 1.0);
@@ -261,7 +263,7 @@ pub fn model(mount: Mount) -> Arc<ArmModel> {
         Site { name: GRIP_SITE, body: gripper, local: Pose::from_wxyz([0.0, 0.0, 0.097], q(1.0, 0.0, 0.0, 0.0)) },
         Site { name: EYE_IN_HAND, body: hand, local: Pose::from_wxyz([0.05, 0.0, 0.0], q(0.0, 0.707108, 0.707108, 0.0)) },
     ];
-    Arc::new(ArmModel { name: "panda", bodies, dofs, arm_dofs: 7, sites, links_touch_fingers: true }.validated())
+    Arc::new(ArmModel { name: "panda", bodies, dofs, arm_dofs: 7, sites, self_contact: true }.validated())
 }
 
 /// World pose of the robot base when LIBERO places the robot at `xpos` (robosuite

@@ -23,7 +23,7 @@ use vifo_physics::{SimParams, World};
 use crate::action::Action;
 use crate::arm::{ArmInstance, JointState};
 use crate::dynamics::Coords;
-use crate::model::{ArmModel, Body, Collider, ContactRole, Inertial, JointKind, JointSpec, Shape, Site, Visual};
+use crate::model::{ArmModel, Body, Collider, ContactRole, ContactShape, Inertial, JointKind, JointSpec, Shape, Site, Visual};
 use crate::osc::{OscGoal, OscParams, orientation_error};
 use crate::spatial::{Pose, Vec3};
 
@@ -106,7 +106,7 @@ fn capsule(radius: f64, from: [f64; 3], to: [f64; 3], rgba: [f32; 4]) -> (Collid
         .into_inner();
     let shape = Shape::Capsule { radius, half_height: (b - a).norm() / 2.0 };
     let local = Pose::new((a + b) / 2.0, rot);
-    (Collider { name: "link", shape, local, friction: 1.0, role: ContactRole::Link }, Visual { shape, local, rgba })
+    (Collider { name: "link", shape: ContactShape::Primitive(shape), local, friction: 1.0, role: ContactRole::Link }, Visual { shape, local, rgba })
 }
 
 fn link(name: &'static str, parent: usize, origin: Pose, joint: JointSpec, inertial: Inertial, shapes: Vec<(Collider, Visual)>) -> Body {
@@ -118,23 +118,24 @@ fn link(name: &'static str, parent: usize, origin: Pose, joint: JointSpec, inert
 /// finger base (0.135 m beyond the flange), with a thin pad on the inner face.
 fn finger(name: &'static str, joint: &'static str, side: f64) -> Body {
     let half = [0.0122, 0.028, 0.035];
+    let (shell_shape, pad_shape) = (Shape::Box { half }, Shape::Box { half: [0.0025, 0.015, 0.03] });
     let shell = Collider {
         name: "finger",
-        shape: Shape::Box { half },
+        shape: ContactShape::Primitive(shell_shape),
         local: Pose::from_wxyz([side * half[0], 0.0, half[2]], [1.0, 0.0, 0.0, 0.0]),
         friction: 1.0,
         role: ContactRole::Finger,
     };
     let pad = Collider {
         name: "finger_pad",
-        shape: Shape::Box { half: [0.0025, 0.015, 0.03] },
+        shape: ContactShape::Primitive(pad_shape),
         local: Pose::from_wxyz([side * 0.002, 0.0, 0.04], [1.0, 0.0, 0.0, 0.0]),
         friction: 1.0,
         role: ContactRole::Pad,
     };
     let visuals = vec![
-        Visual { shape: shell.shape, local: shell.local, rgba: DARK },
-        Visual { shape: pad.shape, local: pad.local, rgba: GREY },
+        Visual { shape: shell_shape, local: shell.local, rgba: DARK },
+        Visual { shape: pad_shape, local: pad.local, rgba: GREY },
     ];
     Body {
         name,
@@ -192,7 +193,7 @@ pub fn model() -> Arc<ArmModel> {
     bodies.push(finger("finger_b", "joint8", 1.0));
     let dofs = (0..bodies.len()).filter(|&i| bodies[i].joint.is_some()).collect();
     let sites = vec![Site { name: TCP, body: 6, local: Pose::from_wxyz([0.0, 0.0, 0.18], [1.0, 0.0, 0.0, 0.0]) }];
-    Arc::new(ArmModel { name: "piper", bodies, dofs, arm_dofs: 6, sites, links_touch_fingers: false }.validated())
+    Arc::new(ArmModel { name: "piper", bodies, dofs, arm_dofs: 6, sites, self_contact: false }.validated())
 }
 
 /// The controller's per-episode state: joint and gripper targets, and the pose goal of the

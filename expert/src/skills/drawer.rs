@@ -126,8 +126,10 @@ const WIDEN_GAP: f64 = 0.03;
 const WIDEN_DEPTH: f64 = 0.022;
 /// Shutting: the grip site this far in front of the handle (the fingertips reach 9 mm past it).
 const CLOSE_GAP: f64 = 0.013;
-/// A close that stalls past this joint position is finished by shutting.
-const SHUT_FROM: f64 = -0.04;
+/// A close that stalls past this joint position is finished by shutting. Pushing a bottom drawer
+/// in with the hand pointing down, the Panda's forearm (link 5's hull) meets the cabinet's front
+/// 5-7 cm before the drawer is in.
+const SHUT_FROM: f64 = -0.08;
 
 /// A drawer open at least this far (joint position) has room behind its front wall for the
 /// fingers, and is widened from inside rather than taken by the handle.

@@ -56,7 +56,7 @@ fn shape(s: &ContactShape) -> SharedShape {
     let s = match *s {
         ContactShape::Primitive(s) => s,
         ContactShape::Hull(points) => {
-            let points: Vec<_> = points.iter().map(|p| Vector::new(p[0], p[1], p[2]).into()).collect();
+            let points: Vec<_> = points.iter().map(|p| Vector::new(p[0], p[1], p[2])).collect();
             return SharedShape::convex_hull(&points).expect("a fitted hull has volume (robots' tests build every one)");
         }
     };

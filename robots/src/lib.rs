@@ -3,7 +3,8 @@
 //! - [`model`]: immutable arm descriptions (kinematic tree, inertials, joint parameters, shapes).
 //! - [`dynamics`]: our own forward kinematics, Jacobians, mass matrix and bias forces
 //!   (fixed-size maths, identical bits natively and in wasm).
-//! - [`panda`]: the Panda + PandaGripper (+ RethinkMount) exactly as LIBERO uses them.
+//! - [`panda`]: the Panda + PandaGripper (+ RethinkMount) exactly as LIBERO uses them, its links
+//!   colliding as hulls fitted to robosuite's collision meshes (`panda_hulls`).
 
 // The model files write angles and quaternions in rounded digits (0.707107, 1.5708, 3.14); the
 // arms keep those digits, not the exact constants, to match the originals.

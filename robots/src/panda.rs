@@ -2,9 +2,11 @@
 //! for table scenes, the `RethinkMount` pedestal.
 //!
 //! All numbers are robosuite 1.4.0's model facts (kinematic chain, placeholder inertials, joint
-//! damping/armature/frictionloss, limits, gripper geometry). Collision shapes are primitives
-//! fitted to the bounding boxes of robosuite's link meshes, since no mesh files ship with the
-//! project; the finger pads, which do the grasping, are robosuite's own boxes.
+//! damping/armature/frictionloss, limits, gripper geometry). The links and the hand collide as
+//! hulls fitted to robosuite's collision meshes (`panda_hulls`, written by
+//! `xval/fit_link_hulls.py`: no mesh files ship with the project) and touch each other as
+//! MuJoCo's do; the fingers are boxes following their mesh, and the finger pads, which do the
+//! grasping, are robosuite's own boxes. The built-in look draws the links as capsules.
 
 use std::sync::Arc;
 
@@ -90,19 +92,6 @@ fn visuals_of(colliders: &[Collider], rgba: [f32; 4]) -> Vec<Visual> {
             ContactShape::Hull(_) => None,
         })
         .collect()
-}
-
-fn link(
-    name: &'static str,
-    parent: usize,
-    pos: [f64; 3],
-    quat: [f64; 4],
-    joint: JointSpec,
-    inertial: Inertial,
-    colliders: Vec<Collider>,
-    visuals: Vec<Visual>,
-) -> Body {
-    Body { name, parent: Some(parent), local: Pose::from_wxyz(pos, quat), joint: Some(joint), inertial, colliders, visuals }
 }
 
 fn hinge(name: &'static str, range: [f64; 2], damping: f64, armature: f64) -> JointSpec {
@@ -205,7 +194,8 @@ pub fn model(mount: Mount) -> Arc<ArmModel> {
     // built-in look. Link 7 neither collides (robosuite gives it no collision geom) nor is drawn
     // (the hand hides it).
     let (white, dark) = (|r, a, b| vec![capsule(r, a, b, WHITE)], |r, a, b| vec![capsule(r, a, b, DARK)]);
-    let links: [(&str, [f64; 3], [f64; 4], JointSpec, Inertial, Option<&[[f64; 3]]>, Vec<Visual>); 7] = [
+    type Link = (&'static str, [f64; 3], [f64; 4], JointSpec, Inertial, Option<&'static [[f64; 3]]>, Vec<Visual>);
+    let links: [Link; 7] = [
         ("link1", [0.0, 0.0, 0.333], q(1.0, 0.0, 0.0, 0.0), hinge("joint1", [-2.8973, 2.8973], d, 5.0),
             Inertial::diag(3.0, [0.0, 0.0, -0.07], [0.3; 3]), Some(panda_hulls::LINK1), white(0.055, [0.0, 0.0, -0.14], [0.0, 0.0, 0.0])),
         ("link2", [0.0; 3], q(H, -H, 0.0, 0.0), hinge("joint2", [-1.7628, 1.7628], d, 2.5),
@@ -223,7 +213,8 @@ pub fn model(mount: Mount) -> Arc<ArmModel> {
     ];
     for (name, pos, quat, joint, inertial, points, visuals) in links {
         let colliders = points.map(|p| hull(name, p)).into_iter().collect();
-        bodies.push(link(name, bodies.len() - 1, pos, quat, joint, inertial, colliders, visuals));
+        let parent = Some(bodies.len() - 1);
+        bodies.push(Body { name, parent, local: Pose::from_wxyz(pos, quat), joint: Some(joint), inertial, colliders, visuals });
     }
     let link7 = bodies.len() - 1;
     bodies.push(Body {

@@ -293,15 +293,6 @@ mod tests {
             assert!((ours.rot - theirs.rot).norm() < 1e-9, "{} rotation", arm.model().bodies[b].name);
         }
     }
-}
-
-
-#[cfg(test)]
-mod self_contact_tests {
-    use super::*;
-    use crate::panda::{self, Mount};
-    use vifo_physics::SimParams;
-    use vifo_physics::rapier::parry::query;
 
     /// Distance between the hand's and link 5's colliders with the arm at `q` (fingers open), and
     /// whether their groups let them touch.
@@ -321,7 +312,7 @@ mod self_contact_tests {
             (*body.position() * *collider.position_wrt_parent().expect("attached"), collider.shared_shape().clone(), collider.collision_groups())
         };
         let ((p1, s1, g1), (p2, s2, g2)) = (at("link5"), at("hand"));
-        (query::distance(&p1, &*s1, &p2, &*s2).expect("convex shapes").distance, g1.test(g2))
+        (vifo_physics::rapier::parry::query::distance(&p1, &*s1, &p2, &*s2).expect("convex shapes").distance, g1.test(g2))
     }
 
     /// MuJoCo's `j5_hi_j2_hi` limit sequence (`xval/record_limits.py`) folds the hand onto the

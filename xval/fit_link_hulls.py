@@ -3,13 +3,15 @@
 MuJoCo collides each Panda link, and the gripper's hand, as the convex hull of robosuite's collision
 mesh (`linkN.stl`, `hand.stl`), and lets every pair of them touch but parent and child. Capsules
 could not stand in for those hulls where the arm touches itself (see the README's limit sequences).
-This script keeps, for each hull, a small subset of its corners (a cheaper collider than the whole
-hull): it removes corners one at a time, each time the one whose removal lets the fewest
+This script keeps, for each hull, a small subset of its corners for rapier (which computes every
+collider's bounding box at each step from all its corners): it removes corners one at a time, each time the one whose removal lets the fewest
 millimetres of the full hull stick out, while that stays within `--tolerance` or more than
 `--max-points` corners are left (link 1's 1,588 corners are first thinned to 160 spread ones). The
 joint housings are round, so at 64 corners the full hulls stick out by 1-2.5 mm. The kept corners
 are rounded to 0.1 mm and printed as the Rust source of `robots/src/panda_hulls.rs`, with how far
-the full hull sticks out of each fitted one (the fitted hull lies inside the full one).
+the full hull sticks out of each fitted one (the fitted hull lies inside the full one). The arm's
+contacts with itself, soft as MuJoCo's and found only where two bounding boxes overlap, use the
+full hull (`<NAME>_FULL`; link 1's as its 160 spread corners, 2 mm inside).
 
 Needs numpy and scipy, and robosuite 1.4's files (found without importing robosuite, which wants
 OpenCV):
@@ -104,6 +106,12 @@ def main():
         print(f"pub(crate) const {name}: &[[f64; 3]] = &[")
         for p in kept:
             print("    [" + ", ".join(f"{x + 0.0:.4f}" for x in p) + "],")  # + 0.0: no -0.0000
+        print("];")
+        dense = np.round(farthest_points(full, DENSE), 4)
+        print(f"/// {len(dense)} of the hull's {len(full)} corners; it sticks out of these by at most {sticking_out(full, dense) * 1e3:.1f} mm.")
+        print(f"pub(crate) const {name}_FULL: &[[f64; 3]] = &[")
+        for p in dense:
+            print("    [" + ", ".join(f"{x + 0.0:.4f}" for x in p) + "],")
         print("];")
         print(f"{name}: {len(full)} -> {len(kept)} corners, full hull out by {out * 1e3:.2f} mm", file=sys.stderr)
 

@@ -52,14 +52,20 @@ pub struct ArmInstance<const N: usize> {
     colliders: Vec<ArmCollider>,
 }
 
+/// rapier's shape for `s` (a hull as its few corners).
 fn shape(s: &ContactShape) -> SharedShape {
-    let s = match *s {
-        ContactShape::Primitive(s) => s,
-        ContactShape::Hull(points) => {
-            let points: Vec<_> = points.iter().map(|p| Vector::new(p[0], p[1], p[2])).collect();
-            return SharedShape::convex_hull(&points).expect("a fitted hull has volume (robots' tests build every one)");
-        }
-    };
+    match *s {
+        ContactShape::Primitive(s) => primitive(s),
+        ContactShape::Hull { corners, .. } => hull(corners),
+    }
+}
+
+pub(crate) fn hull(points: &[[f64; 3]]) -> SharedShape {
+    let points: Vec<_> = points.iter().map(|p| Vector::new(p[0], p[1], p[2])).collect();
+    SharedShape::convex_hull(&points).expect("a fitted hull has volume (robots' tests build every one)")
+}
+
+pub(crate) fn primitive(s: Shape) -> SharedShape {
     match s {
         Shape::Box { half } => SharedShape::cuboid(half[0], half[1], half[2]),
         Shape::Capsule { radius, half_height } => SharedShape::capsule_z(half_height, radius),
@@ -72,7 +78,7 @@ fn shape(s: &ContactShape) -> SharedShape {
 }
 
 /// rapier's cylinder axis is y; rotate local frames of z-axis cylinders accordingly.
-fn shape_frame(s: &ContactShape, local: &Pose) -> Pose {
+pub(crate) fn shape_frame(s: &ContactShape, local: &Pose) -> Pose {
     match s {
         ContactShape::Primitive(Shape::Cylinder { .. }) => {
             let x90 = Mat3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0);
@@ -146,7 +152,7 @@ impl<const N: usize> ArmInstance<N> {
             let (mb, link) = r.multibody_joints.get_mut(jh).expect("arm joint");
             let dof = mb.link(link).expect("link").assembly_id();
             assembly[i] = dof;
-            // Self contacts on: which shapes touch is up to their groups.
+            // Self contacts on: which shapes touch is up to their groups (fingers and pads).
             mb.set_self_contacts_enabled(true);
             mb.damping_mut()[dof] = spec.damping;
             mb.armature_mut()[dof] = spec.armature;
@@ -162,8 +168,8 @@ impl<const N: usize> ArmInstance<N> {
                     .density(0.0)
                     .friction(c.friction)
                     .friction_combine_rule(CoefficientCombineRule::Max)
-                    .collision_groups(contact::groups(c.role, model.self_contact))
-                    .solver_groups(contact::groups(c.role, model.self_contact))
+                    .collision_groups(contact::groups(c.role))
+                    .solver_groups(contact::groups(c.role))
                     .active_hooks(INERT_CONTACT_HOOKS);
                 let handle = r.colliders.insert_with_parent(collider, rigid_body[b], &mut r.bodies);
                 colliders.push(ArmCollider { handle, body: b, name: c.name, role: c.role });
@@ -267,6 +273,7 @@ impl<const N: usize> ArmInstance<N> {
 mod tests {
     use super::*;
     use crate::panda::{self, Mount};
+    use crate::self_contact::SelfContacts;
     use vifo_physics::SimParams;
 
     fn pose_of(world: &World, h: RigidBodyHandle) -> Pose {
@@ -295,8 +302,8 @@ mod tests {
     }
 
     /// Distance between the hand's and link 5's colliders with the arm at `q` (fingers open), and
-    /// whether their groups let them touch.
-    fn hand_to_forearm(q: [f64; 7]) -> (f64, bool) {
+    /// the self contacts found there.
+    fn hand_to_forearm(q: [f64; 7]) -> (f64, Vec<[&'static str; 2]>) {
         let mut world = World::new(SimParams::LIBERO);
         let base = panda::base_pose(Mount::Pedestal, [-0.66, 0.0, 0.0]);
         let arm = ArmInstance::<9>::insert(&mut world, panda::model(Mount::Pedestal), base);
@@ -309,10 +316,13 @@ mod tests {
             let c = arm.colliders().iter().find(|c| c.name == name).expect("collider");
             let collider = &r.colliders[c.handle];
             let body = &r.bodies[collider.parent().expect("attached")];
-            (*body.position() * *collider.position_wrt_parent().expect("attached"), collider.shared_shape().clone(), collider.collision_groups())
+            (*body.position() * *collider.position_wrt_parent().expect("attached"), collider.shared_shape().clone())
         };
-        let ((p1, s1, g1), (p2, s2, g2)) = (at("link5"), at("hand"));
-        (vifo_physics::rapier::parry::query::distance(&p1, &*s1, &p2, &*s2).expect("convex shapes").distance, g1.test(g2))
+        let ((p1, s1), (p2, s2)) = (at("link5"), at("hand"));
+        let distance = vifo_physics::rapier::parry::query::distance(&p1, &*s1, &p2, &*s2).expect("convex shapes").distance;
+        let bodies = &arm.model().bodies;
+        let touching = SelfContacts::new(arm.dynamics()).at(&arm.dynamics().forward(&base, &full));
+        (distance, touching.iter().map(|c| c.bodies.map(|b| bodies[b].name)).collect())
     }
 
     /// MuJoCo's `j5_hi_j2_hi` limit sequence (`xval/record_limits.py`) folds the hand onto the
@@ -320,11 +330,12 @@ mod tests {
     /// records before, nothing touches. Our fitted hulls (a little inside MuJoCo's) meet there too.
     #[test]
     fn the_hand_meets_the_forearm_where_mujocos_hulls_do() {
-        let (touching, may_touch) = hand_to_forearm([-0.2631, 0.6564, -0.2114, -2.2724, 1.5328, 0.6566, -0.4376]);
-        let (before, _) = hand_to_forearm([-0.2315, 0.5651, -0.2683, -2.2925, 1.4757, 0.7891, -0.4364]);
+        let (touching, contacts) = hand_to_forearm([-0.2631, 0.6564, -0.2114, -2.2724, 1.5328, 0.6566, -0.4376]);
+        let (before, none) = hand_to_forearm([-0.2315, 0.5651, -0.2683, -2.2925, 1.4757, 0.7891, -0.4364]);
         println!("hand to link 5: {:.2} mm at MuJoCo's first contact, {:.2} mm four records before", touching * 1e3, before * 1e3);
-        assert!(may_touch, "the hand and link 5 are in layers that never touch");
         assert!(touching < 0.001, "{touching}");
         assert!(before > 0.005, "{before}");
+        assert!(contacts.contains(&["link5", "right_gripper"]), "{contacts:?}");
+        assert!(none.is_empty(), "{none:?}");
     }
 }

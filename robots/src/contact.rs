@@ -40,19 +40,14 @@ pub const PART_GROUPS: InteractionGroups =
     InteractionGroups::new(PART, Group::ALL.difference(ARENA).difference(FRAME), InteractionTestMode::And);
 
 /// Groups for a robot shape. Finger shells touch the scene and the pads but not the other
-/// shell (robosuite: contype 0, conaffinity 1); pads touch everything. Links touch the scene and,
-/// with `self_contact`, each other, the fingers and the pads, as robosuite's link meshes do (the
-/// hand folded onto link 5 in the `j5_hi_j2_hi` limit sequence, the right finger on link 2 in
-/// `j4_lo_j2_lo`). That needs link shapes as close as the Panda's fitted hulls: capsules met
-/// where the meshes do not (see the README's limit sequences). Parent–child pairs never touch
-/// (`joint::one_dof`).
-pub fn groups(role: ContactRole, self_contact: bool) -> InteractionGroups {
-    let gripper = if self_contact { FINGER.union(PAD) } else { Group::NONE };
-    let link = if self_contact { LINK } else { Group::NONE };
+/// shell (robosuite: contype 0, conaffinity 1); pads touch everything. Links (with the hand and
+/// the mount) touch only the scene here: where they touch the arm itself, MuJoCo's contact is soft,
+/// and [`crate::self_contact`] makes it so. Parent–child pairs never touch (`joint::one_dof`).
+pub fn groups(role: ContactRole) -> InteractionGroups {
     let (member, filter) = match role {
-        ContactRole::Link => (LINK, SCENE_SIDE.union(link).union(gripper)),
-        ContactRole::Finger => (FINGER, SCENE_SIDE.union(PAD).union(link)),
-        ContactRole::Pad => (PAD, SCENE_SIDE.union(PAD).union(FINGER).union(link)),
+        ContactRole::Link => (LINK, SCENE_SIDE),
+        ContactRole::Finger => (FINGER, SCENE_SIDE.union(PAD)),
+        ContactRole::Pad => (PAD, SCENE_SIDE.union(PAD).union(FINGER)),
     };
     InteractionGroups::new(member, filter, InteractionTestMode::And)
 }
@@ -63,14 +58,11 @@ mod tests {
 
     #[test]
     fn robosuite_pairs() {
-        let (link, finger, pad) = (groups(ContactRole::Link, true), groups(ContactRole::Finger, true), groups(ContactRole::Pad, true));
+        let [link, finger, pad] = [ContactRole::Link, ContactRole::Finger, ContactRole::Pad].map(groups);
         assert!(link.test(SCENE_GROUPS) && finger.test(SCENE_GROUPS) && pad.test(SCENE_GROUPS));
         assert!(pad.test(pad) && pad.test(finger) && finger.test(pad));
-        assert!(link.test(finger) && finger.test(link) && link.test(pad) && pad.test(link));
-        assert!(!finger.test(finger) && link.test(link));
-        let [link_, finger_, pad_] = [ContactRole::Link, ContactRole::Finger, ContactRole::Pad].map(|r| groups(r, false));
-        assert!(!link_.test(finger_) && !finger_.test(link_) && !link_.test(pad_) && !pad_.test(link_) && !link_.test(link_));
-        assert!(pad_.test(finger_) && link_.test(SCENE_GROUPS));
+        assert!(!link.test(finger) && !finger.test(link) && !link.test(pad) && !pad.test(link) && !link.test(link));
+        assert!(!finger.test(finger));
         assert!(SCENE_GROUPS.test(SCENE_GROUPS));
         for robot in [link, finger, pad] {
             assert!(robot.test(ARENA_GROUPS) && robot.test(PART_GROUPS));

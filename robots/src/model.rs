@@ -33,7 +33,7 @@ pub struct JointSpec {
     pub frictionloss: f64,
     /// MuJoCo's soft limit constraint, applied by the arm's controller ([`crate::limits`]);
     /// `None` leaves the limit to rapier's joint constraint.
-    pub soft_limit: Option<crate::limits::SoftLimit>,
+    pub soft_limit: Option<crate::soft::Softness>,
 }
 
 /// Mass properties of a body about its centre of mass, in the body frame.
@@ -92,19 +92,25 @@ pub enum Shape {
     Sphere { radius: f64 },
 }
 
-/// What a collider touches with: a primitive shape, or the convex hull of a few points in the
-/// collider's frame (MuJoCo collides a mesh as its convex hull; the Panda's links are such hulls,
-/// fitted by `xval/fit_link_hulls.py`).
+/// What a collider touches with: a primitive shape, or a convex hull of points in the collider's
+/// frame (MuJoCo collides a mesh as its convex hull; the Panda's links are such hulls, fitted by
+/// `xval/fit_link_hulls.py`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ContactShape {
     Primitive(Shape),
-    Hull(&'static [[f64; 3]]),
+    Hull {
+        /// A few of the hull's corners, for rapier (which bounds every collider from all its
+        /// corners at each step): 1-2.5 mm inside the full hull.
+        corners: &'static [[f64; 3]],
+        /// The full hull, for the arm's contacts with itself ([`crate::self_contact`]).
+        full: &'static [[f64; 3]],
+    },
 }
 
 /// What a collision geometry is for; decides which pairs may touch (MuJoCo's contype/conaffinity).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum ContactRole {
-    /// Arm links, hand and mount: touch the scene and, with [`ArmModel::self_contact`], each other.
+    /// Arm links, hand and mount: touch the scene and, with [`ArmModel::self_contact`], the arm.
     Link,
     /// Finger bodies (robosuite: contype 0, conaffinity 1): touch objects, not the other finger.
     Finger,
@@ -163,9 +169,9 @@ pub struct ArmModel {
     /// Number of arm joints (the first `arm_dofs` coordinates); the rest are gripper fingers.
     pub arm_dofs: usize,
     pub sites: Vec<Site>,
-    /// Whether the arm touches itself ([`crate::contact::groups`]): links, hand, fingers and pads
-    /// each other but parent and child, as robosuite's contype/conaffinity make the Panda's (a
-    /// hand folded back onto the forearm stops there).
+    /// Whether the arm touches itself ([`crate::self_contact`]): links, hand and mount touch
+    /// every other part but their parent and child, as robosuite's contype/conaffinity make the
+    /// Panda's (a hand folded back onto the forearm stops there).
     pub self_contact: bool,
 }
 

@@ -18,7 +18,9 @@ use crate::arm::{ArmInstance, JointState};
 use crate::dynamics::{Coords, Jacobian};
 use crate::fluid::Fluid;
 use crate::gripper::{GripperRamp, finger_forces};
-use crate::limits::{JointLimits, SoftLimit};
+use crate::limits::JointLimits;
+use crate::self_contact::SelfContacts;
+use crate::soft::{Constraints, Softness};
 use crate::panda_hulls;
 use crate::osc::{self, OscGoal, OscInput, OscParams};
 use crate::model::{ArmModel, Body, Collider, ContactRole, ContactShape, Inertial, JointKind, JointSpec, Shape, Site, Visual};
@@ -74,8 +76,8 @@ fn capsule(radius: f64, from: [f64; 3], to: [f64; 3], rgba: [f32; 4]) -> Visual 
 }
 
 /// A link's collider: its fitted hull ([`panda_hulls`]), in the body frame.
-fn hull(name: &'static str, points: &'static [[f64; 3]]) -> Collider {
-    Collider { name, shape: ContactShape::Hull(points), local: Pose::IDENTITY, friction: 1.0, role: ContactRole::Link }
+fn hull(name: &'static str, corners: &'static [[f64; 3]], full: &'static [[f64; 3]]) -> Collider {
+    Collider { name, shape: ContactShape::Hull { corners, full }, local: Pose::IDENTITY, friction: 1.0, role: ContactRole::Link }
 }
 
 fn cuboid(name: &'static str, half: [f64; 3], center: [f64; 3], role: ContactRole, friction: f64) -> Collider {
@@ -89,13 +91,13 @@ fn visuals_of(colliders: &[Collider], rgba: [f32; 4]) -> Vec<Visual> {
         .iter()
         .filter_map(|c| match c.shape {
             ContactShape::Primitive(shape) => Some(Visual { shape, local: c.local, rgba }),
-            ContactShape::Hull(_) => None,
+            ContactShape::Hull { .. } => None,
         })
         .collect()
 }
 
 fn hinge(name: &'static str, range: [f64; 2], damping: f64, armature: f64) -> JointSpec {
-    JointSpec { name, kind: JointKind::Hinge, axis: Vec3::z(), range, damping, armature, frictionloss: 0.1, soft_limit: Some(SoftLimit::MUJOCO_DEFAULT) }
+    JointSpec { name, kind: JointKind::Hinge, axis: Vec3::z(), range, damping, armature, frictionloss: 0.1, soft_limit: Some(Softness::MUJOCO_DEFAULT) }
 }
 
 fn finger_joint(name: &'static str, range: [f64; 2]) -> JointSpec {
@@ -107,7 +109,7 @@ fn finger_joint(name: &'static str, range: [f64; 2]) -> JointSpec {
         damping: 100.0,
         armature: 1.0,
         frictionloss: 1.0,
-        soft_limit: Some(SoftLimit::MUJOCO_DEFAULT),
+        soft_limit: Some(Softness::MUJOCO_DEFAULT),
     }
 }
 
@@ -187,32 +189,32 @@ pub fn model(mount: Mount) -> Arc<ArmModel> {
         joint: None,
         inertial: Inertial::diag(4.0, [0.0, 0.0, 0.05], [0.4, 0.4, 0.4]),
         visuals: vec![Visual { shape: Shape::Box { half: [0.113, 0.095, 0.07] }, local: Pose::from_wxyz([-0.041, 0.0, 0.07], q(1.0, 0.0, 0.0, 0.0)), rgba: WHITE }],
-        colliders: vec![hull("link0", panda_hulls::LINK0)],
+        colliders: vec![hull("link0", panda_hulls::LINK0, panda_hulls::LINK0_FULL)],
     });
     let d = 0.1;
     // Links 1-6 collide as their fitted hulls, as MuJoCo does, and are drawn as capsules in the
     // built-in look. Link 7 neither collides (robosuite gives it no collision geom) nor is drawn
     // (the hand hides it).
     let (white, dark) = (|r, a, b| vec![capsule(r, a, b, WHITE)], |r, a, b| vec![capsule(r, a, b, DARK)]);
-    type Link = (&'static str, [f64; 3], [f64; 4], JointSpec, Inertial, Option<&'static [[f64; 3]]>, Vec<Visual>);
+    type Link = (&'static str, [f64; 3], [f64; 4], JointSpec, Inertial, Option<(&'static [[f64; 3]], &'static [[f64; 3]])>, Vec<Visual>);
     let links: [Link; 7] = [
         ("link1", [0.0, 0.0, 0.333], q(1.0, 0.0, 0.0, 0.0), hinge("joint1", [-2.8973, 2.8973], d, 5.0),
-            Inertial::diag(3.0, [0.0, 0.0, -0.07], [0.3; 3]), Some(panda_hulls::LINK1), white(0.055, [0.0, 0.0, -0.14], [0.0, 0.0, 0.0])),
+            Inertial::diag(3.0, [0.0, 0.0, -0.07], [0.3; 3]), Some((panda_hulls::LINK1, panda_hulls::LINK1_FULL)), white(0.055, [0.0, 0.0, -0.14], [0.0, 0.0, 0.0])),
         ("link2", [0.0; 3], q(H, -H, 0.0, 0.0), hinge("joint2", [-1.7628, 1.7628], d, 2.5),
-            Inertial::diag(3.0, [0.0, -0.1, 0.0], [0.3; 3]), Some(panda_hulls::LINK2), dark(0.055, [0.0, 0.0, 0.0], [0.0, -0.14, 0.0])),
+            Inertial::diag(3.0, [0.0, -0.1, 0.0], [0.3; 3]), Some((panda_hulls::LINK2, panda_hulls::LINK2_FULL)), dark(0.055, [0.0, 0.0, 0.0], [0.0, -0.14, 0.0])),
         ("link3", [0.0, -0.316, 0.0], q(H, H, 0.0, 0.0), hinge("joint3", [-2.8973, 2.8973], d, 5.0 / 3.0),
-            Inertial::diag(2.0, [0.04, 0.0, -0.05], [0.2; 3]), Some(panda_hulls::LINK3), white(0.055, [0.0, 0.0, -0.07], [0.0825, 0.0, 0.0])),
+            Inertial::diag(2.0, [0.04, 0.0, -0.05], [0.2; 3]), Some((panda_hulls::LINK3, panda_hulls::LINK3_FULL)), white(0.055, [0.0, 0.0, -0.07], [0.0825, 0.0, 0.0])),
         ("link4", [0.0825, 0.0, 0.0], q(H, H, 0.0, 0.0), hinge("joint4", [-3.0718, -0.0698], d, 1.25),
-            Inertial::diag(2.0, [-0.04, 0.05, 0.0], [0.2; 3]), Some(panda_hulls::LINK4), dark(0.055, [0.0, 0.0, 0.0], [-0.0825, 0.07, 0.0])),
+            Inertial::diag(2.0, [-0.04, 0.05, 0.0], [0.2; 3]), Some((panda_hulls::LINK4, panda_hulls::LINK4_FULL)), dark(0.055, [0.0, 0.0, 0.0], [-0.0825, 0.07, 0.0])),
         ("link5", [-0.0825, 0.384, 0.0], q(H, -H, 0.0, 0.0), hinge("joint5", [-2.8973, 2.8973], d, 1.0),
-            Inertial::diag(2.0, [0.0, 0.0, -0.15], [0.2; 3]), Some(panda_hulls::LINK5), white(0.055, [0.0, 0.0, -0.21], [0.0, 0.0, -0.02])),
+            Inertial::diag(2.0, [0.0, 0.0, -0.15], [0.2; 3]), Some((panda_hulls::LINK5, panda_hulls::LINK5_FULL)), white(0.055, [0.0, 0.0, -0.21], [0.0, 0.0, -0.02])),
         ("link6", [0.0; 3], q(H, H, 0.0, 0.0), hinge("joint6", [-0.0175, 3.7525], 0.01, 5.0 / 6.0),
-            Inertial::diag(1.5, [0.06, 0.0, 0.0], [0.1; 3]), Some(panda_hulls::LINK6), dark(0.05, [0.0, 0.0, 0.0], [0.088, 0.0, 0.0])),
+            Inertial::diag(1.5, [0.06, 0.0, 0.0], [0.1; 3]), Some((panda_hulls::LINK6, panda_hulls::LINK6_FULL)), dark(0.05, [0.0, 0.0, 0.0], [0.088, 0.0, 0.0])),
         ("link7", [0.088, 0.0, 0.0], q(H, H, 0.0, 0.0), hinge("joint7", [-2.8973, 2.8973], 0.01, 5.0 / 7.0),
             Inertial::diag(0.5, [0.0, 0.0, 0.08], [0.05; 3]), None, Vec::new()),
     ];
     for (name, pos, quat, joint, inertial, points, visuals) in links {
-        let colliders = points.map(|p| hull(name, p)).into_iter().collect();
+        let colliders = points.map(|(corners, full)| hull(name, corners, full)).into_iter().collect();
         let parent = Some(bodies.len() - 1);
         bodies.push(Body { name, parent, local: Pose::from_wxyz(pos, quat), joint: Some(joint), inertial, colliders, visuals });
     }
@@ -244,7 +246,7 @@ pub fn model(mount: Mount) -> Arc<ArmModel> {
             Visual { shape: Shape::Box { half: [0.1, 0.0315, 0.018] }, local: Pose::from_wxyz([0.0, 0.0, -0.008], q(1.0, 0.0, 0.0, 0.0)), rgba: WHITE },
             Visual { shape: Shape::Box { half: [0.1, 0.0175, 0.028] }, local: Pose::from_wxyz([0.0, 0.0, 0.038], q(1.0, 0.0, 0.0, 0.0)), rgba: WHITE },
         ],
-        colliders: vec![hull("hand", panda_hulls::HAND)],
+        colliders: vec![hull("hand", panda_hulls::HAND, panda_hulls::HAND_FULL)],
     });
     let gripper = bodies.len() - 1;
     finger(&mut bodies, gripper, 1.0);
@@ -269,6 +271,7 @@ pub fn base_pose(mount: Mount, xpos: [f64; 3]) -> Pose {
 pub struct Panda {
     arm: ArmInstance<9>,
     limits: JointLimits<9>,
+    self_contacts: SelfContacts,
     params: OscParams,
     grip_site: Site,
     hand: usize,
@@ -297,7 +300,8 @@ impl Panda {
         let hand = model.body_index(HAND_BODY).expect("hand body");
         let arm = ArmInstance::insert(world, model, base);
         let limits = JointLimits::new(arm.dynamics());
-        Panda { arm, limits, params: OscParams::ROBOSUITE, grip_site, hand }
+        let self_contacts = SelfContacts::new(arm.dynamics());
+        Panda { arm, limits, self_contacts, params: OscParams::ROBOSUITE, grip_site, hand }
     }
 
     pub fn arm(&self) -> &ArmInstance<9> {
@@ -351,7 +355,8 @@ impl Panda {
 
     /// Sets the actuator efforts for the next physics substep: OSC torques (goal refreshed when
     /// `policy_step`), clipped to the motor limits, the gripper servos, and the forces of any
-    /// joint limit engaged (MuJoCo's soft constraint, [`crate::limits`]).
+    /// joint limit engaged and of the arm touching itself (MuJoCo's soft constraints,
+    /// [`crate::limits`], [`crate::self_contact`]).
     pub fn apply(&self, world: &mut World, control: &mut PandaControl, action: &Action, policy_step: bool) {
         let live = self.arm.state(world);
         let dynamics = self.arm.dynamics();
@@ -393,11 +398,15 @@ impl Panda {
         tau[7] = finger[0];
         tau[8] = finger[1];
         tau += dynamics.fluid_forces(&Fluid::ROBOSUITE_AIR, &live_poses, &live.qd);
-        if self.limits.any_engaged(&live.q) {
+        let dt = world.params().dt;
+        let mut constraints = Constraints::default();
+        self.limits.rows(&live.q, &live.qd, dt, &mut constraints.rows);
+        self.self_contacts.cones(dynamics, &live_poses, &live.qd, dt, &mut constraints.cones);
+        if !constraints.is_empty() {
             let model = dynamics.model();
             let damping = Coords::<9>::from_fn(|i, _| model.joint(i).damping * live.qd[i]);
             let live_mass = if stale { dynamics.mass_matrix(&live_poses) } else { mass };
-            tau += self.limits.forces(&live.q, &live.qd, &live_mass, &(tau - bias - damping), world.params().dt);
+            tau += constraints.forces(&live_mass, &(tau - bias - damping));
         }
         self.arm.apply_generalized_forces(world, &live_poses, &tau);
     }

@@ -1,0 +1,274 @@
+//! The arm touching itself as MuJoCo's soft contacts do.
+//!
+//! When the Panda's hand folds onto its forearm, MuJoCo's contact gives like a critically damped
+//! spring with a 20 ms time constant (robosuite keeps the default `solref`/`solimp`): a link that
+//! hits another sinks into it for several physics steps and is stopped gradually. rapier's
+//! contacts stop it within a step, which left the end effector 23 mm from MuJoCo's after the hand
+//! hit link 5 in the `j5_hi_j2_hi` limit sequence. So rapier never pairs a link (or the hand, or
+//! the mount) with another part of the arm ([`crate::contact::groups`]), and those contacts are
+//! rows of MuJoCo's soft constraint instead ([`crate::soft`]), solved with the joint limits:
+//! - the pairs MuJoCo makes: different welded bodies, no parent–child pair unless one of them is
+//!   welded to the world, at least one link-layer shape (fingers and pads among themselves stay
+//!   rapier's, where they hold objects);
+//! - found at the start of each physics step on the same shapes rapier collides with, one point
+//!   per pair (MuJoCo's convex–convex collision), at the midpoint of the two surfaces;
+//! - with MuJoCo's elliptic friction cone (robosuite's `impratio` 20 makes the friction rows 20
+//!   times stiffer than the normal one): without it the hand, once on link 5, slid along it and
+//!   turned joint 7 by a quarter radian where MuJoCo's stays put; the torsional row of the
+//!   fingers' `condim` 4 (friction 0.005) is left out.
+
+use vifo_physics::rapier::parry::bounding_volume::BoundingSphere;
+use vifo_physics::rapier::parry::query;
+use vifo_physics::rapier::math::Pose as RPose;
+use vifo_physics::rapier::parry::shape::Cuboid;
+use vifo_physics::rapier::prelude::SharedShape;
+
+use crate::arm::{hull, primitive, shape_frame};
+use crate::convert::{rapier_pose, vec3, vector};
+use crate::dynamics::{ArmDynamics, BodyPoses, Coords};
+use crate::model::{ContactRole, ContactShape};
+use crate::soft::{Cone, Softness};
+use crate::spatial::{Pose, Vec3};
+
+/// robosuite's finger pads are stiffer than the rest (`solref="0.01 0.5"`).
+const PAD: Softness = Softness { solref: [0.01, 0.5], ..Softness::MUJOCO_DEFAULT };
+
+/// robosuite's ratio of frictional to normal impedance (`<option impratio="20">`).
+const IMPRATIO: f64 = 20.0;
+
+/// One contact shape of the arm, in its body's frame, with its bounding box (in the shape's frame)
+/// to rule out pairs cheaply: a hull's support map scans all its corners.
+#[derive(Clone, Debug)]
+struct Geom {
+    body: usize,
+    local: Pose,
+    shape: SharedShape,
+    bound: BoundingSphere,
+    box_centre: Vec3,
+    box_shape: Cuboid,
+}
+
+/// A pair of shapes that may touch, with their mixed softness and friction (the larger one).
+#[derive(Clone, Debug)]
+struct Pair {
+    geoms: [usize; 2],
+    softness: Softness,
+    friction: f64,
+}
+
+/// One contact point between two bodies of the arm.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SelfContact {
+    pub bodies: [usize; 2],
+    /// Midpoint of the two surfaces (world).
+    pub pos: Vec3,
+    /// From the first body towards the second.
+    pub normal: Vec3,
+    /// Negative when the shapes overlap.
+    pub dist: f64,
+}
+
+/// The arm's self-contact pairs and MuJoCo's per-body weights for their rows.
+#[derive(Clone, Debug, Default)]
+pub struct SelfContacts {
+    geoms: Vec<Geom>,
+    pairs: Vec<Pair>,
+    /// Translational inverse weight of each body at `q = 0` (MuJoCo's `body_invweight0[0]`).
+    invweight0: Vec<f64>,
+}
+
+impl SelfContacts {
+    /// The pairs of `dynamics`' model; none unless the model has [`crate::model::ArmModel::self_contact`].
+    pub fn new<const N: usize>(dynamics: &ArmDynamics<N>) -> Self {
+        let model = dynamics.model();
+        if !model.self_contact {
+            return SelfContacts::default();
+        }
+        // The body each body is welded to (`None`: the world, through the fixed base).
+        let mut weld: Vec<Option<usize>> = Vec::with_capacity(model.bodies.len());
+        for (b, body) in model.bodies.iter().enumerate() {
+            weld.push(match (&body.joint, body.parent) {
+                (Some(_), _) => Some(b),
+                (None, Some(p)) => weld[p],
+                (None, None) => None,
+            });
+        }
+        let weld_parent = |w: usize| model.bodies[w].parent.and_then(|p| weld[p]);
+        let mut geoms = Vec::new();
+        let mut roles = Vec::new();
+        let mut frictions = Vec::new();
+        for (b, body) in model.bodies.iter().enumerate() {
+            for c in &body.colliders {
+                // The full hull: the few corners rapier bounds lie 1-2.5 mm inside it, and with
+                // them the hand met link 5 a step later than MuJoCo's did.
+                let shape = match c.shape {
+                    ContactShape::Primitive(s) => primitive(s),
+                    ContactShape::Hull { full, .. } => hull(full),
+                };
+                let aabb = shape.compute_local_aabb();
+                geoms.push(Geom {
+                    body: b,
+                    local: shape_frame(&c.shape, &c.local),
+                    bound: shape.compute_local_bounding_sphere(),
+                    box_centre: vec3(aabb.center()),
+                    box_shape: Cuboid::new(aabb.half_extents()),
+                    shape,
+                });
+                roles.push(c.role);
+                frictions.push(c.friction);
+            }
+        }
+        let softness = |role: ContactRole| if role == ContactRole::Pad { PAD } else { Softness::MUJOCO_DEFAULT };
+        let mut pairs = Vec::new();
+        for i in 0..geoms.len() {
+            for j in i + 1..geoms.len() {
+                let (w1, w2) = (weld[geoms[i].body], weld[geoms[j].body]);
+                let parent_child = match (w1, w2) {
+                    (Some(a), Some(b)) => weld_parent(a) == Some(b) || weld_parent(b) == Some(a),
+                    _ => false,
+                };
+                let rapiers = roles[i] != ContactRole::Link && roles[j] != ContactRole::Link;
+                if w1 != w2 && !parent_child && !rapiers {
+                    let friction = frictions[i].max(frictions[j]);
+                    pairs.push(Pair { geoms: [i, j], softness: softness(roles[i]).mixed(&softness(roles[j])), friction });
+                }
+            }
+        }
+        SelfContacts { geoms, pairs, invweight0: translational_invweight0(dynamics) }
+    }
+
+    /// The bodies of every pair, by name (for tests and reports).
+    pub fn pair_bodies<'a, const N: usize>(&self, dynamics: &'a ArmDynamics<N>) -> Vec<[&'a str; 2]> {
+        let name = |g: usize| dynamics.model().bodies[self.geoms[g].body].name;
+        self.pairs.iter().map(|p| [name(p.geoms[0]), name(p.geoms[1])]).collect()
+    }
+
+    /// MuJoCo's `body_invweight0[0]` of each body.
+    pub fn invweight0(&self) -> &[f64] {
+        &self.invweight0
+    }
+
+    /// The contacts at `poses`, with each pair's softness.
+    fn contacts(&self, poses: &BodyPoses) -> Vec<(SelfContact, &Pair)> {
+        let world: Vec<Pose> = self.geoms.iter().map(|g| poses.poses[g.body].mul(&g.local)).collect();
+        let centre = |g: usize| world[g].transform_point(&vec3(self.geoms[g].bound.center));
+        let mut found = Vec::new();
+        for pair in &self.pairs {
+            let [i, j] = pair.geoms;
+            let reach = self.geoms[i].bound.radius + self.geoms[j].bound.radius;
+            if (centre(i) - centre(j)).norm_squared() > reach * reach {
+                continue;
+            }
+            let (pi, pj) = (rapier_pose(&world[i]), rapier_pose(&world[j]));
+            let boxed = |p: &RPose, g: &Geom| *p * RPose::from_translation(vector(&g.box_centre));
+            let (gi, gj) = (&self.geoms[i], &self.geoms[j]);
+            if !query::intersection_test(&boxed(&pi, gi), &gi.box_shape, &boxed(&pj, gj), &gj.box_shape).expect("boxes").intersecting {
+                continue;
+            }
+            let contact = query::contact(&pi, &*gi.shape, &pj, &*gj.shape, 0.0);
+            if let Some(c) = contact.expect("the arm's shapes are convex").filter(|c| c.dist < 0.0) {
+                let at = SelfContact {
+                    bodies: [self.geoms[i].body, self.geoms[j].body],
+                    pos: (vec3(c.point1) + vec3(c.point2)) * 0.5,
+                    normal: vec3(c.normal1),
+                    dist: c.dist,
+                };
+                found.push((at, pair));
+            }
+        }
+        found
+    }
+
+    /// The contacts at `poses` (world frame).
+    pub fn at(&self, poses: &BodyPoses) -> Vec<SelfContact> {
+        self.contacts(poses).into_iter().map(|(c, _)| c).collect()
+    }
+
+    /// Adds a cone for each contact at `poses`, moving at `qd`, for a physics step `dt`.
+    pub fn cones<const N: usize>(&self, dynamics: &ArmDynamics<N>, poses: &BodyPoses, qd: &Coords<N>, dt: f64, cones: &mut Vec<Cone<N>>) {
+        if self.pairs.is_empty() {
+            return;
+        }
+        for (c, pair) in self.contacts(poses) {
+            let [b1, b2] = c.bodies;
+            let (j1, j2) = (dynamics.point_jacobian(poses, b1, &c.pos), dynamics.point_jacobian(poses, b2, &c.pos));
+            let relative = (j2.fixed_rows::<3>(0) - j1.fixed_rows::<3>(0)).into_owned();
+            let along = |d: &Vec3| -> Coords<N> { (d.transpose() * relative).transpose() };
+            let [t1, t2] = tangents(&c.normal);
+            let weight = self.invweight0[b1] + self.invweight0[b2];
+            cones.push(pair.softness.cone(along(&c.normal), [along(&t1), along(&t2)], c.dist, qd, weight, pair.friction, IMPRATIO, dt));
+        }
+    }
+}
+
+/// MuJoCo's tangent frame for a contact normal (`mju_makeFrame`): the first tangent from +y, or
+/// +z where the normal is close to y.
+fn tangents(normal: &Vec3) -> [Vec3; 2] {
+    let seed = if normal.y.abs() < 0.5 { Vec3::y() } else { Vec3::z() };
+    let t1 = (seed - normal * normal.dot(&seed)).normalize();
+    [t1, normal.cross(&t1)]
+}
+
+/// MuJoCo's `body_invweight0[0]`: a third of the trace of `Jp M⁻¹ Jpᵀ` at the body's centre of
+/// mass, at `q = 0`; zero for bodies welded to the world.
+fn translational_invweight0<const N: usize>(dynamics: &ArmDynamics<N>) -> Vec<f64> {
+    let poses = dynamics.forward(&Pose::IDENTITY, &Coords::<N>::zeros());
+    let inverse = dynamics.mass_matrix(&poses).cholesky().expect("an arm's mass matrix is positive definite").inverse();
+    (0..dynamics.model().bodies.len())
+        .map(|b| {
+            let com = poses.poses[b].transform_point(&dynamics.model().bodies[b].inertial.com);
+            let jp = dynamics.point_jacobian(&poses, b, &com).fixed_rows::<3>(0).into_owned();
+            (jp * inverse * jp.transpose()).trace() / 3.0
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::panda::{self, Mount};
+
+    fn panda() -> (ArmDynamics<9>, SelfContacts) {
+        let dynamics = ArmDynamics::<9>::new(panda::model(Mount::Pedestal), [0.0, 0.0, -9.81]);
+        let contacts = SelfContacts::new(&dynamics);
+        (dynamics, contacts)
+    }
+
+    /// MuJoCo 2.3.7's `body_invweight0[0]` of robosuite's Panda in a LIBERO scene.
+    #[test]
+    fn invweight0_matches_mujoco() {
+        let (dynamics, contacts) = panda();
+        let golden = [
+            ("link0", 0.0),
+            ("link1", 0.0),
+            ("link2", 0.000679260),
+            ("link3", 0.005179869),
+            ("link4", 0.008725314),
+            ("link5", 0.019499194),
+            ("link6", 0.036972590),
+            ("right_gripper", 0.039045809),
+            ("leftfinger", 0.331239769),
+            ("finger1_tip", 0.332143782),
+        ];
+        for (name, g) in golden {
+            let b = dynamics.model().body_index(name).unwrap();
+            assert!((contacts.invweight0()[b] - g).abs() < 2e-6, "{name}: {} against MuJoCo's {g}", contacts.invweight0()[b]);
+        }
+    }
+
+    /// MuJoCo pairs link 0 with link 1 (link 0 is welded to the world, so the parent filter does
+    /// not apply), link 2 with the fingers, the hand with link 5, the mount with the links; never
+    /// a link with its parent or the two finger shells.
+    #[test]
+    fn the_pairs_are_mujocos() {
+        let (dynamics, contacts) = panda();
+        let pairs = contacts.pair_bodies(&dynamics);
+        let has = |a: &str, b: &str| pairs.iter().any(|p| (p[0] == a && p[1] == b) || (p[0] == b && p[1] == a));
+        for (a, b) in [("link0", "link1"), ("link2", "leftfinger"), ("link2", "finger2_tip"), ("right_gripper", "link5"), ("base", "link1"), ("base", "rightfinger")] {
+            assert!(has(a, b), "{a}-{b} missing");
+        }
+        for (a, b) in [("link1", "link2"), ("link5", "link6"), ("link6", "right_gripper"), ("leftfinger", "rightfinger"), ("base", "link0"), ("finger1_tip", "finger2_tip")] {
+            assert!(!has(a, b), "{a}-{b} paired");
+        }
+    }
+}

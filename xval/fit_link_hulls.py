@@ -11,7 +11,8 @@ joint housings are round, so at 64 corners the full hulls stick out by 1-2.5 mm.
 are rounded to 0.1 mm and printed as the Rust source of `robots/src/panda_hulls.rs`, with how far
 the full hull sticks out of each fitted one (the fitted hull lies inside the full one). The arm's
 contacts with itself, soft as MuJoCo's and found only where two bounding boxes overlap, use the
-full hull (`<NAME>_FULL`; link 1's as its 160 spread corners, 2 mm inside).
+full hull (`<NAME>_FULL`; link 1's as its 160 spread corners, 2 mm inside), and so do the
+fingers (`FINGER1_FULL`, `FINGER2_FULL`).
 
 Needs numpy and scipy, and robosuite 1.4's files (found without importing robosuite, which wants
 OpenCV):
@@ -30,12 +31,15 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from fit_link_capsules import stl_vertices  # noqa: E402
 
 # (Rust constant, mesh under models/assets, rotation of the mesh in the collider's body frame as
-# MuJoCo's geom quat (w, x, y, z)): robosuite's link geoms sit at their body's origin; the hand's is
-# turned 90° about z in the gripper's root body. Link 7 has no collision geom in robosuite.
+# MuJoCo's geom quat (w, x, y, z), whether rapier gets a fitted subset): robosuite's link geoms sit at
+# their body's origin; the hand's is turned 90° about z in the gripper's root body, the second
+# finger's 180°. Link 7 has no collision geom in robosuite. rapier collides the fingers as boxes.
 # Corners the greedy removal starts from at most.
 DENSE = 160
-HULLS = [(f"LINK{k}", f"robots/panda/meshes/link{k}.stl", (1.0, 0.0, 0.0, 0.0)) for k in range(7)] + [
-    ("HAND", "grippers/meshes/panda_gripper/hand.stl", (0.707107, 0.0, 0.0, 0.707107)),
+HULLS = [(f"LINK{k}", f"robots/panda/meshes/link{k}.stl", (1.0, 0.0, 0.0, 0.0), True) for k in range(7)] + [
+    ("HAND", "grippers/meshes/panda_gripper/hand.stl", (0.707107, 0.0, 0.0, 0.707107), True),
+    ("FINGER1", "grippers/meshes/panda_gripper/finger.stl", (1.0, 0.0, 0.0, 0.0), False),
+    ("FINGER2", "grippers/meshes/panda_gripper/finger.stl", (0.0, 0.0, 0.0, 1.0), False),
 ]
 
 
@@ -97,23 +101,25 @@ def main():
     print("//! hull MuJoCo collides (robosuite's collision mesh), fitted by `xval/fit_link_hulls.py` (its")
     print("//! docstring says how); body frame, metres. Generated: edit the script, not this file.")
     print()
-    for name, path, quat in HULLS:
+    for name, path, quat, fitted in HULLS:
         v = rotate(stl_vertices(os.path.join(root, path)), quat)
         full = v[ConvexHull(v).vertices]
-        kept = np.round(simplify(full, args.tolerance, args.max_points), 4)
-        out = sticking_out(full, kept)
-        print(f"/// {len(kept)} of the hull's {len(full)} corners; the full hull sticks out of these by at most {out * 1e3:.1f} mm.")
-        print(f"pub(crate) const {name}: &[[f64; 3]] = &[")
-        for p in kept:
-            print("    [" + ", ".join(f"{x + 0.0:.4f}" for x in p) + "],")  # + 0.0: no -0.0000
-        print("];")
+        if fitted:
+            kept = np.round(simplify(full, args.tolerance, args.max_points), 4)
+            out = sticking_out(full, kept)
+            print(f"/// {len(kept)} of the hull's {len(full)} corners; the full hull sticks out of these by at most {out * 1e3:.1f} mm.")
+            print_points(name, kept)
+            print(f"{name}: {len(full)} -> {len(kept)} corners, full hull out by {out * 1e3:.2f} mm", file=sys.stderr)
         dense = np.round(farthest_points(full, DENSE), 4)
         print(f"/// {len(dense)} of the hull's {len(full)} corners; it sticks out of these by at most {sticking_out(full, dense) * 1e3:.1f} mm.")
-        print(f"pub(crate) const {name}_FULL: &[[f64; 3]] = &[")
-        for p in dense:
-            print("    [" + ", ".join(f"{x + 0.0:.4f}" for x in p) + "],")
-        print("];")
-        print(f"{name}: {len(full)} -> {len(kept)} corners, full hull out by {out * 1e3:.2f} mm", file=sys.stderr)
+        print_points(f"{name}_FULL", dense)
+
+
+def print_points(name, points):
+    print(f"pub(crate) const {name}: &[[f64; 3]] = &[")
+    for p in points:
+        print("    [" + ", ".join(f"{x + 0.0:.4f}" for x in p) + "],")  # + 0.0: no -0.0000
+    print("];")
 
 
 if __name__ == "__main__":

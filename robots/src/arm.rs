@@ -52,11 +52,10 @@ pub struct ArmInstance<const N: usize> {
     colliders: Vec<ArmCollider>,
 }
 
-/// rapier's shape for `s` (a hull as its few corners).
-fn shape(s: &ContactShape) -> SharedShape {
+pub(crate) fn shape(s: &ContactShape) -> SharedShape {
     match *s {
         ContactShape::Primitive(s) => primitive(s),
-        ContactShape::Hull { corners, .. } => hull(corners),
+        ContactShape::Hull(points) => hull(points),
     }
 }
 
@@ -65,7 +64,7 @@ pub(crate) fn hull(points: &[[f64; 3]]) -> SharedShape {
     SharedShape::convex_hull(&points).expect("a fitted hull has volume (robots' tests build every one)")
 }
 
-pub(crate) fn primitive(s: Shape) -> SharedShape {
+fn primitive(s: Shape) -> SharedShape {
     match s {
         Shape::Box { half } => SharedShape::cuboid(half[0], half[1], half[2]),
         Shape::Capsule { radius, half_height } => SharedShape::capsule_z(half_height, radius),

@@ -92,19 +92,14 @@ pub enum Shape {
     Sphere { radius: f64 },
 }
 
-/// What a collider touches with: a primitive shape, or a convex hull of points in the collider's
-/// frame (MuJoCo collides a mesh as its convex hull; the Panda's links are such hulls, fitted by
-/// `xval/fit_link_hulls.py`).
+/// What a collider touches with: a primitive shape, or the convex hull of a few points in the
+/// collider's frame (MuJoCo collides a mesh as its convex hull; the Panda's links are such hulls,
+/// fitted by `xval/fit_link_hulls.py` with a few corners, as rapier bounds every collider from all
+/// its corners at each step).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ContactShape {
     Primitive(Shape),
-    Hull {
-        /// A few of the hull's corners, for rapier (which bounds every collider from all its
-        /// corners at each step): 1-2.5 mm inside the full hull.
-        corners: &'static [[f64; 3]],
-        /// The full hull, for the arm's contacts with itself ([`crate::self_contact`]).
-        full: &'static [[f64; 3]],
-    },
+    Hull(&'static [[f64; 3]]),
 }
 
 /// What a collision geometry is for; decides which pairs may touch (MuJoCo's contype/conaffinity).
@@ -147,6 +142,9 @@ pub struct Body {
     pub joint: Option<JointSpec>,
     pub inertial: Inertial,
     pub colliders: Vec<Collider>,
+    /// The convex hull (body frame) this body touches the rest of the arm with, as MuJoCo collides
+    /// its collision mesh ([`crate::self_contact`]); `None`: its colliders.
+    pub self_hull: Option<&'static [[f64; 3]]>,
     pub visuals: Vec<Visual>,
 }
 

@@ -76,8 +76,8 @@ fn capsule(radius: f64, from: [f64; 3], to: [f64; 3], rgba: [f32; 4]) -> Visual 
 }
 
 /// A link's collider: its fitted hull ([`panda_hulls`]), in the body frame.
-fn hull(name: &'static str, corners: &'static [[f64; 3]], full: &'static [[f64; 3]]) -> Collider {
-    Collider { name, shape: ContactShape::Hull { corners, full }, local: Pose::IDENTITY, friction: 1.0, role: ContactRole::Link }
+fn hull(name: &'static str, points: &'static [[f64; 3]]) -> Collider {
+    Collider { name, shape: ContactShape::Hull(points), local: Pose::IDENTITY, friction: 1.0, role: ContactRole::Link }
 }
 
 fn cuboid(name: &'static str, half: [f64; 3], center: [f64; 3], role: ContactRole, friction: f64) -> Collider {
@@ -91,7 +91,7 @@ fn visuals_of(colliders: &[Collider], rgba: [f32; 4]) -> Vec<Visual> {
         .iter()
         .filter_map(|c| match c.shape {
             ContactShape::Primitive(shape) => Some(Visual { shape, local: c.local, rgba }),
-            ContactShape::Hull { .. } => None,
+            ContactShape::Hull(_) => None,
         })
         .collect()
 }
@@ -115,13 +115,13 @@ fn finger_joint(name: &'static str, range: [f64; 2]) -> JointSpec {
 
 /// One finger (body + pad tip). `side` is +1 for the left finger, -1 for the right one.
 fn finger(bodies: &mut Vec<Body>, gripper: usize, side: f64) {
-    let (name, tip, joint, pad_name) = if side > 0.0 {
-        ("leftfinger", "finger1_tip", finger_joint("finger_joint1", [0.0, 0.04]), "finger1_pad")
+    let (name, tip, joint, pad_name, hull) = if side > 0.0 {
+        ("leftfinger", "finger1_tip", finger_joint("finger_joint1", [0.0, 0.04]), "finger1_pad", panda_hulls::FINGER1_FULL)
     } else {
-        ("rightfinger", "finger2_tip", finger_joint("finger_joint2", [-0.04, 0.0]), "finger2_pad")
+        ("rightfinger", "finger2_tip", finger_joint("finger_joint2", [-0.04, 0.0]), "finger2_pad", panda_hulls::FINGER2_FULL)
     };
     // The finger mesh tapers: thick near the hand, thin at the tip (robosuite collides with its
-    // convex hull); two boxes follow that profile.
+    // convex hull); two boxes follow that profile for rapier, the hull itself touches the arm.
     let shell = vec![
         cuboid("finger_base", [0.0105, 0.0102, 0.0125], [0.0, side * 0.0162, 0.0125], ContactRole::Finger, 1.0),
         cuboid("finger_tip", [0.0095, 0.0072, 0.0145], [0.0, side * 0.0072, 0.0395], ContactRole::Finger, 1.0),
@@ -135,6 +135,7 @@ fn finger(bodies: &mut Vec<Body>, gripper: usize, side: f64) {
         inertial: Inertial::diag(0.1, [0.0, 0.0, 0.05], [0.01, 0.01, 0.005]),
         visuals: visuals_of(&shell, GREY),
         colliders: shell,
+        self_hull: Some(hull),
     });
     let pad = Collider {
         name: pad_name,
@@ -151,6 +152,7 @@ fn finger(bodies: &mut Vec<Body>, gripper: usize, side: f64) {
         inertial: Inertial::new(0.01, [0.0; 3], [0.01, 0.01, 0.01], q(0.0, 0.0, 0.0, 1.0)),
         visuals: visuals_of(std::slice::from_ref(&pad), DARK),
         colliders: vec![pad],
+        self_hull: None,
     });
 }
 
@@ -181,6 +183,7 @@ pub fn model(mount: Mount) -> Arc<ArmModel> {
         inertial: Inertial::diag(0.0, [0.0; 3], [0.0; 3]),
         visuals: visuals_of(&base_colliders, DARK),
         colliders: base_colliders,
+        self_hull: None,
     }];
     bodies.push(Body {
         name: "link0",
@@ -189,7 +192,8 @@ pub fn model(mount: Mount) -> Arc<ArmModel> {
         joint: None,
         inertial: Inertial::diag(4.0, [0.0, 0.0, 0.05], [0.4, 0.4, 0.4]),
         visuals: vec![Visual { shape: Shape::Box { half: [0.113, 0.095, 0.07] }, local: Pose::from_wxyz([-0.041, 0.0, 0.07], q(1.0, 0.0, 0.0, 0.0)), rgba: WHITE }],
-        colliders: vec![hull("link0", panda_hulls::LINK0, panda_hulls::LINK0_FULL)],
+        colliders: vec![hull("link0", panda_hulls::LINK0)],
+        self_hull: Some(panda_hulls::LINK0_FULL),
     });
     let d = 0.1;
     // Links 1-6 collide as their fitted hulls, as MuJoCo does, and are drawn as capsules in the
@@ -214,9 +218,10 @@ pub fn model(mount: Mount) -> Arc<ArmModel> {
             Inertial::diag(0.5, [0.0, 0.0, 0.08], [0.05; 3]), None, Vec::new()),
     ];
     for (name, pos, quat, joint, inertial, points, visuals) in links {
-        let colliders = points.map(|(corners, full)| hull(name, corners, full)).into_iter().collect();
+        let colliders = points.map(|(corners, _)| hull(name, corners)).into_iter().collect();
+        let self_hull = points.map(|(_, full)| full);
         let parent = Some(bodies.len() - 1);
-        bodies.push(Body { name, parent, local: Pose::from_wxyz(pos, quat), joint: Some(joint), inertial, colliders, visuals });
+        bodies.push(Body { name, parent, local: Pose::from_wxyz(pos, quat), joint: Some(joint), inertial, colliders, self_hull, visuals });
     }
     let link7 = bodies.len() - 1;
     bodies.push(Body {
@@ -226,6 +231,7 @@ pub fn model(mount: Mount) -> Arc<ArmModel> {
         joint: None,
         inertial: Inertial::diag(0.5, [0.0; 3], [0.05; 3]),
         colliders: Vec::new(),
+        self_hull: None,
         visuals: vec![Visual {
             shape: Shape::Cylinder { radius: 0.045, half_height: 0.012 },
             local: Pose::from_wxyz([0.0, 0.0, -0.012], q(1.0, 0.0, 0.0, 0.0)),
@@ -246,7 +252,8 @@ pub fn model(mount: Mount) -> Arc<ArmModel> {
             Visual { shape: Shape::Box { half: [0.1, 0.0315, 0.018] }, local: Pose::from_wxyz([0.0, 0.0, -0.008], q(1.0, 0.0, 0.0, 0.0)), rgba: WHITE },
             Visual { shape: Shape::Box { half: [0.1, 0.0175, 0.028] }, local: Pose::from_wxyz([0.0, 0.0, 0.038], q(1.0, 0.0, 0.0, 0.0)), rgba: WHITE },
         ],
-        colliders: vec![hull("hand", panda_hulls::HAND, panda_hulls::HAND_FULL)],
+        colliders: vec![hull("hand", panda_hulls::HAND)],
+        self_hull: Some(panda_hulls::HAND_FULL),
     });
     let gripper = bodies.len() - 1;
     finger(&mut bodies, gripper, 1.0);

@@ -111,7 +111,7 @@ fn capsule(radius: f64, from: [f64; 3], to: [f64; 3], rgba: [f32; 4]) -> (Collid
 
 fn link(name: &'static str, parent: usize, origin: Pose, joint: JointSpec, inertial: Inertial, shapes: Vec<(Collider, Visual)>) -> Body {
     let (colliders, visuals) = shapes.into_iter().unzip();
-    Body { name, parent: Some(parent), local: origin, joint: Some(joint), inertial, colliders, visuals }
+    Body { name, parent: Some(parent), local: origin, joint: Some(joint), inertial, colliders, self_hull: None, visuals }
 }
 
 /// One finger on the flange: slides along `side`·x of link6, fingers 0.07 m long from the
@@ -153,6 +153,7 @@ fn finger(name: &'static str, joint: &'static str, side: f64) -> Body {
         }),
         inertial: Inertial::full(0.026482, [side * 0.00921, 0.000278, 0.046767], [9.998e-6, 6.180e-6, 1.4210e-5, 0.0, 0.0, 0.0]),
         colliders: vec![shell, pad],
+        self_hull: None,
         visuals,
     }
 }
@@ -169,6 +170,7 @@ pub fn model() -> Arc<ArmModel> {
         joint: None,
         inertial: Inertial::diag(0.0, [0.0; 3], [0.0; 3]),
         colliders: bc,
+        self_hull: None,
         visuals: bv,
     }];
     bodies.push(link("link1", 0, Pose::from_urdf([0.0, 0.0, 0.123], [0.0, 0.0, -1.5708]), hinge("joint1", z, JOINT_LIMITS[0]),

@@ -23,10 +23,10 @@ use vifo_physics::rapier::math::Pose as RPose;
 use vifo_physics::rapier::parry::shape::Cuboid;
 use vifo_physics::rapier::prelude::SharedShape;
 
-use crate::arm::{hull, primitive, shape_frame};
+use crate::arm::{hull, shape, shape_frame};
 use crate::convert::{rapier_pose, vec3, vector};
 use crate::dynamics::{ArmDynamics, BodyPoses, Coords};
-use crate::model::{ContactRole, ContactShape};
+use crate::model::{Collider, ContactRole};
 use crate::soft::{Cone, Softness};
 use crate::spatial::{Pose, Vec3};
 
@@ -98,17 +98,11 @@ impl SelfContacts {
         let mut roles = Vec::new();
         let mut frictions = Vec::new();
         for (b, body) in model.bodies.iter().enumerate() {
-            for c in &body.colliders {
-                // The full hull: the few corners rapier bounds lie 1-2.5 mm inside it, and with
-                // them the hand met link 5 a step later than MuJoCo's did.
-                let shape = match c.shape {
-                    ContactShape::Primitive(s) => primitive(s),
-                    ContactShape::Hull { full, .. } => hull(full),
-                };
+            let mut add = |shape: SharedShape, local: Pose, c: &Collider| {
                 let aabb = shape.compute_local_aabb();
                 geoms.push(Geom {
                     body: b,
-                    local: shape_frame(&c.shape, &c.local),
+                    local,
                     bound: shape.compute_local_bounding_sphere(),
                     box_centre: vec3(aabb.center()),
                     box_shape: Cuboid::new(aabb.half_extents()),
@@ -116,6 +110,13 @@ impl SelfContacts {
                 });
                 roles.push(c.role);
                 frictions.push(c.friction);
+            };
+            // MuJoCo's hull where the body has one (rapier's few corners lie 1-2.5 mm inside it,
+            // and with them the hand met link 5 a step later than MuJoCo's did), with the role and
+            // friction of the body's colliders.
+            match (body.self_hull, body.colliders.first()) {
+                (Some(points), Some(c)) => add(hull(points), Pose::IDENTITY, c),
+                _ => body.colliders.iter().for_each(|c| add(shape(&c.shape), shape_frame(&c.shape, &c.local), c)),
             }
         }
         let softness = |role: ContactRole| if role == ContactRole::Pad { PAD } else { Softness::MUJOCO_DEFAULT };

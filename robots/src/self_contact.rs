@@ -10,8 +10,9 @@
 //! - the pairs MuJoCo makes: different welded bodies, no parent–child pair unless one of them is
 //!   welded to the world, at least one link-layer shape (fingers and pads among themselves stay
 //!   rapier's, where they hold objects);
-//! - found at the start of each physics step on the same shapes rapier collides with, one point
-//!   per pair (MuJoCo's convex–convex collision), at the midpoint of the two surfaces;
+//! - found at the start of each physics step on MuJoCo's shapes (each body's full hull,
+//!   [`crate::model::Body::self_hull`], where rapier has a few corners or boxes), one point per
+//!   pair (MuJoCo's convex–convex collision), at the midpoint of the two surfaces;
 //! - with MuJoCo's elliptic friction cone (robosuite's `impratio` 20 makes the friction rows 20
 //!   times stiffer than the normal one): without it the hand, once on link 5, slid along it and
 //!   turned joint 7 by a quarter radian where MuJoCo's stays put; the torsional row of the

@@ -167,8 +167,8 @@ impl<const N: usize> ArmInstance<N> {
                     .density(0.0)
                     .friction(c.friction)
                     .friction_combine_rule(CoefficientCombineRule::Max)
-                    .collision_groups(contact::groups(c.role))
-                    .solver_groups(contact::groups(c.role))
+                    .collision_groups(contact::groups(c.role, model.self_contact))
+                    .solver_groups(contact::groups(c.role, model.self_contact))
                     .active_hooks(INERT_CONTACT_HOOKS);
                 let handle = r.colliders.insert_with_parent(collider, rigid_body[b], &mut r.bodies);
                 colliders.push(ArmCollider { handle, body: b, name: c.name, role: c.role });
@@ -272,7 +272,7 @@ impl<const N: usize> ArmInstance<N> {
 mod tests {
     use super::*;
     use crate::panda::{self, Mount};
-    use crate::self_contact::SelfContacts;
+    use crate::soft_contact::SoftContacts;
     use vifo_physics::SimParams;
 
     fn pose_of(world: &World, h: RigidBodyHandle) -> Pose {
@@ -320,8 +320,8 @@ mod tests {
         let ((p1, s1), (p2, s2)) = (at("link5"), at("hand"));
         let distance = vifo_physics::rapier::parry::query::distance(&p1, &*s1, &p2, &*s2).expect("convex shapes").distance;
         let bodies = &arm.model().bodies;
-        let touching = SelfContacts::new(arm.dynamics()).at(&arm.dynamics().forward(&base, &full));
-        (distance, touching.iter().map(|c| c.bodies.map(|b| bodies[b].name)).collect())
+        let touching = SoftContacts::new(arm.dynamics()).at(&arm.dynamics().forward(&base, &full), &world);
+        (distance, touching.iter().map(|c| c.bodies.map(|b| b.map_or("scene", |b| bodies[b].name))).collect())
     }
 
     /// MuJoCo's `j5_hi_j2_hi` limit sequence (`xval/record_limits.py`) folds the hand onto the

@@ -41,10 +41,12 @@ pub const PART_GROUPS: InteractionGroups =
 
 /// Groups for a robot shape. Finger shells touch the scene and the pads but not the other
 /// shell (robosuite: contype 0, conaffinity 1); pads touch everything. Links (with the hand and
-/// the mount) touch only the scene here: where they touch the arm itself, MuJoCo's contact is soft,
-/// and [`crate::self_contact`] makes it so. Parent–child pairs never touch (`joint::one_dof`).
-pub fn groups(role: ContactRole) -> InteractionGroups {
+/// the mount) touch only the scene here; with `soft` (an arm whose contacts with itself and with
+/// the scene's fixed colliders are MuJoCo's soft ones, [`crate::soft_contact`]), not the arena
+/// and the fixtures' still bodies either. Parent–child pairs never touch (`joint::one_dof`).
+pub fn groups(role: ContactRole, soft: bool) -> InteractionGroups {
     let (member, filter) = match role {
+        ContactRole::Link if soft => (LINK, SCENE_SIDE.difference(ARENA).difference(FRAME)),
         ContactRole::Link => (LINK, SCENE_SIDE),
         ContactRole::Finger => (FINGER, SCENE_SIDE.union(PAD)),
         ContactRole::Pad => (PAD, SCENE_SIDE.union(PAD).union(FINGER)),
@@ -58,11 +60,15 @@ mod tests {
 
     #[test]
     fn robosuite_pairs() {
-        let [link, finger, pad] = [ContactRole::Link, ContactRole::Finger, ContactRole::Pad].map(groups);
+        let [link, finger, pad] = [ContactRole::Link, ContactRole::Finger, ContactRole::Pad].map(|r| groups(r, false));
         assert!(link.test(SCENE_GROUPS) && finger.test(SCENE_GROUPS) && pad.test(SCENE_GROUPS));
         assert!(pad.test(pad) && pad.test(finger) && finger.test(pad));
         assert!(!link.test(finger) && !finger.test(link) && !link.test(pad) && !pad.test(link) && !link.test(link));
         assert!(!finger.test(finger));
+        // A soft arm's links leave the arena and fixture frames to its soft contacts.
+        let soft = groups(ContactRole::Link, true);
+        assert!(!soft.test(ARENA_GROUPS) && !soft.test(FRAME_GROUPS) && soft.test(SCENE_GROUPS) && soft.test(PART_GROUPS));
+        assert!(groups(ContactRole::Finger, true).test(ARENA_GROUPS) && groups(ContactRole::Pad, true).test(FRAME_GROUPS));
         assert!(SCENE_GROUPS.test(SCENE_GROUPS));
         for robot in [link, finger, pad] {
             assert!(robot.test(ARENA_GROUPS) && robot.test(PART_GROUPS));

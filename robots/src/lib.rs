@@ -24,6 +24,6 @@ pub mod osc;
 pub mod panda;
 mod panda_hulls;
 pub mod piper;
-pub mod self_contact;
+pub mod soft_contact;
 pub mod soft;
 pub mod spatial;

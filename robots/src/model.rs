@@ -143,7 +143,7 @@ pub struct Body {
     pub inertial: Inertial,
     pub colliders: Vec<Collider>,
     /// The convex hull (body frame) this body touches the rest of the arm with, as MuJoCo collides
-    /// its collision mesh ([`crate::self_contact`]); `None`: its colliders.
+    /// its collision mesh ([`crate::soft_contact`]); `None`: its colliders.
     pub self_hull: Option<&'static [[f64; 3]]>,
     pub visuals: Vec<Visual>,
 }
@@ -167,7 +167,7 @@ pub struct ArmModel {
     /// Number of arm joints (the first `arm_dofs` coordinates); the rest are gripper fingers.
     pub arm_dofs: usize,
     pub sites: Vec<Site>,
-    /// Whether the arm touches itself ([`crate::self_contact`]): links, hand and mount touch
+    /// Whether the arm touches itself ([`crate::soft_contact`]): links, hand and mount touch
     /// every other part but their parent and child, as robosuite's contype/conaffinity make the
     /// Panda's (a hand folded back onto the forearm stops there).
     pub self_contact: bool,

@@ -19,7 +19,7 @@ use crate::dynamics::{Coords, Jacobian};
 use crate::fluid::Fluid;
 use crate::gripper::{GripperRamp, finger_forces};
 use crate::limits::JointLimits;
-use crate::self_contact::SelfContacts;
+use crate::soft_contact::{FixedShape, SoftContacts};
 use crate::soft::{Constraints, Softness};
 use crate::panda_hulls;
 use crate::osc::{self, OscGoal, OscInput, OscParams};
@@ -278,7 +278,7 @@ pub fn base_pose(mount: Mount, xpos: [f64; 3]) -> Pose {
 pub struct Panda {
     arm: ArmInstance<9>,
     limits: JointLimits<9>,
-    self_contacts: SelfContacts,
+    soft_contacts: SoftContacts,
     params: OscParams,
     grip_site: Site,
     hand: usize,
@@ -307,8 +307,16 @@ impl Panda {
         let hand = model.body_index(HAND_BODY).expect("hand body");
         let arm = ArmInstance::insert(world, model, base);
         let limits = JointLimits::new(arm.dynamics());
-        let self_contacts = SelfContacts::new(arm.dynamics());
-        Panda { arm, limits, self_contacts, params: OscParams::ROBOSUITE, grip_site, hand }
+        let soft_contacts = SoftContacts::new(arm.dynamics());
+        Panda { arm, limits, soft_contacts, params: OscParams::ROBOSUITE, grip_site, hand }
+    }
+
+    /// Gives the arm the fixed colliders of `world`'s scene its links touch with MuJoCo's soft
+    /// contact (rapier leaves the arena and the fixtures' still bodies to it,
+    /// [`crate::contact::groups`]).
+    pub fn with_fixed(mut self, world: &World, fixed: &[FixedShape]) -> Self {
+        self.soft_contacts = self.soft_contacts.with_fixed(world, fixed);
+        self
     }
 
     pub fn arm(&self) -> &ArmInstance<9> {
@@ -363,7 +371,7 @@ impl Panda {
     /// Sets the actuator efforts for the next physics substep: OSC torques (goal refreshed when
     /// `policy_step`), clipped to the motor limits, the gripper servos, and the forces of any
     /// joint limit engaged and of the arm touching itself (MuJoCo's soft constraints,
-    /// [`crate::limits`], [`crate::self_contact`]).
+    /// [`crate::limits`], [`crate::soft_contact`]).
     pub fn apply(&self, world: &mut World, control: &mut PandaControl, action: &Action, policy_step: bool) {
         let live = self.arm.state(world);
         let dynamics = self.arm.dynamics();
@@ -408,7 +416,7 @@ impl Panda {
         let dt = world.params().dt;
         let mut constraints = Constraints::default();
         self.limits.rows(&live.q, &live.qd, dt, &mut constraints.rows);
-        self.self_contacts.cones(dynamics, &live_poses, &live.qd, dt, &mut constraints.cones);
+        self.soft_contacts.cones(dynamics, &live_poses, &live.qd, world, &mut constraints.cones);
         if !constraints.is_empty() {
             let model = dynamics.model();
             let damping = Coords::<9>::from_fn(|i, _| model.joint(i).damping * live.qd[i]);

@@ -1,5 +1,5 @@
 //! MuJoCo's soft constraints, for the constraints our own code adds to rapier's step: the joint
-//! limits ([`crate::limits`]) and the arm touching itself ([`crate::self_contact`]).
+//! limits ([`crate::limits`]) and the arm touching itself ([`crate::soft_contact`]).
 //!
 //! Each constraint is a row: a generalized direction `J`, a reference acceleration that is a
 //! spring-damper on the violation, `aref = -b·v - k·d(r)·r` (`solref` gives k and b, `solimp` the

@@ -12,6 +12,8 @@ use vifo_physics::inert::INERT_CONTACT_HOOKS;
 use vifo_physics::{Snapshot, World};
 use vifo_robots::contact::{ARENA_GROUPS, FRAME_GROUPS, PART_GROUPS, SCENE_GROUPS};
 use vifo_robots::convert::{dmat3, rapier_pose, vector};
+use vifo_robots::soft::Softness;
+use vifo_robots::soft_contact::FixedShape;
 use vifo_robots::joint;
 use vifo_robots::model::JointKind as RobotJointKind;
 use vifo_robots::spatial::{Mat3, Pose, Vec3};
@@ -154,6 +156,7 @@ impl SceneModel {
         for (name, model) in props {
             entities.push(insert_entity(&mut world, name, model));
         }
+        let robot = robot.with_fixed(&world, &fixed_shapes(&arena, &entities));
         let regions = resolve_regions(task, class, &entities)?;
         let model = SceneModel {
             task: task.clone(),
@@ -185,6 +188,20 @@ fn scene_collider(shape: SharedShape, local: &Pose, friction: f64, groups: Inter
         .collision_groups(groups)
         .solver_groups(groups)
         .active_hooks(INERT_CONTACT_HOOKS)
+}
+
+/// The fixed colliders the arm's links touch with MuJoCo's soft contact: the arena (floor and table
+/// keep MuJoCo's default `solref`/`solimp`) and the still bodies of fixtures with moving parts,
+/// with their catalog parameters. Fixtures without moving parts share the objects' layer and stay
+/// rapier's.
+fn fixed_shapes(arena: &[ColliderHandle], entities: &[SceneEntity]) -> Vec<FixedShape> {
+    let mut fixed: Vec<FixedShape> = arena.iter().map(|&collider| FixedShape { collider, softness: Softness::MUJOCO_DEFAULT }).collect();
+    for e in entities.iter().filter(|e| e.anchor.is_some()) {
+        for (&collider, c) in e.colliders.iter().zip(&e.model.bodies[0].colliders) {
+            fixed.push(FixedShape { collider, softness: Softness { solref: c.solref, solimp: c.solimp, margin: c.margin } });
+        }
+    }
+    fixed
 }
 
 /// The table top slabs (or the floor) as fixed colliders.

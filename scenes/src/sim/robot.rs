@@ -10,6 +10,7 @@ use vifo_robots::dynamics::BodyPoses;
 use vifo_robots::model::ArmModel;
 use vifo_robots::panda::{GRIPPER_INIT_QPOS, LIBERO_INIT_QPOS, Mount, Panda, PandaControl};
 use vifo_robots::piper::{FINGER_STROKE, Piper, PiperControl, READY_QPOS};
+use vifo_robots::soft_contact::FixedShape;
 use vifo_robots::spatial::Pose;
 
 use crate::scene_class::{ArmKind, SceneClass};
@@ -43,6 +44,15 @@ impl Robot {
         match arm {
             ArmKind::Panda => SimParams::LIBERO,
             ArmKind::Piper => vifo_robots::piper::SIM_PARAMS,
+        }
+    }
+
+    /// The arm whose links touch the `fixed` colliders of `world`'s scene with MuJoCo's soft
+    /// contact (the Panda; the PiPER's links keep rapier's).
+    pub fn with_fixed(self, world: &World, fixed: &[FixedShape]) -> Robot {
+        match self {
+            Robot::Panda(panda) => Robot::Panda(panda.with_fixed(world, fixed)),
+            piper => piper,
         }
     }
 

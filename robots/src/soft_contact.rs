@@ -1,4 +1,4 @@
-//! The arm touching itself as MuJoCo's soft contacts do.
+//! The arm touching itself, and the scene's fixed bodies, as MuJoCo's soft contacts do.
 //!
 //! When the Panda's hand folds onto its forearm, MuJoCo's contact gives like a critically damped
 //! spring with a 20 ms time constant (robosuite keeps the default `solref`/`solimp`): a link that
@@ -10,6 +10,11 @@
 //! - the pairs MuJoCo makes: different welded bodies, no parent–child pair unless one of them is
 //!   welded to the world, at least one link-layer shape (fingers and pads among themselves stay
 //!   rapier's, where they hold objects);
+//! - the moving links and hand against the fixed scene colliders the scene hands over
+//!   ([`SoftContacts::with_fixed`]: floor, table tops, the still bodies of fixtures with moving
+//!   parts), each with its own `solref`/`solimp`, margin and friction: where link 6 grazed the
+//!   stove's burner in the `j5_hi_j2_hi` limit sequence, MuJoCo's contact gave for one record and
+//!   rapier's held for four;
 //! - found at the start of each physics step on MuJoCo's shapes (each body's full hull,
 //!   [`crate::model::Body::self_hull`], where rapier has a few corners or boxes), one point per
 //!   pair (MuJoCo's convex–convex collision), at the midpoint of the two surfaces;
@@ -21,12 +26,13 @@
 use vifo_physics::rapier::parry::bounding_volume::BoundingSphere;
 use vifo_physics::rapier::parry::query;
 use vifo_physics::rapier::math::Pose as RPose;
-use vifo_physics::rapier::parry::shape::Cuboid;
-use vifo_physics::rapier::prelude::SharedShape;
+use vifo_physics::rapier::parry::shape::{Ball, Cuboid};
+use vifo_physics::World;
+use vifo_physics::rapier::prelude::{ColliderHandle, SharedShape};
 
 use crate::arm::{hull, shape, shape_frame};
 use crate::convert::{rapier_pose, vec3, vector};
-use crate::dynamics::{ArmDynamics, BodyPoses, Coords};
+use crate::dynamics::{ArmDynamics, BodyPoses, Coords, Jacobian};
 use crate::model::{Collider, ContactRole};
 use crate::soft::{Cone, Softness};
 use crate::spatial::{Pose, Vec3};
@@ -37,16 +43,63 @@ const PAD: Softness = Softness { solref: [0.01, 0.5], ..Softness::MUJOCO_DEFAULT
 /// robosuite's ratio of frictional to normal impedance (`<option impratio="20">`).
 const IMPRATIO: f64 = 20.0;
 
-/// One contact shape of the arm, in its body's frame, with its bounding box (in the shape's frame)
-/// to rule out pairs cheaply: a hull's support map scans all its corners.
+/// One contact shape, with its bounding box (in the shape's frame) to rule out pairs cheaply: a
+/// hull's support map scans all its corners.
 #[derive(Clone, Debug)]
 struct Geom {
-    body: usize,
-    local: Pose,
+    on: On,
     shape: SharedShape,
     bound: BoundingSphere,
+    /// The sphere's centre in the arm body's frame (unused for the scene).
+    centre: Vec3,
     box_centre: Vec3,
     box_shape: Cuboid,
+    softness: Softness,
+    friction: f64,
+}
+
+/// What a shape is fixed to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum On {
+    /// An arm body, at this pose in the body's frame.
+    Arm(usize, Pose),
+    /// A fixed collider of the scene, posed by the world (fixtures are placed per episode).
+    Scene(ColliderHandle),
+}
+
+impl Geom {
+    fn new(on: On, shape: SharedShape, softness: Softness, friction: f64) -> Geom {
+        let aabb = shape.compute_local_aabb();
+        let bound = shape.compute_local_bounding_sphere();
+        let centre = match on {
+            On::Arm(_, local) => local.transform_point(&vec3(bound.center)),
+            On::Scene(_) => vec3(bound.center),
+        };
+        Geom {
+            on,
+            bound,
+            centre,
+            box_centre: vec3(aabb.center()),
+            box_shape: Cuboid::new(aabb.half_extents()),
+            shape,
+            softness,
+            friction,
+        }
+    }
+
+    fn body(&self) -> Option<usize> {
+        match self.on {
+            On::Arm(b, _) => Some(b),
+            On::Scene(_) => None,
+        }
+    }
+}
+
+/// A fixed collider of the scene the arm's links touch softly, with MuJoCo's parameters.
+#[derive(Clone, Copy, Debug)]
+pub struct FixedShape {
+    pub collider: ColliderHandle,
+    pub softness: Softness,
 }
 
 /// A pair of shapes that may touch, with their mixed softness and friction (the larger one).
@@ -57,10 +110,18 @@ struct Pair {
     friction: f64,
 }
 
-/// One contact point between two bodies of the arm.
+impl Pair {
+    fn of(geoms: &[Geom], i: usize, j: usize) -> Pair {
+        let (a, b) = (&geoms[i], &geoms[j]);
+        Pair { geoms: [i, j], softness: a.softness.mixed(&b.softness), friction: a.friction.max(b.friction) }
+    }
+}
+
+/// One contact point between two bodies of the arm, or one and the scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SelfContact {
-    pub bodies: [usize; 2],
+pub struct SoftContact {
+    /// Arm bodies; `None`: the scene.
+    pub bodies: [Option<usize>; 2],
     /// Midpoint of the two surfaces (world).
     pub pos: Vec3,
     /// From the first body towards the second.
@@ -69,21 +130,23 @@ pub struct SelfContact {
     pub dist: f64,
 }
 
-/// The arm's self-contact pairs and MuJoCo's per-body weights for their rows.
+/// The arm's soft-contact pairs and MuJoCo's per-body weights for their rows.
 #[derive(Clone, Debug, Default)]
-pub struct SelfContacts {
+pub struct SoftContacts {
     geoms: Vec<Geom>,
+    /// Per arm geom: a link-layer shape on a moving body (what touches the fixed scene).
+    moving_links: Vec<usize>,
     pairs: Vec<Pair>,
     /// Translational inverse weight of each body at `q = 0` (MuJoCo's `body_invweight0[0]`).
     invweight0: Vec<f64>,
 }
 
-impl SelfContacts {
+impl SoftContacts {
     /// The pairs of `dynamics`' model; none unless the model has [`crate::model::ArmModel::self_contact`].
     pub fn new<const N: usize>(dynamics: &ArmDynamics<N>) -> Self {
         let model = dynamics.model();
         if !model.self_contact {
-            return SelfContacts::default();
+            return SoftContacts::default();
         }
         // The body each body is welded to (`None`: the world, through the fixed base).
         let mut weld: Vec<Option<usize>> = Vec::with_capacity(model.bodies.len());
@@ -95,22 +158,12 @@ impl SelfContacts {
             });
         }
         let weld_parent = |w: usize| model.bodies[w].parent.and_then(|p| weld[p]);
-        let mut geoms = Vec::new();
-        let mut roles = Vec::new();
-        let mut frictions = Vec::new();
+        let softness = |role: ContactRole| if role == ContactRole::Pad { PAD } else { Softness::MUJOCO_DEFAULT };
+        let (mut geoms, mut roles) = (Vec::new(), Vec::new());
         for (b, body) in model.bodies.iter().enumerate() {
             let mut add = |shape: SharedShape, local: Pose, c: &Collider| {
-                let aabb = shape.compute_local_aabb();
-                geoms.push(Geom {
-                    body: b,
-                    local,
-                    bound: shape.compute_local_bounding_sphere(),
-                    box_centre: vec3(aabb.center()),
-                    box_shape: Cuboid::new(aabb.half_extents()),
-                    shape,
-                });
+                geoms.push(Geom::new(On::Arm(b, local), shape, softness(c.role), c.friction));
                 roles.push(c.role);
-                frictions.push(c.friction);
             };
             // MuJoCo's hull where the body has one (rapier's few corners lie 1-2.5 mm inside it,
             // and with them the hand met link 5 a step later than MuJoCo's did), with the role and
@@ -120,28 +173,43 @@ impl SelfContacts {
                 _ => body.colliders.iter().for_each(|c| add(shape(&c.shape), shape_frame(&c.shape, &c.local), c)),
             }
         }
-        let softness = |role: ContactRole| if role == ContactRole::Pad { PAD } else { Softness::MUJOCO_DEFAULT };
+        let weld_of = |g: &Geom| g.body().and_then(|b| weld[b]);
         let mut pairs = Vec::new();
         for i in 0..geoms.len() {
             for j in i + 1..geoms.len() {
-                let (w1, w2) = (weld[geoms[i].body], weld[geoms[j].body]);
+                let (w1, w2) = (weld_of(&geoms[i]), weld_of(&geoms[j]));
                 let parent_child = match (w1, w2) {
                     (Some(a), Some(b)) => weld_parent(a) == Some(b) || weld_parent(b) == Some(a),
                     _ => false,
                 };
                 let rapiers = roles[i] != ContactRole::Link && roles[j] != ContactRole::Link;
                 if w1 != w2 && !parent_child && !rapiers {
-                    let friction = frictions[i].max(frictions[j]);
-                    pairs.push(Pair { geoms: [i, j], softness: softness(roles[i]).mixed(&softness(roles[j])), friction });
+                    pairs.push(Pair::of(&geoms, i, j));
                 }
             }
         }
-        SelfContacts { geoms, pairs, invweight0: translational_invweight0(dynamics) }
+        let moving_links = (0..geoms.len()).filter(|&i| roles[i] == ContactRole::Link && weld_of(&geoms[i]).is_some()).collect();
+        SoftContacts { geoms, moving_links, pairs, invweight0: translational_invweight0(dynamics) }
     }
 
-    /// The bodies of every pair, by name (for tests and reports).
+    /// Adds pairs of the arm's moving links and hand with the `fixed` colliders of `world`'s scene
+    /// (none for an arm without soft contacts).
+    pub fn with_fixed(mut self, world: &World, fixed: &[FixedShape]) -> Self {
+        for f in fixed {
+            let shape = world.rapier().colliders[f.collider].shared_shape().clone();
+            let friction = world.rapier().colliders[f.collider].friction();
+            self.geoms.push(Geom::new(On::Scene(f.collider), shape, f.softness, friction));
+            let j = self.geoms.len() - 1;
+            for &i in &self.moving_links {
+                self.pairs.push(Pair::of(&self.geoms, i, j));
+            }
+        }
+        self
+    }
+
+    /// The bodies of every pair, by name (`scene` for the fixed scene; for tests and reports).
     pub fn pair_bodies<'a, const N: usize>(&self, dynamics: &'a ArmDynamics<N>) -> Vec<[&'a str; 2]> {
-        let name = |g: usize| dynamics.model().bodies[self.geoms[g].body].name;
+        let name = |g: usize| self.geoms[g].body().map_or("scene", |b| dynamics.model().bodies[b].name);
         self.pairs.iter().map(|p| [name(p.geoms[0]), name(p.geoms[1])]).collect()
     }
 
@@ -150,54 +218,94 @@ impl SelfContacts {
         &self.invweight0
     }
 
-    /// The contacts at `poses`, with each pair's softness.
-    fn contacts(&self, poses: &BodyPoses) -> Vec<(SelfContact, &Pair)> {
-        let world: Vec<Pose> = self.geoms.iter().map(|g| poses.poses[g.body].mul(&g.local)).collect();
-        let centre = |g: usize| world[g].transform_point(&vec3(self.geoms[g].bound.center));
+    /// The contacts at `poses` in `world`, with each pair's softness.
+    fn contacts(&self, poses: &BodyPoses, world: &World) -> Vec<(SoftContact, &Pair)> {
+        let colliders = &world.rapier().colliders;
+        // Bounding-sphere centres first: most pairs end there, before any pose is composed.
+        let centres: Vec<Vec3> = self
+            .geoms
+            .iter()
+            .map(|g| match g.on {
+                On::Arm(b, _) => poses.poses[b].transform_point(&g.centre),
+                On::Scene(h) => vec3(colliders[h].position().transform_point(g.bound.center)),
+            })
+            .collect();
+        // Full poses only for shapes whose spheres meet another's, each composed once.
+        let mut placed: Vec<Option<RPose>> = vec![None; self.geoms.len()];
+        let mut place = |g: usize| {
+            *placed[g].get_or_insert_with(|| match self.geoms[g].on {
+                On::Arm(b, local) => rapier_pose(&poses.poses[b].mul(&local)),
+                On::Scene(h) => *colliders[h].position(),
+            })
+        };
+        // One sphere around the moving links rules out most of the scene's shapes at once.
+        let links = &self.moving_links;
+        let middle = links.iter().fold(Vec3::zeros(), |sum, &i| sum + centres[i]) / links.len().max(1) as f64;
+        let span = links.iter().fold(0.0f64, |r, &i| r.max((centres[i] - middle).norm() + self.geoms[i].bound.radius));
+        let near: Vec<bool> = self
+            .geoms
+            .iter()
+            .zip(&centres)
+            .map(|(g, c)| matches!(g.on, On::Arm(..)) || (c - middle).norm() <= span + g.bound.radius + g.softness.margin)
+            .collect();
         let mut found = Vec::new();
-        for pair in &self.pairs {
+        for pair in self.pairs.iter().filter(|p| near[p.geoms[1]]) {
             let [i, j] = pair.geoms;
-            let reach = self.geoms[i].bound.radius + self.geoms[j].bound.radius;
-            if (centre(i) - centre(j)).norm_squared() > reach * reach {
-                continue;
-            }
-            let (pi, pj) = (rapier_pose(&world[i]), rapier_pose(&world[j]));
-            let boxed = |p: &RPose, g: &Geom| *p * RPose::from_translation(vector(&g.box_centre));
             let (gi, gj) = (&self.geoms[i], &self.geoms[j]);
-            if !query::intersection_test(&boxed(&pi, gi), &gi.box_shape, &boxed(&pj, gj), &gj.box_shape).expect("boxes").intersecting {
+            let margin = pair.softness.margin;
+            let reach = gi.bound.radius + gj.bound.radius + margin;
+            if (centres[i] - centres[j]).norm_squared() > reach * reach {
                 continue;
             }
-            let contact = query::contact(&pi, &*gi.shape, &pj, &*gj.shape, 0.0);
-            if let Some(c) = contact.expect("the arm's shapes are convex").filter(|c| c.dist < 0.0) {
-                let at = SelfContact {
-                    bodies: [self.geoms[i].body, self.geoms[j].body],
+            let pj = place(j);
+            let apart = match gj.on {
+                // A scene shape (a box or capsule) against the arm shape's sphere: cheap and tight
+                // for the table tops, whose own spheres hold the whole arm.
+                On::Scene(_) => {
+                    let ball = Ball::new(gi.bound.radius + margin);
+                    !query::intersection_test(&RPose::from_translation(vector(&centres[i])), &ball, &pj, &*gj.shape).expect("convex").intersecting
+                }
+                On::Arm(..) => {
+                    let pi = place(i);
+                    let boxed = |p: &RPose, g: &Geom| *p * RPose::from_translation(vector(&g.box_centre));
+                    margin == 0.0 && !query::intersection_test(&boxed(&pi, gi), &gi.box_shape, &boxed(&pj, gj), &gj.box_shape).expect("boxes").intersecting
+                }
+            };
+            if apart {
+                continue;
+            }
+            let pi = place(i);
+            let contact = query::contact(&pi, &*gi.shape, &pj, &*gj.shape, margin);
+            if let Some(c) = contact.expect("the arm's and the scene's shapes are convex").filter(|c| c.dist < margin) {
+                let contact = SoftContact {
+                    bodies: [gi.body(), gj.body()],
                     pos: (vec3(c.point1) + vec3(c.point2)) * 0.5,
                     normal: vec3(c.normal1),
                     dist: c.dist,
                 };
-                found.push((at, pair));
+                found.push((contact, pair));
             }
         }
         found
     }
 
-    /// The contacts at `poses` (world frame).
-    pub fn at(&self, poses: &BodyPoses) -> Vec<SelfContact> {
-        self.contacts(poses).into_iter().map(|(c, _)| c).collect()
+    /// The contacts at `poses` in `world` (world frame).
+    pub fn at(&self, poses: &BodyPoses, world: &World) -> Vec<SoftContact> {
+        self.contacts(poses, world).into_iter().map(|(c, _)| c).collect()
     }
 
-    /// Adds a cone for each contact at `poses`, moving at `qd`, for a physics step `dt`.
-    pub fn cones<const N: usize>(&self, dynamics: &ArmDynamics<N>, poses: &BodyPoses, qd: &Coords<N>, dt: f64, cones: &mut Vec<Cone<N>>) {
+    /// Adds a cone for each contact at `poses` in `world`, moving at `qd`, for its physics step.
+    pub fn cones<const N: usize>(&self, dynamics: &ArmDynamics<N>, poses: &BodyPoses, qd: &Coords<N>, world: &World, cones: &mut Vec<Cone<N>>) {
         if self.pairs.is_empty() {
             return;
         }
-        for (c, pair) in self.contacts(poses) {
-            let [b1, b2] = c.bodies;
-            let (j1, j2) = (dynamics.point_jacobian(poses, b1, &c.pos), dynamics.point_jacobian(poses, b2, &c.pos));
-            let relative = (j2.fixed_rows::<3>(0) - j1.fixed_rows::<3>(0)).into_owned();
+        let dt = world.params().dt;
+        for (c, pair) in self.contacts(poses, world) {
+            let moves = |b: Option<usize>| b.map_or(Jacobian::<N>::zeros(), |b| dynamics.point_jacobian(poses, b, &c.pos));
+            let relative = (moves(c.bodies[1]).fixed_rows::<3>(0) - moves(c.bodies[0]).fixed_rows::<3>(0)).into_owned();
             let along = |d: &Vec3| -> Coords<N> { (d.transpose() * relative).transpose() };
             let [t1, t2] = tangents(&c.normal);
-            let weight = self.invweight0[b1] + self.invweight0[b2];
+            let weight: f64 = c.bodies.iter().flatten().map(|&b| self.invweight0[b]).sum();
             cones.push(pair.softness.cone(along(&c.normal), [along(&t1), along(&t2)], c.dist, qd, weight, pair.friction, IMPRATIO, dt));
         }
     }
@@ -230,9 +338,9 @@ mod tests {
     use super::*;
     use crate::panda::{self, Mount};
 
-    fn panda() -> (ArmDynamics<9>, SelfContacts) {
+    fn panda() -> (ArmDynamics<9>, SoftContacts) {
         let dynamics = ArmDynamics::<9>::new(panda::model(Mount::Pedestal), [0.0, 0.0, -9.81]);
-        let contacts = SelfContacts::new(&dynamics);
+        let contacts = SoftContacts::new(&dynamics);
         (dynamics, contacts)
     }
 

@@ -5,6 +5,8 @@
 //!   (fixed-size maths, identical bits natively and in wasm).
 //! - [`panda`]: the Panda + PandaGripper (+ RethinkMount) exactly as LIBERO uses them, its links
 //!   colliding as hulls fitted to robosuite's collision meshes (`panda_hulls`).
+//! - [`soft`], [`limits`], [`soft_contact`]: MuJoCo's soft constraints, its joint limits, and its
+//!   soft contacts of the arm with itself and the scene's fixed bodies.
 
 // The model files write angles and quaternions in rounded digits (0.707107, 1.5708, 3.14); the
 // arms keep those digits, not the exact constants, to match the originals.

@@ -142,8 +142,9 @@ pub struct Body {
     pub joint: Option<JointSpec>,
     pub inertial: Inertial,
     pub colliders: Vec<Collider>,
-    /// The convex hull (body frame) this body touches the rest of the arm with, as MuJoCo collides
-    /// its collision mesh ([`crate::soft_contact`]); `None`: its colliders.
+    /// The convex hull (body frame) this body touches the rest of the arm and the scene's fixed
+    /// bodies with, as MuJoCo collides its collision mesh ([`crate::soft_contact`]); `None`: its
+    /// colliders.
     pub self_hull: Option<&'static [[f64; 3]]>,
     pub visuals: Vec<Visual>,
 }

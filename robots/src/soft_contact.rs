@@ -50,7 +50,8 @@ struct Geom {
     on: On,
     shape: SharedShape,
     bound: BoundingSphere,
-    /// The sphere's centre in the arm body's frame (unused for the scene).
+    /// The sphere's centre in the frame that poses the shape (the arm body's, or the scene
+    /// collider's own).
     centre: Vec3,
     box_centre: Vec3,
     box_shape: Cuboid,
@@ -134,7 +135,7 @@ pub struct SoftContact {
 #[derive(Clone, Debug, Default)]
 pub struct SoftContacts {
     geoms: Vec<Geom>,
-    /// Per arm geom: a link-layer shape on a moving body (what touches the fixed scene).
+    /// The arm geoms that touch the fixed scene: link-layer shapes on moving bodies.
     moving_links: Vec<usize>,
     pairs: Vec<Pair>,
     /// Translational inverse weight of each body at `q = 0` (MuJoCo's `body_invweight0[0]`).
@@ -227,7 +228,7 @@ impl SoftContacts {
             .iter()
             .map(|g| match g.on {
                 On::Arm(b, _) => poses.poses[b].transform_point(&g.centre),
-                On::Scene(h) => vec3(colliders[h].position().transform_point(g.bound.center)),
+                On::Scene(h) => vec3(colliders[h].position().transform_point(vector(&g.centre))),
             })
             .collect();
         // Full poses only for shapes whose spheres meet another's, each composed once.

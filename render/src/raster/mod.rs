@@ -655,7 +655,7 @@ impl Renderer {
             let mut start = 0;
             while start < w {
                 let id = ids[start];
-                let end = start + ids[start..].iter().take_while(|&&x| x == id).count();
+                let end = start + run_length(&ids[start..]);
                 if from > 0 && (id < from || id == NO_TRIANGLE) {
                     // Already in `out`.
                 } else if id == NO_TRIANGLE {
@@ -673,7 +673,8 @@ impl Renderer {
                         for k in start..end {
                             let z = 1.0 / depths[k];
                             depth_out[k] = z;
-                            let fi = k as f32;
+                            // Through i32 (the same float): its conversion vectorizes.
+                            let fi = k as i32 as f32;
                             put_rgb(rgb_out, k, std::array::from_fn(|c| (rec.rgb[c].a * fi + rows[c]) * z));
                         }
                     } else {
@@ -777,6 +778,23 @@ fn bounds(pixels: &[u32], width: usize) -> Option<(u32, u32, u32, u32)> {
     let (first, last) = (*pixels.first()?, *pixels.last()?);
     let (x0, x1) = pixels.iter().fold((u32::MAX, 0), |(lo, hi), &p| (lo.min(p % w), hi.max(p % w)));
     Some((x0, first / w, x1, last / w))
+}
+
+/// How many ids at the start of `ids` (not empty) equal the first, compared eight at a time:
+/// runs are long where large triangles fill the view.
+#[inline]
+fn run_length(ids: &[u32]) -> usize {
+    use wide::u32x8;
+    let first = u32x8::splat(ids[0]);
+    let mut n = 0;
+    for chunk in ids.chunks_exact(8) {
+        let differ = !u32x8::from(chunk).simd_eq(first).to_bitmask() & 0xFF;
+        if differ != 0 {
+            return n + differ.trailing_zeros() as usize;
+        }
+        n += 8;
+    }
+    n + ids[n..].iter().take_while(|&&x| x == ids[0]).count()
 }
 
 /// Writes pixel `k` of a packed RGB row.
@@ -1320,6 +1338,16 @@ fn downsample(hi: &Frame, k: u32, out: &mut Frame) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn run_length_counts_the_leading_equal_ids() {
+        for len in 1..40usize {
+            for cut in 0..=len {
+                let ids: Vec<u32> = (0..len).map(|k| if k < cut.max(1) { 7 } else { 8 }).collect();
+                assert_eq!(run_length(&ids), cut.max(1), "len {len}, cut {cut}");
+            }
+        }
+    }
 
     #[test]
     fn lit_cache_computes_each_slot_once_per_instance_and_survives_wrap_around() {

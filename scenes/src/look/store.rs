@@ -56,27 +56,36 @@ pub struct MirrorFace {
 /// Coarser copies of a mesh, each with the world size (metres) of the pixel it is made for.
 pub type Lods = Arc<[(f32, Arc<Mesh>)]>;
 
-/// World sizes of the pixels the coarser copies are made for: at 256² a table-top object seen
-/// from agentview (about 1 m) is 3-4 mm per pixel; the wrist camera close by keeps the full mesh.
-const LOD_PIXELS_M: [f32; 4] = [0.002, 0.004, 0.008, 0.016];
+/// World sizes of the pixels the coarser copies are made for, in two chains that each start
+/// from the full mesh, with the fraction of its pixel by which each copy may move from the one
+/// before it. At 256² a table-top object seen from agentview (about 1 m) is 3-4 mm per pixel:
+/// half-pixel steps keep those copies within a pixel of the full mesh (a half + a quarter + ...).
+/// The wrist camera near a grasp sees 0.3-2 mm per pixel, where the Gouraud shading of scanned
+/// meshes' noisy normals shows more than their outline: quarter-pixel steps keep the close-up
+/// copies within half a pixel (half-pixel steps there took the wrist's median SSIM against
+/// MuJoCo from 0.943 to 0.936; these leave it at 0.942).
+const LOD_CHAINS: [(&[f32], f32); 2] = [(&[0.0005, 0.001], 0.25), (&[0.002, 0.004, 0.008, 0.016], 0.5)];
 
 /// How the files are turned into drawings, hashed into the look: a change that alters the asset
 /// look's pixels gets a new name here, so results drawn before and after never share a look.
-const DRAWING: &str = "quadric LODs within a pixel\ntriangle clusters\n";
+const DRAWING: &str = "quadric LODs within a pixel\ntriangle clusters\nclose-up LODs within half a pixel\n";
 
 /// A coarser copy is kept only if it has at most this fraction of the previous one's triangles.
 const LOD_KEEP: f32 = 0.75;
 
-/// The coarser copies of `mesh` drawn at `scale`, each simplified from the one before it by at
-/// most half its pixel, so its surface stays within one pixel of the full mesh (half + a quarter
-/// + ...).
+/// The coarser copies of `mesh` drawn at `scale`, finest first.
 fn lods_of(mesh: &Mesh, scale: [f64; 3]) -> Lods {
     let s = scale.iter().fold(0.0f64, |m, &x| m.max(x.abs())) as f32;
     let mut out: Vec<(f32, Arc<Mesh>)> = Vec::new();
-    for pixel in LOD_PIXELS_M {
-        let finer = out.last().map_or(mesh, |(_, m)| &**m);
-        if let Some(coarse) = finer.simplified(0.5 * pixel / s).filter(|m| (m.triangle_count() as f32) <= LOD_KEEP * finer.triangle_count() as f32) {
-            out.push((pixel, Arc::new(coarse.clustered())));
+    for (pixels, step) in LOD_CHAINS {
+        let mut finer: Option<Arc<Mesh>> = None;
+        for &pixel in pixels {
+            let from = finer.as_deref().unwrap_or(mesh);
+            if let Some(coarse) = from.simplified(step * pixel / s).filter(|m| (m.triangle_count() as f32) <= LOD_KEEP * from.triangle_count() as f32) {
+                let coarse = Arc::new(coarse.clustered());
+                finer = Some(coarse.clone());
+                out.push((pixel, coarse));
+            }
         }
     }
     out.into()

@@ -14,11 +14,8 @@ use crate::camera::Camera;
 use crate::scene::{LightKind, Material, Scene};
 use crate::transform::normalize;
 
-/// Lights are evaluated four at a time, one per lane of a `Vec4`. In this workspace glam is
-/// built with `scalar-math` (rapier's glamx turns it on), so the lanes are plain `f32`s that the
-/// compiler partly vectorizes; either way the same IEEE operations, so the same results natively
-/// and in wasm. (Explicit SSE lanes, tried with the `wide` crate, took about a sixth off the
-/// lighting's profile share and 2 % off a frame with LIBERO's assets: not worth a dependency.)
+/// Lights are stored four to a block, one per lane of a `Vec4`, and applied one after another
+/// to [`VERTEX_LANES`] vertices at once ([`LightRig::shade_lanes`]).
 const LANES: usize = 4;
 
 /// Up to four lights in camera coordinates. Unused lanes have zero colours.
@@ -110,15 +107,14 @@ enum Power<'a> {
 }
 
 impl Power<'_> {
+    /// [`Power::of`] for each vertex lane of [`LightRig::shade_lanes`].
     #[inline]
-    fn of_lanes(&self, x: Vec4) -> Vec4 {
+    fn of_vertex_lanes(&self, x: wide::f32x8) -> wide::f32x8 {
         match *self {
-            // The same multiplications as `powi`, on four lanes at once.
-            Power::Int(k) => repeated_squaring(x, Vec4::ONE, k),
-            _ => Vec4::from_array(x.to_array().map(|v| self.of(v))),
+            Power::Int(k) => repeated_squaring(x, wide::f32x8::ONE, k),
+            _ => wide::f32x8::from(x.to_array().map(|v| self.of(v))),
         }
     }
-
 
     #[inline]
     fn of(&self, x: f32) -> f32 {
@@ -248,35 +244,119 @@ impl LightRig {
         b.shadow[lane] = if casts_shadow { 1.0 } else { 0.0 };
     }
 
-    /// Lights a vertex at camera-space `p` with (not necessarily unit) normal `n`.
+    /// Lights a vertex at camera-space `p` with (not necessarily unit) normal `n` (clipped and
+    /// blended triangles, which are few: one vertex in every lane).
     pub(crate) fn shade(&self, s: &Surface<'_>, p: Vec3, n: Vec3) -> Lit {
+        let lanes = |v: Vec3| [[v.x; VERTEX_LANES], [v.y; VERTEX_LANES], [v.z; VERTEX_LANES]];
+        self.shade_lanes(s, lanes(p), lanes(n)).lit(0)
+    }
+}
+
+/// Vertices lit at once by [`LightRig::shade_lanes`].
+pub(crate) const VERTEX_LANES: usize = 8;
+
+/// Lit colours of [`VERTEX_LANES`] vertices by coordinate: RGBA from the unshadowed lights and
+/// RGB from the shadow-casting one, before the clamp (which unlit surfaces skip).
+pub(crate) struct LitLanes {
+    base: [[f32; VERTEX_LANES]; 4],
+    shadowed: [[f32; VERTEX_LANES]; 3],
+    clamped: bool,
+}
+
+impl LitLanes {
+    /// Lane `l`'s colour, clamped to `[0, 1]` per channel as OpenGL clamps per pass.
+    pub(crate) fn lit(&self, l: usize) -> Lit {
+        let clamp = |x: f32| if self.clamped { x.clamp(0.0, 1.0) } else { x };
+        Lit {
+            base: [clamp(self.base[0][l]), clamp(self.base[1][l]), clamp(self.base[2][l]), self.base[3][l]],
+            shadowed: [clamp(self.shadowed[0][l]), clamp(self.shadowed[1][l]), clamp(self.shadowed[2][l])],
+        }
+    }
+}
+
+impl LightRig {
+    /// Lights eight vertices at once (camera-space positions `p` and not necessarily unit
+    /// normals `n`, by coordinate), one vertex per SIMD lane and one light after another. The
+    /// lanes are `wide`'s, which fall back to plain `f32`s where the target has no SIMD: the
+    /// same IEEE operations either way, so the same results natively and in wasm.
+    pub(crate) fn shade_lanes(&self, s: &Surface<'_>, p: [[f32; VERTEX_LANES]; 3], n: [[f32; VERTEX_LANES]; 3]) -> LitLanes {
+        type V = wide::f32x8;
+        let splat = V::splat;
         if s.unlit {
-            return Lit { base: [s.rgb.x, s.rgb.y, s.rgb.z, s.alpha], shadowed: [0.0; 3] };
+            return LitLanes { base: [s.rgb.x, s.rgb.y, s.rgb.z, s.alpha].map(|c| [c; VERTEX_LANES]), shadowed: [[0.0; VERTEX_LANES]; 3], clamped: false };
         }
-        let n = normalize(n);
-        let v = normalize(-p);
-        let mut base = (s.emission + s.rgb * self.global_ambient).to_array();
-        let mut shadowed = [0.0f32; 3];
+        let zero = V::ZERO;
+        let normalized = |x: V, y: V, z: V| {
+            let len = (x * x + y * y + z * z).sqrt();
+            let (scale, keep) = (V::ONE / len, len.simd_gt(zero));
+            (keep.select(x * scale, zero), keep.select(y * scale, zero), keep.select(z * scale, zero))
+        };
+        let (px, py, pz) = (V::from(p[0]), V::from(p[1]), V::from(p[2]));
+        let (nx, ny, nz) = normalized(V::from(n[0]), V::from(n[1]), V::from(n[2]));
+        // The eye is at the origin: the view vector is `-p`.
+        let (vx, vy, vz) = normalized(-px, -py, -pz);
+        let rgb = s.rgb.to_array();
+        let ambient = s.emission + s.rgb * self.global_ambient;
+        let mut base = [splat(ambient.x), splat(ambient.y), splat(ambient.z)];
+        let mut shadowed = [zero; 3];
         for b in &self.blocks {
-            let c = block_contribution(b, s, p, n, v);
-            if !self.shadowing {
-                // What the split below gives when no lane casts: `c × 1` is `c`, bit for bit.
-                for (sum, lanes) in base.iter_mut().zip(c) {
-                    let l = lanes.to_array();
-                    *sum += l[0] + l[1] + l[2] + l[3];
+            // OpenGL's terms per light (RGB), then summed in lane order.
+            let mut terms = [[zero; LANES]; 3];
+            for l in 0..LANES {
+                let lane = |v: Vec4| splat(v[l]);
+                // Unit vector to the light and its distance (directional lights: 1).
+                let positional = lane(b.positional);
+                let lx = lane(b.x) - px * positional;
+                let ly = lane(b.y) - py * positional;
+                let lz = lane(b.z) - pz * positional;
+                let dist = (lx * lx + ly * ly + lz * lz).sqrt();
+                let inv = dist.simd_gt(zero).select(V::ONE / dist, zero);
+                let (lx, ly, lz) = (lx * inv, ly * inv, lz * inv);
+                // Spot cone: max(−l·axis, 0)^exponent inside the cutoff, 0 outside; 1 for other
+                // lights. (`fast_max(x, 0)` gives 0 for NaN, as `f32::max` does.)
+                let cos = (-(lx * lane(b.ax) + ly * lane(b.ay) + lz * lane(b.az))).fast_max(zero);
+                let (mut power, mut spot) = (cos, V::ONE);
+                for mask in &b.exponent_bits[..b.bits as usize] {
+                    if mask[l] > 0.0 {
+                        spot *= power;
+                    }
+                    power *= power;
                 }
-                continue;
+                if let Some(e) = b.fractional[l] {
+                    spot = V::from(cos.to_array().map(|c| libm::powf(c, e)));
+                }
+                let spot = if b.spot[l] > 0.0 { cos.simd_ge(lane(b.cos_cutoff)).select(spot, zero) } else { V::ONE };
+                let den = lane(b.a0) + lane(b.a1) * dist + lane(b.a2) * dist * dist;
+                let factor = spot * den.simd_gt(zero).select(V::ONE / den, V::ONE);
+                // Diffuse and Blinn-Phong specular (only where the light is in front of the surface).
+                let ndl = nx * lx + ny * ly + nz * lz;
+                let (hx, hy, hz) = (lx + vx, ly + vy, lz + vz);
+                let hlen = (hx * hx + hy * hy + hz * hz).sqrt();
+                let ndh = hlen.simd_gt(zero).select(((nx * hx + ny * hy + nz * hz) * (V::ONE / hlen)).fast_max(zero), zero);
+                let front = ndl.simd_gt(zero);
+                let diffuse = front.select(ndl, zero);
+                let specular = front.select(s.power.of_vertex_lanes(ndh) * splat(s.specular), zero);
+                for k in 0..3 {
+                    terms[k][l] = (lane(b.ambient[k]) * splat(rgb[k]) + lane(b.diffuse[k]) * (diffuse * splat(rgb[k])) + lane(b.specular[k]) * specular) * factor;
+                }
             }
-            for k in 0..3 {
-                // Lane sums in a fixed order; each lane goes to exactly one of the two sums.
-                let plain = (c[k] * (Vec4::ONE - b.shadow)).to_array();
-                let cast = (c[k] * b.shadow).to_array();
-                base[k] += plain[0] + plain[1] + plain[2] + plain[3];
-                shadowed[k] += cast[0] + cast[1] + cast[2] + cast[3];
+            for (k, t) in terms.iter().enumerate() {
+                if !self.shadowing {
+                    base[k] += t[0] + t[1] + t[2] + t[3];
+                    continue;
+                }
+                // Each light goes to exactly one of the two sums.
+                let plain = |l: usize| t[l] * splat(1.0 - b.shadow[l]);
+                let cast = |l: usize| t[l] * splat(b.shadow[l]);
+                base[k] += plain(0) + plain(1) + plain(2) + plain(3);
+                shadowed[k] += cast(0) + cast(1) + cast(2) + cast(3);
             }
         }
-        let clamp = |x: f32| x.clamp(0.0, 1.0);
-        Lit { base: [clamp(base[0]), clamp(base[1]), clamp(base[2]), s.alpha], shadowed: shadowed.map(clamp) }
+        LitLanes {
+            base: [base[0].to_array(), base[1].to_array(), base[2].to_array(), [s.alpha; VERTEX_LANES]],
+            shadowed: shadowed.map(|c| c.to_array()),
+            clamped: true,
+        }
     }
 }
 
@@ -286,57 +366,6 @@ struct Spot {
     cos_cutoff: Option<f32>,
     exponent: f32,
     attenuation: [f32; 3],
-}
-
-/// The OpenGL lighting terms of four lights at once (RGB × lane).
-#[inline]
-fn block_contribution(b: &LightBlock, s: &Surface<'_>, p: Vec3, n: Vec3, v: Vec3) -> [Vec4; 3] {
-    let zero = Vec4::ZERO;
-    // Unit vector to the light and its distance (directional lights: 1).
-    let lx = b.x - Vec4::splat(p.x) * b.positional;
-    let ly = b.y - Vec4::splat(p.y) * b.positional;
-    let lz = b.z - Vec4::splat(p.z) * b.positional;
-    let dist = (lx * lx + ly * ly + lz * lz).sqrt();
-    let inv = Vec4::select(dist.cmpgt(zero), Vec4::ONE / dist, zero);
-    let (lx, ly, lz) = (lx * inv, ly * inv, lz * inv);
-    // Spot cone: max(−l·axis, 0)^exponent inside the cutoff, 0 outside; 1 for other lights.
-    let cos = (-(lx * b.ax + ly * b.ay + lz * b.az)).max(zero);
-    let mut spot = powi_lanes(cos, &b.exponent_bits, b.bits);
-    if b.fractional.iter().any(Option::is_some) {
-        let (c, mut sp) = (cos.to_array(), spot.to_array());
-        for (l, e) in b.fractional.iter().enumerate() {
-            if let Some(e) = e {
-                sp[l] = libm::powf(c[l], *e);
-            }
-        }
-        spot = Vec4::from_array(sp);
-    }
-    let spot = Vec4::select(b.spot.cmpgt(zero), Vec4::select(cos.cmpge(b.cos_cutoff), spot, zero), Vec4::ONE);
-    let den = b.a0 + b.a1 * dist + b.a2 * dist * dist;
-    let factor = spot * Vec4::select(den.cmpgt(zero), Vec4::ONE / den, Vec4::ONE);
-    // Diffuse and Blinn-Phong specular (only where the light is in front of the surface).
-    let (nx, ny, nz) = (Vec4::splat(n.x), Vec4::splat(n.y), Vec4::splat(n.z));
-    let ndl = nx * lx + ny * ly + nz * lz;
-    let (hx, hy, hz) = (lx + Vec4::splat(v.x), ly + Vec4::splat(v.y), lz + Vec4::splat(v.z));
-    let hlen = (hx * hx + hy * hy + hz * hz).sqrt();
-    let ndh = Vec4::select(hlen.cmpgt(zero), ((nx * hx + ny * hy + nz * hz) * (Vec4::ONE / hlen)).max(zero), zero);
-    let front = ndl.cmpgt(zero);
-    let diffuse = Vec4::select(front, ndl, zero);
-    let specular = Vec4::select(front, s.power.of_lanes(ndh) * s.specular, zero);
-    let rgb = s.rgb.to_array();
-    std::array::from_fn(|k| (b.ambient[k] * rgb[k] + b.diffuse[k] * (diffuse * rgb[k]) + b.specular[k] * specular) * factor)
-}
-
-/// `x^e` per lane by repeated squaring, with `e`'s bits given as lane masks.
-#[inline]
-fn powi_lanes(x: Vec4, bit_masks: &[Vec4; 8], bits: u32) -> Vec4 {
-    let (mut base, mut acc) = (x, Vec4::ONE);
-    for mask in &bit_masks[..bits as usize] {
-        // Multiply everywhere, then select: no data-dependent branches.
-        acc = Vec4::select(mask.cmpgt(Vec4::ZERO), acc * base, acc);
-        base *= base;
-    }
-    acc
 }
 
 /// `x^k` by repeated squaring (a fixed sequence of multiplications).
@@ -363,7 +392,7 @@ fn repeated_squaring<T: Copy + std::ops::MulAssign>(x: T, one: T, mut k: u32) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{Headlight, Light};
+    use crate::scene::{Headlight, Light, LightKind};
 
     fn rig(scene: &Scene) -> LightRig {
         let cam = Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y, 45.0, 64, 64);
@@ -381,10 +410,8 @@ mod tests {
         for &(x, e) in &[(0.9f32, 10u32), (0.5, 64), (0.99, 1), (0.0, 3), (0.7, 128)] {
             let want = libm::powf(x, e as f32);
             assert!((powi(x, e) - want).abs() <= 1e-6 * want.max(1e-30));
-            let flag = |on: bool| if on { 1.0 } else { 0.0 };
-            let masks: [Vec4; 8] = std::array::from_fn(|b| Vec4::new(flag((e >> b) & 1 == 1), 0.0, flag(b == 0), flag((e >> b) & 1 == 1)));
-            let got = powi_lanes(Vec4::splat(x), &masks, 8).to_array();
-            assert_eq!(got, [powi(x, e), 1.0, x, powi(x, e)]);
+            let lanes = Power::Int(e).of_vertex_lanes(wide::f32x8::splat(x)).to_array();
+            assert_eq!(lanes, [powi(x, e); VERTEX_LANES]);
         }
         assert_eq!(powi(0.0, 0), 1.0);
     }
@@ -434,6 +461,54 @@ mod tests {
         for k in 0..=100 {
             let x = k as f32 / 100.0;
             assert!((s.power.of(x) - libm::powf(x, 12.8)).abs() < 2e-3, "{x}");
+        }
+    }
+
+    #[test]
+    fn each_lane_is_lit_as_its_vertex_alone() {
+        let mut scene = Scene::default();
+        let mut spot = Light::mujoco_spot(Vec3::new(0.3, -0.2, 1.5), Vec3::new(0.1, 0.0, -1.0));
+        spot.kind = LightKind::Spot { position: Vec3::new(0.3, -0.2, 1.5), direction: Vec3::new(0.1, 0.0, -1.0), cutoff_deg: 60.0, exponent: 2.5, attenuation: [0.5, 0.3, 0.2] };
+        spot.ambient = [0.1, 0.05, 0.0];
+        scene.lights.push(spot);
+        scene.lights.push(Light::mujoco_spot(Vec3::new(-1.0, 1.0, 2.0), Vec3::new(0.0, 0.0, -1.0)));
+        scene.lights.push(Light::mujoco_directional(Vec3::new(0.2, 0.3, -1.0)));
+        scene.lights.push(Light { cast_shadow: false, ..Light::mujoco_spot(Vec3::new(0.0, 2.0, 1.0), Vec3::new(0.0, -1.0, -0.5)) });
+        let materials = [
+            Material { shininess: 0.5, ..mat(0.5) },
+            Material { shininess: 0.1, ..mat(1.0) },
+            Material { rgba: [1.5, 0.2, -0.1, 0.7], unlit: true, ..mat(0.0) },
+            Material { emission: 0.3, shininess: 1.0, ..mat(0.8) },
+        ];
+        scene.instances = materials.iter().map(|m| crate::Instance::new(std::sync::Arc::new(crate::Mesh::plane(1.0, 1.0)), crate::Transform::IDENTITY, 1).with_material(m.clone())).collect();
+        let cam = Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y, 45.0, 64, 64);
+        let mut seed = 12345u32;
+        let mut next = || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
+        };
+        for shadows in [false, true] {
+            let mut rig = LightRig::default();
+            rig.prepare(&scene, &cam, shadows);
+            for m in &materials {
+                let s = rig.surface(m);
+                for _ in 0..20 {
+                    let mut p = [[0.0; VERTEX_LANES]; 3];
+                    let mut n = [[0.0; VERTEX_LANES]; 3];
+                    for l in 0..VERTEX_LANES {
+                        for k in 0..3 {
+                            p[k][l] = next() + if k == 2 { 2.0 } else { 0.0 };
+                            // One lane with a zero normal, which normalizes to zero.
+                            n[k][l] = if l == 5 { 0.0 } else { next() };
+                        }
+                    }
+                    let lanes = rig.shade_lanes(&s, p, n);
+                    for l in 0..VERTEX_LANES {
+                        let one = rig.shade(&s, Vec3::new(p[0][l], p[1][l], p[2][l]), Vec3::new(n[0][l], n[1][l], n[2][l]));
+                        assert_eq!(lanes.lit(l), one, "shadows {shadows}, material {m:?}, lane {l}");
+                    }
+                }
+            }
         }
     }
 

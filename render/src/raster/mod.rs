@@ -8,7 +8,8 @@
 //!    The vertices drawn are transformed into camera space once, with outcodes for trivial
 //!    rejection and clipping. Triangles are back-face culled in exact fixed point, near-plane
 //!    (and guard-band) clipped when needed, and only the vertices of triangles that cover a
-//!    pixel centre in front of what is already drawn are lit (per vertex, [`lighting`]).
+//!    pixel centre in front of what is already drawn are lit (per vertex, [`lighting`]): the
+//!    winners of a cluster wait for their records until its vertices are lit eight at a time.
 //! 2. **Visibility.** Opaque triangles are rasterized depth-only into a visibility buffer: per
 //!    pixel, `1/z` and the index of the nearest triangle ([`triangle`] does exact coverage at
 //!    pixel centres). A large triangle that the hi-z shows hidden is skipped before its pixels
@@ -37,7 +38,7 @@ use thiserror::Error;
 use self::clip::{ClipSpace, ClipVert, Polygon, SphereClass, GUARD_FIXED, MUST_CLIP, REJECT};
 use self::hiz::HiZ;
 use self::layer::{Layers, Plan};
-use self::lighting::{LightRig, Lit};
+use self::lighting::{LightRig, Lit, VERTEX_LANES};
 use self::shadow::ShadowMap;
 use self::triangle::{box_holds_centre, orientation, snap, Plane, Setup};
 use crate::camera::{Camera, Intrinsics};
@@ -293,6 +294,8 @@ pub struct Renderer {
     tri_id: Vec<u32>,
     hiz: HiZ,
     records: Vec<TriRecord>,
+    /// Triangles of the instance being drawn that wait for their lit corners.
+    deferred: Vec<Deferred>,
     /// Per-record colour of the shadow-casting light (only while shadows are active).
     shadow_rgb: Vec<[Plane; 3]>,
     verts: Verts,
@@ -593,6 +596,7 @@ impl Renderer {
             depth: &mut self.depth,
             tri_id: &mut self.tri_id,
             records: &mut self.records,
+            deferred: &mut self.deferred,
             shadow_rgb: &mut self.shadow_rgb,
             hiz: &mut self.hiz,
             view,
@@ -894,16 +898,39 @@ trait Sink {
         false
     }
 
-    /// A screen triangle covering a pixel centre, its vertices' `1/z`, and a function that
-    /// lights its vertices (in the order its setup uses).
-    fn triangle(&mut self, setup: Setup, iz: [f32; 3], light: &mut dyn FnMut() -> [ScreenVert; 3]);
+    /// A screen triangle covering a pixel centre, its vertices' `1/z`, its mesh corners (in
+    /// the order its setup uses, and which side faces the camera) unless it was clipped, and a
+    /// function that lights its vertices now.
+    fn triangle(&mut self, setup: Setup, iz: [f32; 3], corners: Option<Corners>, light: &mut dyn FnMut() -> [ScreenVert; 3]);
+
+    /// Triangles kept for lighting later: the frontend lights their corners together (eight
+    /// vertices at a time) and hands them back through [`Sink::commit`]. `None`: lights now.
+    fn deferred(&mut self) -> Option<&mut Vec<Deferred>> {
+        None
+    }
+
+    /// Takes back the deferred triangles, with their lit corners.
+    fn commit(&mut self, _corner: &dyn Fn(u32, bool) -> ScreenVert) {}
 }
 
-/// Any such function is a sink that hides nothing.
+/// Any such function is a sink that hides nothing and lights at once.
 impl<F: FnMut(Setup, [f32; 3], &mut dyn FnMut() -> [ScreenVert; 3])> Sink for F {
-    fn triangle(&mut self, setup: Setup, iz: [f32; 3], light: &mut dyn FnMut() -> [ScreenVert; 3]) {
+    fn triangle(&mut self, setup: Setup, iz: [f32; 3], _: Option<Corners>, light: &mut dyn FnMut() -> [ScreenVert; 3]) {
         self(setup, iz, light)
     }
+}
+
+/// The mesh vertices of a triangle, in its setup's order, and whether its back faces the camera.
+#[derive(Clone, Copy)]
+struct Corners {
+    ids: [u32; 3],
+    back: bool,
+}
+
+/// A triangle that won pixels and waits for its corners' colours.
+struct Deferred {
+    setup: Setup,
+    corners: Corners,
 }
 
 /// The opaque pass: depth-tests triangles into the visibility buffer and records the winners.
@@ -911,6 +938,8 @@ struct Opaque<'a> {
     depth: &'a mut [f32],
     tri_id: &'a mut [u32],
     records: &'a mut Vec<TriRecord>,
+    /// Winners whose records wait for their lit corners; their ids follow `records`.
+    deferred: &'a mut Vec<Deferred>,
     shadow_rgb: &'a mut Vec<[Plane; 3]>,
     hiz: &'a mut HiZ,
     view: &'a View,
@@ -929,7 +958,7 @@ impl Sink for Opaque<'_> {
         self.hiz.hidden(self.depth, self.view.width, rect, nearest)
     }
 
-    fn triangle(&mut self, setup: Setup, iz: [f32; 3], light: &mut dyn FnMut() -> [ScreenVert; 3]) {
+    fn triangle(&mut self, setup: Setup, iz: [f32; 3], corners: Option<Corners>, light: &mut dyn FnMut() -> [ScreenVert; 3]) {
         self.rasterized += 1;
         let plane = setup.plane(iz);
         // A large triangle behind what is drawn (the floor under the table, a cabinet behind
@@ -948,7 +977,7 @@ impl Sink for Opaque<'_> {
         // Depth test and write first, under the id the record is about to get: a triangle that
         // loses every test (common: instances go front to back) wrote nothing, and is neither
         // lit nor recorded.
-        let id = self.records.len() as u32;
+        let id = (self.records.len() + self.deferred.len()) as u32;
         let mut won = 0u32;
         let view = self.view;
         let keep = view.keep.map(|k| k.test);
@@ -970,7 +999,36 @@ impl Sink for Opaque<'_> {
         if won == 0 {
             return;
         }
-        let (rec, sh) = build_record(&setup, &light(), self.inst, self.idx, self.shadows);
+        match corners {
+            Some(corners) => self.deferred.push(Deferred { setup, corners }),
+            None => {
+                // Ids follow the records: the frontend commits deferred triangles before it
+                // sends a clipped one.
+                debug_assert!(self.deferred.is_empty());
+                self.record(&setup, &light());
+            }
+        }
+    }
+
+    fn deferred(&mut self) -> Option<&mut Vec<Deferred>> {
+        Some(self.deferred)
+    }
+
+    fn commit(&mut self, corner: &dyn Fn(u32, bool) -> ScreenVert) {
+        let deferred = std::mem::take(self.deferred);
+        for d in &deferred {
+            let [a, b, c] = d.corners.ids;
+            let back = d.corners.back;
+            self.record(&d.setup, &[corner(a, back), corner(b, back), corner(c, back)]);
+        }
+        *self.deferred = deferred;
+        self.deferred.clear();
+    }
+}
+
+impl Opaque<'_> {
+    fn record(&mut self, setup: &Setup, corners: &[ScreenVert; 3]) {
+        let (rec, sh) = build_record(setup, corners, self.inst, self.idx, self.shadows);
         self.records.push(rec);
         if let Some(sh) = sh {
             self.shadow_rgb.push(sh);
@@ -1042,7 +1100,8 @@ impl Placed<'_> {
                 let Some(setup) = Setup::new([xy(a), xy(b), xy(c)], w, h) else { continue };
                 let sv = |i: usize, lit: Lit| ScreenVert { xy: xy(i), iz: verts.iz[i], lit, uv: uv_of(i) };
                 let lit = &mut *lit;
-                sink.triangle(setup, [verts.iz[a], verts.iz[b], verts.iz[c]], &mut || {
+                let corners = Corners { ids: [a as u32, b as u32, c as u32], back };
+                sink.triangle(setup, [verts.iz[a], verts.iz[b], verts.iz[c]], Some(corners), &mut || {
                     let (la, lb, lc) = (lit.get(a, back, &light), lit.get(b, back, &light), lit.get(c, back, &light));
                     [sv(a, la), sv(b, lb), sv(c, lc)]
                 });
@@ -1054,6 +1113,7 @@ impl Placed<'_> {
                 if !(facing != 0.0) || (back && !double_sided) {
                     continue;
                 }
+                self.commit(verts, lit, sink);
                 let cv = |i: usize, lit: Lit| ClipVert { p: verts.cam[i], lit, uv: uv_of(i) };
                 let (la, lb, lc) = (lit.get(a, back, &light), lit.get(b, back, &light), lit.get(c, back, &light));
                 let count = view.clip.clip([cv(a, la), cv(b, lb), cv(c, lc)], clip_bits, poly);
@@ -1068,11 +1128,58 @@ impl Placed<'_> {
                         sv.swap(1, 2);
                     }
                     if let Some(setup) = Setup::new([sv[0].xy, sv[1].xy, sv[2].xy], w, h) {
-                        sink.triangle(setup, sv.map(|v| v.iz), &mut || sv);
+                        sink.triangle(setup, sv.map(|v| v.iz), None, &mut || sv);
                     }
                 }
             }
         }
+        self.commit(verts, lit, sink);
+    }
+
+    /// Lights the corners of the triangles `sink` deferred that are not lit yet, eight at a
+    /// time, and hands the triangles back to it.
+    fn commit(&self, verts: &Verts, lit: &mut LitCache, sink: &mut impl Sink) {
+        let Some(deferred) = sink.deferred() else { return };
+        if deferred.is_empty() {
+            return;
+        }
+        let mut batch = std::mem::take(&mut lit.batch);
+        batch.clear();
+        for d in deferred.iter() {
+            for &v in &d.corners.ids {
+                let slot = 2 * v as usize + d.corners.back as usize;
+                if lit.claim(slot) {
+                    batch.push(slot as u32);
+                }
+            }
+        }
+        for chunk in batch.chunks(VERTEX_LANES) {
+            // Lanes past the chunk repeat its last vertex; their colours are dropped.
+            let slot = |l: usize| chunk[l.min(chunk.len() - 1)] as usize;
+            let mut p = [[0.0; VERTEX_LANES]; 3];
+            let mut n = [[0.0; VERTEX_LANES]; 3];
+            for l in 0..VERTEX_LANES {
+                let v = slot(l) / 2;
+                let nrm = mul_mat3(&self.normal_m, self.normals[v]);
+                let nrm = if slot(l) % 2 == 1 { -nrm } else { nrm };
+                let cam = verts.cam[v];
+                for k in 0..3 {
+                    (p[k][l], n[k][l]) = (cam[k], nrm[k]);
+                }
+            }
+            let lanes = self.rig.shade_lanes(&self.surface, p, n);
+            for (l, &slot) in chunk.iter().enumerate() {
+                lit.colours[slot as usize] = lanes.lit(l);
+            }
+        }
+        lit.batch = batch;
+        let xy = |i: usize| (verts.xy[i][0] as i64, verts.xy[i][1] as i64);
+        let uv_of = |i: usize| self.uvs.map_or(Vec2::ZERO, |u| u[i] * self.uv_scale + self.uv_offset);
+        let colours = &lit.colours;
+        sink.commit(&|v, back| {
+            let i = v as usize;
+            ScreenVert { xy: xy(i), iz: verts.iz[i], lit: colours[2 * i + back as usize], uv: uv_of(i) }
+        });
     }
 }
 
@@ -1086,6 +1193,8 @@ struct LitCache {
     current: u32,
     /// Slots computed for the current instance.
     count: usize,
+    /// Slots to light together (reused between instances).
+    batch: Vec<u32>,
 }
 
 impl LitCache {
@@ -1101,6 +1210,17 @@ impl LitCache {
             self.current = 1;
         }
         self.count = 0;
+    }
+
+    /// Marks `slot` computed for the current instance; `false` if it already was.
+    #[inline]
+    fn claim(&mut self, slot: usize) -> bool {
+        let fresh = self.stamps[slot] != self.current;
+        if fresh {
+            self.stamps[slot] = self.current;
+            self.count += 1;
+        }
+        fresh
     }
 
     #[inline]

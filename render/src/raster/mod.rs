@@ -1070,12 +1070,12 @@ impl Placed<'_> {
     /// Culls, clips and emits `tris`, whose vertices are in `verts`.
     fn draw(&self, tris: &[[u32; 3]], verts: &Verts, lit: &mut LitCache, poly: &mut Polygon, view: &View, sink: &mut impl Sink) {
         let (w, h) = (view.width, view.height);
-        let uv_of = |i: usize| self.uvs.map_or(Vec2::ZERO, |u| u[i] * self.uv_scale + self.uv_offset);
+        let uv_of = |i: usize| self.uv(i);
         let light = |i: usize, back: bool| {
             let nrm = mul_mat3(&self.normal_m, self.normals[i]);
             self.rig.shade(&self.surface, verts.cam[i], if back { -nrm } else { nrm })
         };
-        let xy = |i: usize| (verts.xy[i][0] as i64, verts.xy[i][1] as i64);
+        let xy = |i: usize| verts.screen(i);
         let double_sided = self.double_sided;
 
         for tri in tris {
@@ -1098,7 +1098,7 @@ impl Placed<'_> {
                 }
                 let (b, c) = if back { (b, c) } else { (c, b) };
                 let Some(setup) = Setup::new([xy(a), xy(b), xy(c)], w, h) else { continue };
-                let sv = |i: usize, lit: Lit| ScreenVert { xy: xy(i), iz: verts.iz[i], lit, uv: uv_of(i) };
+                let sv = |i: usize, lit: Lit| self.screen_vert(verts, i, lit);
                 let lit = &mut *lit;
                 let corners = Corners { ids: [a as u32, b as u32, c as u32], back };
                 sink.triangle(setup, [verts.iz[a], verts.iz[b], verts.iz[c]], Some(corners), &mut || {
@@ -1173,13 +1173,20 @@ impl Placed<'_> {
             }
         }
         lit.batch = batch;
-        let xy = |i: usize| (verts.xy[i][0] as i64, verts.xy[i][1] as i64);
-        let uv_of = |i: usize| self.uvs.map_or(Vec2::ZERO, |u| u[i] * self.uv_scale + self.uv_offset);
         let colours = &lit.colours;
-        sink.commit(&|v, back| {
-            let i = v as usize;
-            ScreenVert { xy: xy(i), iz: verts.iz[i], lit: colours[2 * i + back as usize], uv: uv_of(i) }
-        });
+        sink.commit(&|v, back| self.screen_vert(verts, v as usize, colours[2 * v as usize + back as usize]));
+    }
+
+    /// Texture coordinates of vertex `i`, with the material's scale and offset.
+    #[inline]
+    fn uv(&self, i: usize) -> Vec2 {
+        self.uvs.map_or(Vec2::ZERO, |u| u[i] * self.uv_scale + self.uv_offset)
+    }
+
+    /// Vertex `i` on screen, lit `lit`.
+    #[inline]
+    fn screen_vert(&self, verts: &Verts, i: usize, lit: Lit) -> ScreenVert {
+        ScreenVert { xy: verts.screen(i), iz: verts.iz[i], lit, uv: self.uv(i) }
     }
 }
 
@@ -1263,6 +1270,12 @@ impl Verts {
             self.iz.push(iz);
             self.code.push(code);
         }
+    }
+
+    /// Snapped screen position of vertex `i`.
+    #[inline]
+    fn screen(&self, i: usize) -> (i64, i64) {
+        (self.xy[i][0] as i64, self.xy[i][1] as i64)
     }
 
     /// Starts an instance whose vertices are filled on demand by [`Verts::ensure`].

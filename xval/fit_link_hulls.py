@@ -11,8 +11,9 @@ joint housings are round, so at 64 corners the full hulls stick out by 1-2.5 mm.
 are rounded to 0.1 mm and printed as the Rust source of `robots/src/panda_hulls.rs`, with how far
 the full hull sticks out of each fitted one (the fitted hull lies inside the full one). The arm's
 contacts with itself, soft as MuJoCo's and found only where two bounding boxes overlap, use the
-full hull (`<NAME>_FULL`; link 1's as its 160 spread corners, 2 mm inside), and so do the
-fingers (`FINGER1_FULL`, `FINGER2_FULL`).
+full hull (`<NAME>_FULL`, every corner, rounded to 0.01 mm), and so do the fingers (`FINGER1_FULL`,
+`FINGER2_FULL`). Link 1's was once thinned to 160 spread corners, 2 mm inside MuJoCo's: a finger
+that MuJoCo saw touch link 1 (`fast_j2_lo_j4_lo`, record 55) stayed 0.25 mm clear of it.
 
 Needs numpy and scipy, and robosuite 1.4's files (found without importing robosuite, which wants
 OpenCV):
@@ -110,15 +111,15 @@ def main():
             print(f"/// {len(kept)} of the hull's {len(full)} corners; the full hull sticks out of these by at most {out * 1e3:.1f} mm.")
             print_points(name, kept)
             print(f"{name}: {len(full)} -> {len(kept)} corners, full hull out by {out * 1e3:.2f} mm", file=sys.stderr)
-        dense = np.round(farthest_points(full, DENSE), 4)
-        print(f"/// {len(dense)} of the hull's {len(full)} corners; it sticks out of these by at most {sticking_out(full, dense) * 1e3:.1f} mm.")
-        print_points(f"{name}_FULL", dense)
+        exact = np.round(full, 5)
+        print(f"/// All {len(exact)} corners of the hull; it sticks out of them by at most {sticking_out(full, exact) * 1e3:.3f} mm.")
+        print_points(f"{name}_FULL", exact, 5)
 
 
-def print_points(name, points):
+def print_points(name, points, decimals=4):
     print(f"pub(crate) const {name}: &[[f64; 3]] = &[")
     for p in points:
-        print("    [" + ", ".join(f"{x + 0.0:.4f}" for x in p) + "],")  # + 0.0: no -0.0000
+        print("    [" + ", ".join(f"{x + 0.0:.{decimals}f}" for x in p) + "],")  # + 0.0: no -0.0000
     print("];")
 
 

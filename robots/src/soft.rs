@@ -97,28 +97,50 @@ impl<const N: usize> Row<N> {
     }
 }
 
-/// A contact with MuJoCo's elliptic friction cone: a normal row and two tangent rows.
+/// A contact with MuJoCo's elliptic friction cone: a normal row, two tangent rows and, for
+/// `condim` 4, a torsional row (spin about the normal).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cone<const N: usize> {
-    pub rows: [Row<N>; 3],
-    /// Friction coefficient of the tangent rows.
-    pub friction: f64,
-    /// Friction coefficient of the regularized cone: `friction · sqrt(R_t / R_n)`.
+    /// The normal row, then the friction rows; only the first [`Cone::dim`] are used.
+    pub rows: [Row<N>; 4],
+    /// MuJoCo's `condim`: 3, or 4 with the torsional row.
+    pub dim: usize,
+    /// Friction coefficients of the friction rows (tangent, tangent, torsional).
+    pub friction: [f64; 3],
+    /// Friction coefficient of the regularized cone: `friction[0] · sqrt(R_t / R_n)`.
     pub mu: f64,
+}
+
+/// A contact's friction as MuJoCo mixes two geoms' (the larger of each): the tangent
+/// coefficient, and the torsional one where the contact has `condim` 4.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Friction {
+    pub slide: f64,
+    pub spin: Option<f64>,
 }
 
 impl Softness {
     /// A contact at distance `dist` (negative: overlapping) along `normal` with tangent rows
-    /// `tangents` (Jacobians of the relative velocity, second body minus first), `weight` the
-    /// sum of the two bodies' translational `invweight0`. As MuJoCo makes it: the tangent rows
-    /// damp but do not spring (`K = 0`) and are `impratio` times stiffer than the normal.
+    /// `tangents` and the torsional row `spin` (Jacobians of the relative velocity, second body
+    /// minus first; the angular one about the normal), `weight` the sum of the two bodies'
+    /// translational `invweight0`. As MuJoCo makes it: the friction rows damp but do not spring
+    /// (`K = 0`), the tangent ones are `impratio` times stiffer than the normal, and each row's
+    /// regularizer times its coefficient squared is the tangent rows' (`mj_makeImpedance`).
     #[allow(clippy::too_many_arguments)]
-    pub fn cone<const N: usize>(&self, normal: Coords<N>, tangents: [Coords<N>; 2], dist: f64, qd: &Coords<N>, weight: f64, friction: f64, impratio: f64, dt: f64) -> Cone<N> {
+    pub fn cone<const N: usize>(&self, normal: Coords<N>, tangents: [Coords<N>; 2], spin: Coords<N>, dist: f64, qd: &Coords<N>, weight: f64, friction: Friction, impratio: f64, dt: f64) -> Cone<N> {
         let n = self.row(normal, dist - self.margin, normal.dot(qd), weight, dt);
         let (_, b) = self.stiffness_damping(dt);
         let regularizer = n.regularizer / impratio.max(MIN_VAL);
-        let tangent = |j: Coords<N>| Row { jacobian: j, regularizer, aref: -b * j.dot(qd) };
-        Cone { rows: [n, tangent(tangents[0]), tangent(tangents[1])], friction, mu: friction * libm::sqrt(regularizer / n.regularizer) }
+        let row = |j: Coords<N>, regularizer: f64| Row { jacobian: j, regularizer, aref: -b * j.dot(qd) };
+        let slide = friction.slide;
+        let torsional = friction.spin.unwrap_or(0.0);
+        let spin_regularizer = if torsional > 0.0 { regularizer * slide * slide / (torsional * torsional) } else { regularizer };
+        Cone {
+            rows: [n, row(tangents[0], regularizer), row(tangents[1], regularizer), row(spin, spin_regularizer)],
+            dim: if friction.spin.is_some() { 4 } else { 3 },
+            friction: [slide, slide, torsional],
+            mu: slide * libm::sqrt(regularizer / n.regularizer),
+        }
     }
 }
 
@@ -161,15 +183,20 @@ impl<const N: usize> Constraints<N> {
             }
         }
         for cone in &self.cones {
-            let jar = cone.rows.map(|r| r.shortfall(a));
-            let (mu, fr) = (cone.mu, cone.friction);
-            let u = [jar[0] * mu, jar[1] * fr, jar[2] * fr];
-            let (n, t) = (u[0], libm::hypot(u[1], u[2]));
+            let dim = cone.dim;
+            let rows = &cone.rows[..dim];
+            let jar: [f64; 4] = std::array::from_fn(|j| if j < dim { rows[j].shortfall(a) } else { 0.0 });
+            let mu = cone.mu;
+            // u = (jar₀·mu, jarⱼ·frictionⱼ): the cone's coordinates, N along the normal, T the
+            // length of the friction part.
+            let scale: [f64; 4] = [mu, cone.friction[0], cone.friction[1], cone.friction[2]];
+            let u: [f64; 4] = std::array::from_fn(|j| if j < dim { jar[j] * scale[j] } else { 0.0 });
+            let (n, t) = (u[0], libm::hypot(libm::hypot(u[1], u[2]), u[3]));
             if n >= mu * t || (t <= 0.0 && n >= 0.0) {
                 continue;
             }
             if mu * n + t <= 0.0 || (t <= 0.0 && n < 0.0) {
-                for (row, &jar) in cone.rows.iter().zip(&jar) {
+                for (row, &jar) in rows.iter().zip(&jar) {
                     quadratic(&mut e, row, jar);
                 }
                 continue;
@@ -179,21 +206,20 @@ impl<const N: usize> Constraints<N> {
             let nmt = n - mu * t;
             e.cost += 0.5 * dm * nmt * nmt;
             let f0 = -dm * nmt * mu;
-            let force = [f0, -f0 / t * u[1] * fr, -f0 / t * u[2] * fr];
-            let scale = [mu, fr, fr];
-            let mut h = [[0.0; 3]; 3];
+            let force: [f64; 4] = std::array::from_fn(|j| if j == 0 { f0 } else { -f0 / t * u[j] * scale[j] });
+            let mut h = [[0.0; 4]; 4];
             h[0][0] = 1.0;
-            for j in 1..3 {
+            for j in 1..dim {
                 h[0][j] = -mu / t * u[j];
                 h[j][0] = h[0][j];
-                for k in 1..3 {
+                for k in 1..dim {
                     h[j][k] = mu * n / (t * t * t) * u[j] * u[k] + if j == k { mu * mu - mu * n / t } else { 0.0 };
                 }
             }
-            for j in 0..3 {
-                e.force += cone.rows[j].jacobian * force[j];
-                for k in 0..3 {
-                    e.hessian += cone.rows[j].jacobian * cone.rows[k].jacobian.transpose() * (dm * scale[j] * h[j][k] * scale[k]);
+            for j in 0..dim {
+                e.force += rows[j].jacobian * force[j];
+                for k in 0..dim {
+                    e.hessian += rows[j].jacobian * rows[k].jacobian.transpose() * (dm * scale[j] * h[j][k] * scale[k]);
                 }
             }
         }
@@ -260,6 +286,37 @@ mod tests {
         let m = Softness::MUJOCO_DEFAULT.mixed(&pad);
         assert_eq!(m.solref, [0.015, 0.75]);
         assert_eq!(m.solimp, Softness::MUJOCO_DEFAULT.solimp);
+    }
+
+    /// A puck pressed into a floor (dof 0 along the normal) and twisted about the normal (dof 1).
+    /// With `condim` 3 nothing resists the twist. With 4 the torsional row is regularized as
+    /// MuJoCo's (`R · spin² = R_t · slide²`, so 40,000 times softer than a tangent row at 0.005):
+    /// a small twist is damped as that row alone would (`f = -τ / (1 + I·R)`), and a large one
+    /// slips at the cone's edge, `spin · f_n`.
+    #[test]
+    fn the_torsional_row_resists_a_twist_up_to_its_friction() {
+        let inertia = 0.01;
+        let mass = SMatrix::<f64, 2, 2>::from_diagonal(&Coords::<2>::new(1.0, inertia));
+        let s = Softness::MUJOCO_DEFAULT;
+        let qd = Coords::<2>::zeros();
+        let cone = |spin: Option<f64>| {
+            let (normal, twist) = (Coords::<2>::new(1.0, 0.0), Coords::<2>::new(0.0, 1.0));
+            s.cone(normal, [Coords::<2>::zeros(); 2], twist, -0.001, &qd, 1.0, Friction { slide: 1.0, spin }, 20.0, 0.002)
+        };
+        let forces = |spin: Option<f64>, torque: f64| Constraints { rows: Vec::new(), cones: vec![cone(spin)] }.forces(&mass, &Coords::<2>::new(-9.81, torque));
+        assert_eq!(cone(None).dim, 3);
+        assert_eq!(forces(None, 0.01)[1], 0.0);
+        let c = cone(Some(0.005));
+        assert_eq!(c.dim, 4);
+        let r = c.rows[3].regularizer;
+        assert!((r / c.rows[1].regularizer - 40_000.0).abs() < 1e-6, "{r}");
+        let held = forces(Some(0.005), 0.01);
+        let expected = -0.01 / (1.0 + inertia * r);
+        assert!((held[1] - expected).abs() < 1e-9 * expected.abs(), "{held:?} against {expected}");
+        let slipping = forces(Some(0.005), 1.0);
+        let limit = 0.005 * slipping[0];
+        assert!(slipping[0] > 9.81, "{slipping:?}");
+        assert!(slipping[1] < 0.0 && -slipping[1] <= limit * (1.0 + 1e-9) && -slipping[1] >= 0.9 * limit, "{slipping:?}, limit {limit}");
     }
 
     /// Two rows on one unit mass, one of them pulled out of its constraint: only the other pushes.

@@ -20,8 +20,10 @@
 //!   pair (MuJoCo's convex–convex collision), at the midpoint of the two surfaces;
 //! - with MuJoCo's elliptic friction cone (robosuite's `impratio` 20 makes the friction rows 20
 //!   times stiffer than the normal one): without it the hand, once on link 5, slid along it and
-//!   turned joint 7 by a quarter radian where MuJoCo's stays put; the torsional row of the
-//!   fingers' `condim` 4 (friction 0.005) is left out.
+//!   turned joint 7 by a quarter radian where MuJoCo's stays put;
+//! - with the torsional row of the finger shells' `condim` 4: in the `fast_j2_lo_j4_lo` limit
+//!   sequence a finger lands on link 2 and MuJoCo's torsional friction holds the hand's spin
+//!   about the contact normal.
 
 use vifo_physics::rapier::parry::bounding_volume::BoundingSphere;
 use vifo_physics::rapier::parry::query;
@@ -34,11 +36,16 @@ use crate::arm::{hull, shape, shape_frame};
 use crate::convert::{rapier_pose, vec3, vector};
 use crate::dynamics::{ArmDynamics, BodyPoses, Coords, Jacobian};
 use crate::model::{Collider, ContactRole};
-use crate::soft::{Cone, Softness};
+use crate::soft::{Cone, Friction, Softness};
 use crate::spatial::{Pose, Vec3};
 
 /// robosuite's finger pads are stiffer than the rest (`solref="0.01 0.5"`).
 const PAD: Softness = Softness { solref: [0.01, 0.5], ..Softness::MUJOCO_DEFAULT };
+
+/// Torsional friction of a `condim` 4 contact: robosuite's finger shells (`friction="1 0.005
+/// 0.0001" condim="4"`) and every other geom the arm touches keep MuJoCo's default 0.005, so
+/// their mix (the larger) is 0.005.
+const TORSIONAL: f64 = 0.005;
 
 /// robosuite's ratio of frictional to normal impedance (`<option impratio="20">`).
 const IMPRATIO: f64 = 20.0;
@@ -56,7 +63,7 @@ struct Geom {
     box_centre: Vec3,
     box_shape: Cuboid,
     softness: Softness,
-    friction: f64,
+    friction: Friction,
 }
 
 /// What a shape is fixed to.
@@ -69,7 +76,7 @@ enum On {
 }
 
 impl Geom {
-    fn new(on: On, shape: SharedShape, softness: Softness, friction: f64) -> Geom {
+    fn new(on: On, shape: SharedShape, softness: Softness, friction: Friction) -> Geom {
         let aabb = shape.compute_local_aabb();
         let bound = shape.compute_local_bounding_sphere();
         let centre = match on {
@@ -103,18 +110,20 @@ pub struct FixedShape {
     pub softness: Softness,
 }
 
-/// A pair of shapes that may touch, with their mixed softness and friction (the larger one).
+/// A pair of shapes that may touch, with their mixed softness and friction (the larger of
+/// each, and the torsional row where either shape has `condim` 4).
 #[derive(Clone, Debug)]
 struct Pair {
     geoms: [usize; 2],
     softness: Softness,
-    friction: f64,
+    friction: Friction,
 }
 
 impl Pair {
     fn of(geoms: &[Geom], i: usize, j: usize) -> Pair {
-        let (a, b) = (&geoms[i], &geoms[j]);
-        Pair { geoms: [i, j], softness: a.softness.mixed(&b.softness), friction: a.friction.max(b.friction) }
+        let (a, b) = (geoms[i].friction, geoms[j].friction);
+        let spin = a.spin.or(b.spin).map(|_| a.spin.unwrap_or(TORSIONAL).max(b.spin.unwrap_or(TORSIONAL)));
+        Pair { geoms: [i, j], softness: geoms[i].softness.mixed(&geoms[j].softness), friction: Friction { slide: a.slide.max(b.slide), spin } }
     }
 }
 
@@ -160,10 +169,11 @@ impl SoftContacts {
         }
         let weld_parent = |w: usize| model.bodies[w].parent.and_then(|p| weld[p]);
         let softness = |role: ContactRole| if role == ContactRole::Pad { PAD } else { Softness::MUJOCO_DEFAULT };
+        let friction = |c: &Collider| Friction { slide: c.friction, spin: (c.role == ContactRole::Finger).then_some(TORSIONAL) };
         let (mut geoms, mut roles) = (Vec::new(), Vec::new());
         for (b, body) in model.bodies.iter().enumerate() {
             let mut add = |shape: SharedShape, local: Pose, c: &Collider| {
-                geoms.push(Geom::new(On::Arm(b, local), shape, softness(c.role), c.friction));
+                geoms.push(Geom::new(On::Arm(b, local), shape, softness(c.role), friction(c)));
                 roles.push(c.role);
             };
             // MuJoCo's hull where the body has one (rapier's few corners lie 1-2.5 mm inside it,
@@ -198,7 +208,7 @@ impl SoftContacts {
     pub fn with_fixed(mut self, world: &World, fixed: &[FixedShape]) -> Self {
         for f in fixed {
             let shape = world.rapier().colliders[f.collider].shared_shape().clone();
-            let friction = world.rapier().colliders[f.collider].friction();
+            let friction = Friction { slide: world.rapier().colliders[f.collider].friction(), spin: None };
             self.geoms.push(Geom::new(On::Scene(f.collider), shape, f.softness, friction));
             let j = self.geoms.len() - 1;
             for &i in &self.moving_links {
@@ -303,11 +313,12 @@ impl SoftContacts {
         let dt = world.params().dt;
         for (c, pair) in self.contacts(poses, world) {
             let moves = |b: Option<usize>| b.map_or(Jacobian::<N>::zeros(), |b| dynamics.point_jacobian(poses, b, &c.pos));
-            let relative = (moves(c.bodies[1]).fixed_rows::<3>(0) - moves(c.bodies[0]).fixed_rows::<3>(0)).into_owned();
-            let along = |d: &Vec3| -> Coords<N> { (d.transpose() * relative).transpose() };
+            let relative = moves(c.bodies[1]) - moves(c.bodies[0]);
+            let along = |d: &Vec3, rows: usize| -> Coords<N> { (d.transpose() * relative.fixed_rows::<3>(rows)).transpose() };
             let [t1, t2] = tangents(&c.normal);
+            let spin = if pair.friction.spin.is_some() { along(&c.normal, 3) } else { Coords::<N>::zeros() };
             let weight: f64 = c.bodies.iter().flatten().map(|&b| self.invweight0[b]).sum();
-            cones.push(pair.softness.cone(along(&c.normal), [along(&t1), along(&t2)], c.dist, qd, weight, pair.friction, IMPRATIO, dt));
+            cones.push(pair.softness.cone(along(&c.normal, 0), [along(&t1, 0), along(&t2, 0)], spin, c.dist, qd, weight, pair.friction, IMPRATIO, dt));
         }
     }
 }

@@ -8,6 +8,12 @@
 //! reference README). To compare like with like, both end-effector poses are computed with our
 //! kinematics (which matches MuJoCo's to micrometres) from the joint states at the end of each
 //! control step: ours, and the recorded one. Objects are compared by root-body pose.
+//!
+//! Where a sequence amplifies small differences (a whirl near a singular pose, a stick-slip
+//! contact), the free replay's error says little about the model. So a second replay restarts
+//! every control step from MuJoCo's recorded arm state (joint positions and velocities; the
+//! fingers' positions, at rest, as their velocities are not recorded) and reports how far one
+//! step lands from MuJoCo's next record: the error of a single step, which does not accumulate.
 
 use anyhow::{Context, Result, anyhow};
 use serde::Serialize;
@@ -27,13 +33,16 @@ pub struct ErrorStats {
     pub eef_rot_max_deg: f64,
     pub joint_max_rad: f64,
     pub finger_max_m: f64,
+    /// Largest joint difference after one control step from MuJoCo's recorded state.
+    pub step_joint_max_rad: f64,
     pub records: usize,
     #[serde(skip)]
     sum_sq: f64,
 }
 
 impl ErrorStats {
-    fn add(&mut self, pos: f64, rot_deg: f64, joint: f64, finger: f64) {
+    fn add(&mut self, pos: f64, rot_deg: f64, joint: f64, finger: f64, step_joint: f64) {
+        self.step_joint_max_rad = self.step_joint_max_rad.max(step_joint);
         self.eef_pos_max_m = self.eef_pos_max_m.max(pos);
         self.eef_rot_max_deg = self.eef_rot_max_deg.max(rot_deg);
         self.joint_max_rad = self.joint_max_rad.max(joint);
@@ -48,6 +57,7 @@ impl ErrorStats {
         self.eef_rot_max_deg = self.eef_rot_max_deg.max(other.eef_rot_max_deg);
         self.joint_max_rad = self.joint_max_rad.max(other.joint_max_rad);
         self.finger_max_m = self.finger_max_m.max(other.finger_max_m);
+        self.step_joint_max_rad = self.step_joint_max_rad.max(other.step_joint_max_rad);
         self.sum_sq += other.sum_sq;
         self.records += other.records;
         self.eef_pos_rms_m = if self.records > 0 { (self.sum_sq / self.records as f64).sqrt() } else { 0.0 };
@@ -115,6 +125,15 @@ pub fn start(rec: &Recording) -> Result<Sim> {
     Ok(sim)
 }
 
+/// The arm's and fingers' joint positions of a record.
+fn recorded(record: &Record) -> Coords<9> {
+    let mut q = Coords::<9>::zeros();
+    q.fixed_rows_mut::<7>(0).copy_from_slice(&record.joint_qpos);
+    q[7] = record.gripper_qpos[0];
+    q[8] = record.gripper_qpos[1];
+    q
+}
+
 fn grip_site(robot: &Panda, q: &Coords<9>) -> Pose {
     let dynamics = robot.arm().dynamics();
     let s = dynamics.model().site(panda::GRIP_SITE).expect("grip site");
@@ -144,24 +163,31 @@ fn object_errors(sim: &Sim, record: &Record, at: &'static str) -> Vec<ObjectErro
 /// Replays one recording and compares every record.
 pub fn replay(file: &str, rec: &Recording) -> Result<TaskReport> {
     let mut sim = start(rec)?;
+    let mut one = start(rec)?;
     let panda = sim.model().robot.panda().cloned().ok_or_else(|| anyhow!("{file}: xval replays recordings of the Panda; this scene has another arm"))?;
     let ranges = rec.phases();
     let mut phases: Vec<PhaseReport> = ranges.iter().map(|(phase, ..)| PhaseReport { phase: phase.clone(), stats: ErrorStats::default() }).collect();
     // Objects are compared after the first phase (settling) and at the end of the last.
     let object_checks = [("settle", ranges.first().map_or(0, |p| p.2)), ("end", ranges.iter().map(|p| p.2).max().unwrap_or(0))];
     let mut objects = Vec::new();
-    for record in &rec.steps[1..] {
-        sim.step(&record.action()?);
+    for (before, record) in rec.steps.iter().zip(&rec.steps[1..]) {
+        let action = record.action()?;
+        sim.step(&action);
+        // Record 0 is where both replays start.
+        if before.t > 0 {
+            let q = recorded(before);
+            panda.set_joints(one.world_mut(), &before.joint_qpos, &[q[7], q[8]], &before.joint_qvel, &[0.0; 2]);
+        }
+        one.step(&action);
+        let theirs = recorded(record);
         let ours = panda.joints(sim.world()).q;
-        let mut theirs = Coords::<9>::zeros();
-        theirs.fixed_rows_mut::<7>(0).copy_from_slice(&record.joint_qpos);
-        theirs[7] = record.gripper_qpos[0];
-        theirs[8] = record.gripper_qpos[1];
         let (a, b) = (grip_site(&panda, &ours), grip_site(&panda, &theirs));
         let joint = (0..7).map(|i| (ours[i] - theirs[i]).abs()).fold(0.0, f64::max);
         let finger = (7..9).map(|i| (ours[i] - theirs[i]).abs()).fold(0.0, f64::max);
+        let stepped = panda.joints(one.world()).q;
+        let step_joint = (0..7).map(|i| (stepped[i] - theirs[i]).abs()).fold(0.0, f64::max);
         if let Some(p) = ranges.iter().position(|&(_, lo, hi)| (lo..=hi).contains(&record.t)) {
-            phases[p].stats.add((a.pos - b.pos).norm(), angle_between(&a.rot, &b.rot).to_degrees(), joint, finger);
+            phases[p].stats.add((a.pos - b.pos).norm(), angle_between(&a.rot, &b.rot).to_degrees(), joint, finger, step_joint);
         }
         if let Some(&(at, _)) = object_checks.iter().find(|&&(_, t)| t == record.t) {
             objects.extend(object_errors(&sim, record, at));

@@ -2,8 +2,9 @@
 //!
 //! Bodies welded to their parent (link0 to the base, hand and gripper to link7, pad tips to the
 //! fingers) are merged into one rapier body, so the multibody has exactly one link per degree of
-//! freedom. Joint damping, armature and frictionloss are rapier's multibody per-dof parameters,
-//! which integrate them as MuJoCo's Euler step does (damping implicitly). Actuator efforts are
+//! freedom. Joint damping and armature are rapier's multibody per-dof parameters, which integrate
+//! them as MuJoCo's Euler step does (damping implicitly), and so is frictionloss unless the joint
+//! is `soft` (then it is MuJoCo's soft row, [`crate::limits`]). Actuator efforts are
 //! applied as equal and opposite torque (hinges) or force (slides, at a common point) pairs on the
 //! two bodies a joint connects, which is exactly a generalized force on that joint.
 
@@ -130,7 +131,7 @@ impl<const N: usize> ArmInstance<N> {
             rigid_body[b] = handle;
             if let (Some(joint), Some(parent)) = (&bodies[b].joint, bodies[b].parent) {
                 let child_in_parent = in_owner(parent).mul(&bodies[b].local);
-                let range = joint.soft_limit.is_none().then_some(joint.range);
+                let range = joint.soft.is_none().then_some(joint.range);
                 let generic = joint::one_dof(joint.kind, &child_in_parent, &Vec3::zeros(), &joint.axis, range);
                 let handle = r
                     .multibody_joints
@@ -155,7 +156,8 @@ impl<const N: usize> ArmInstance<N> {
             mb.set_self_contacts_enabled(true);
             mb.damping_mut()[dof] = spec.damping;
             mb.armature_mut()[dof] = spec.armature;
-            mb.frictions_mut()[dof] = spec.frictionloss;
+            // A soft joint's dry friction is a row of MuJoCo's constraint instead ([`crate::limits`]).
+            mb.frictions_mut()[dof] = if spec.soft.is_some() { 0.0 } else { spec.frictionloss };
         }
 
         let mut colliders = Vec::new();

@@ -1,4 +1,5 @@
-//! Joint limits as MuJoCo enforces them: a soft one-sided constraint, not a hard stop.
+//! Joint limits and dry friction as MuJoCo enforces them: soft constraints, not a hard stop or a
+//! hard stick.
 //!
 //! A joint past `range` (less `margin`) gets a row of MuJoCo's soft constraint ([`crate::soft`])
 //! whose regularizer is scaled by the dof's inverse mass at `qpos0` (`dof_invweight0`): pushed
@@ -7,7 +8,7 @@
 //! end-effector up to 18 cm away from MuJoCo's once a joint was held at its limit.
 
 use crate::dynamics::{ArmDynamics, Coords};
-use crate::soft::{Row, Softness};
+use crate::soft::{DryFriction, Row, Softness};
 use crate::spatial::Pose;
 
 /// The soft limits of an arm's joints, with MuJoCo's per-dof `invweight0`.
@@ -15,18 +16,21 @@ use crate::spatial::Pose;
 pub struct JointLimits<const N: usize> {
     /// Range and softness of each dof whose limit is soft.
     soft: [Option<([f64; 2], Softness)>; N],
+    /// Dry friction (`frictionloss`) of each such dof.
+    frictionloss: Coords<N>,
     /// Diagonal of the inverse mass matrix at `q = 0` (MuJoCo's `dof_invweight0`).
     invweight0: Coords<N>,
 }
 
 impl<const N: usize> JointLimits<N> {
-    /// The soft limits of `dynamics`' model (joints with `soft_limit`).
+    /// The soft limits and dry friction of `dynamics`' model (joints with `soft`).
     pub fn new(dynamics: &ArmDynamics<N>) -> Self {
         let model = dynamics.model();
-        let soft = std::array::from_fn(|i| model.joint(i).soft_limit.map(|s| (model.joint(i).range, s)));
+        let soft = std::array::from_fn(|i| model.joint(i).soft.map(|s| (model.joint(i).range, s)));
+        let frictionloss = Coords::<N>::from_fn(|i, _| if soft[i].is_some() { model.joint(i).frictionloss } else { 0.0 });
         let mass = dynamics.mass_matrix(&dynamics.forward(&Pose::IDENTITY, &Coords::<N>::zeros()));
         let inverse = mass.cholesky().expect("an arm's mass matrix is positive definite").inverse();
-        JointLimits { soft, invweight0: inverse.diagonal() }
+        JointLimits { soft, frictionloss, invweight0: inverse.diagonal() }
     }
 
     pub fn invweight0(&self) -> &Coords<N> {
@@ -56,6 +60,17 @@ impl<const N: usize> JointLimits<N> {
                 let mut jacobian = Coords::<N>::zeros();
                 jacobian[i] = s;
                 rows.push(limit.row(jacobian, r, s * qd[i], self.invweight0[i], dt));
+            }
+        }
+    }
+
+    /// Adds a dry-friction row for each soft dof with `frictionloss`, moving at `qd`.
+    pub fn friction(&self, qd: &Coords<N>, dt: f64, friction: &mut Vec<DryFriction<N>>) {
+        for (i, soft) in self.soft.iter().enumerate() {
+            if let (Some((_, s)), true) = (soft, self.frictionloss[i] > 0.0) {
+                let mut jacobian = Coords::<N>::zeros();
+                jacobian[i] = 1.0;
+                friction.push(s.dry_friction(jacobian, qd[i], self.frictionloss[i], self.invweight0[i], dt));
             }
         }
     }

@@ -31,9 +31,11 @@ pub struct JointSpec {
     pub armature: f64,
     /// Dry friction (N·m or N).
     pub frictionloss: f64,
-    /// MuJoCo's soft limit constraint, applied by the arm's controller ([`crate::limits`]);
-    /// `None` leaves the limit to rapier's joint constraint.
-    pub soft_limit: Option<crate::soft::Softness>,
+    /// MuJoCo's soft constraints of the joint's limit and dry friction (robosuite keeps
+    /// `solreflimit`/`solimplimit` and `solreffriction`/`solimpfriction` at the same defaults),
+    /// applied by the arm's controller ([`crate::limits`]); `None` leaves both to rapier's
+    /// joint constraint and dof friction.
+    pub soft: Option<crate::soft::Softness>,
 }
 
 /// Mass properties of a body about its centre of mass, in the body frame.

@@ -97,7 +97,7 @@ fn visuals_of(colliders: &[Collider], rgba: [f32; 4]) -> Vec<Visual> {
 }
 
 fn hinge(name: &'static str, range: [f64; 2], damping: f64, armature: f64) -> JointSpec {
-    JointSpec { name, kind: JointKind::Hinge, axis: Vec3::z(), range, damping, armature, frictionloss: 0.1, soft_limit: Some(Softness::MUJOCO_DEFAULT) }
+    JointSpec { name, kind: JointKind::Hinge, axis: Vec3::z(), range, damping, armature, frictionloss: 0.1, soft: Some(Softness::MUJOCO_DEFAULT) }
 }
 
 fn finger_joint(name: &'static str, range: [f64; 2]) -> JointSpec {
@@ -109,7 +109,7 @@ fn finger_joint(name: &'static str, range: [f64; 2]) -> JointSpec {
         damping: 100.0,
         armature: 1.0,
         frictionloss: 1.0,
-        soft_limit: Some(Softness::MUJOCO_DEFAULT),
+        soft: Some(Softness::MUJOCO_DEFAULT),
     }
 }
 
@@ -416,6 +416,7 @@ impl Panda {
         let dt = world.params().dt;
         let mut constraints = Constraints::default();
         self.limits.rows(&live.q, &live.qd, dt, &mut constraints.rows);
+        self.limits.friction(&live.qd, dt, &mut constraints.friction);
         self.soft_contacts.cones(dynamics, &live_poses, &live.qd, world, &mut constraints.cones);
         if !constraints.is_empty() {
             let model = dynamics.model();

@@ -95,7 +95,7 @@ const GREY: [f32; 4] = [0.55, 0.55, 0.57, 1.0];
 const DARK: [f32; 4] = [0.15, 0.15, 0.17, 1.0];
 
 fn hinge(name: &'static str, axis: Vec3, range: [f64; 2]) -> JointSpec {
-    JointSpec { name, kind: JointKind::Hinge, axis, range, damping: 0.0, armature: 0.005, frictionloss: 0.3, soft_limit: None }
+    JointSpec { name, kind: JointKind::Hinge, axis, range, damping: 0.0, armature: 0.005, frictionloss: 0.3, soft: None }
 }
 
 fn capsule(radius: f64, from: [f64; 3], to: [f64; 3], rgba: [f32; 4]) -> (Collider, Visual) {
@@ -149,7 +149,7 @@ fn finger(name: &'static str, joint: &'static str, side: f64) -> Body {
             damping: 0.0,
             armature: 0.005,
             frictionloss: 0.0,
-            soft_limit: None,
+            soft: None,
         }),
         inertial: Inertial::full(0.026482, [side * 0.00921, 0.000278, 0.046767], [9.998e-6, 6.180e-6, 1.4210e-5, 0.0, 0.0, 0.0]),
         colliders: vec![shell, pad],

@@ -1,5 +1,6 @@
 //! MuJoCo's soft constraints, for the constraints our own code adds to rapier's step: the joint
-//! limits ([`crate::limits`]) and the arm touching itself ([`crate::soft_contact`]).
+//! limits and dry friction ([`crate::limits`]) and the arm touching itself
+//! ([`crate::soft_contact`]).
 //!
 //! Each constraint is a row: a generalized direction `J`, a reference acceleration that is a
 //! spring-damper on the violation, `aref = -b·v - k·d(r)·r` (`solref` gives k and b, `solimp` the
@@ -144,10 +145,30 @@ impl Softness {
     }
 }
 
-/// The constraints of one physics step: one-sided rows (joint limits) and contact cones.
+/// A dof's dry friction (`frictionloss`): a two-sided row whose force is at most `limit` either
+/// way. Being soft, it lets a joint under a smaller force creep (`v ≈ f·R/b`) instead of
+/// sticking: robosuite's open fingers, pushed by their actuators, creep towards their range end
+/// at about 0.2 mm/s in MuJoCo, where a hard friction held them a millimetre short.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DryFriction<const N: usize> {
+    pub row: Row<N>,
+    pub limit: f64,
+}
+
+impl Softness {
+    /// The dry-friction row of the dof along `jacobian`, moving at `v = J·q̇`, as MuJoCo makes
+    /// it: no spring (the violation is 0), `weight` its `dof_invweight0`.
+    pub fn dry_friction<const N: usize>(&self, jacobian: Coords<N>, v: f64, limit: f64, weight: f64, dt: f64) -> DryFriction<N> {
+        DryFriction { row: self.row(jacobian, 0.0, v, weight, dt), limit }
+    }
+}
+
+/// The constraints of one physics step: one-sided rows (joint limits), dry friction and contact
+/// cones.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Constraints<const N: usize> {
     pub rows: Vec<Row<N>>,
+    pub friction: Vec<DryFriction<N>>,
     pub cones: Vec<Cone<N>>,
 }
 
@@ -165,7 +186,7 @@ const MAX_NEWTON: usize = 50;
 
 impl<const N: usize> Constraints<N> {
     pub fn is_empty(&self) -> bool {
-        self.rows.is_empty() && self.cones.is_empty()
+        self.rows.is_empty() && self.friction.is_empty() && self.cones.is_empty()
     }
 
     fn evaluate(&self, a: &Coords<N>) -> Evaluated<N> {
@@ -180,6 +201,18 @@ impl<const N: usize> Constraints<N> {
             let jar = row.shortfall(a);
             if jar < 0.0 {
                 quadratic(&mut e, row, jar);
+            }
+        }
+        // Dry friction: quadratic within `R·limit` of the reference, linear (the force at its
+        // limit) beyond.
+        for f in &self.friction {
+            let jar = f.row.shortfall(a);
+            let edge = f.row.regularizer * f.limit;
+            if jar.abs() < edge {
+                quadratic(&mut e, &f.row, jar);
+            } else {
+                e.cost += f.limit * jar.abs() - 0.5 * edge * f.limit;
+                e.force -= f.row.jacobian * (f.limit * jar.signum());
             }
         }
         for cone in &self.cones {
@@ -303,7 +336,7 @@ mod tests {
             let (normal, twist) = (Coords::<2>::new(1.0, 0.0), Coords::<2>::new(0.0, 1.0));
             s.cone(normal, [Coords::<2>::zeros(); 2], twist, -0.001, &qd, 1.0, Friction { slide: 1.0, spin }, 20.0, 0.002)
         };
-        let forces = |spin: Option<f64>, torque: f64| Constraints { rows: Vec::new(), cones: vec![cone(spin)] }.forces(&mass, &Coords::<2>::new(-9.81, torque));
+        let forces = |spin: Option<f64>, torque: f64| Constraints { cones: vec![cone(spin)], ..Constraints::default() }.forces(&mass, &Coords::<2>::new(-9.81, torque));
         assert_eq!(cone(None).dim, 3);
         assert_eq!(forces(None, 0.01)[1], 0.0);
         let c = cone(Some(0.005));
@@ -319,6 +352,21 @@ mod tests {
         assert!(slipping[1] < 0.0 && -slipping[1] <= limit * (1.0 + 1e-9) && -slipping[1] >= 0.9 * limit, "{slipping:?}, limit {limit}");
     }
 
+    /// A unit mass with dry friction 1 N: a 0.5 N push is mostly held but creeps (the soft row
+    /// gives `a = F / (M + 1/R)`, no hard stick); a 5 N push slips against exactly 1 N.
+    #[test]
+    fn dry_friction_lets_a_small_push_creep_and_a_large_one_slip() {
+        let mass = SMatrix::<f64, 1, 1>::identity();
+        let s = Softness::MUJOCO_DEFAULT;
+        let friction = s.dry_friction(Coords::<1>::new(1.0), 0.0, 1.0, 1.0, 0.002);
+        let r = friction.row.regularizer;
+        assert!((r - 0.1 / 0.9).abs() < 1e-12, "{r}");
+        let forces = |push: f64| Constraints { friction: vec![friction], ..Constraints::default() }.forces(&mass, &Coords::<1>::new(push))[0];
+        let creep = 0.5 + forces(0.5);
+        assert!((creep - 0.5 / (1.0 + 1.0 / r)).abs() < 1e-12 && creep > 0.0, "{creep}");
+        assert!((forces(5.0) + 1.0).abs() < 1e-12 && (forces(-5.0) - 1.0).abs() < 1e-12);
+    }
+
     /// Two rows on one unit mass, one of them pulled out of its constraint: only the other pushes.
     #[test]
     fn a_row_that_would_pull_is_dropped() {
@@ -326,7 +374,7 @@ mod tests {
         let s = Softness::MUJOCO_DEFAULT;
         let pushed = s.row(Coords::<2>::new(1.0, 0.0), -0.001, 0.0, 1.0, 0.002);
         let leaving = s.row(Coords::<2>::new(0.0, 1.0), -0.001, 50.0, 1.0, 0.002);
-        let f = Constraints { rows: vec![pushed, leaving], cones: Vec::new() }.forces(&mass, &Coords::<2>::new(-1.0, 0.0));
+        let f = Constraints { rows: vec![pushed, leaving], ..Constraints::default() }.forces(&mass, &Coords::<2>::new(-1.0, 0.0));
         assert!(f[0] > 1.0, "{f:?}");
         assert_eq!(f[1], 0.0, "{f:?}");
         // The pushing row's acceleration is MuJoCo's mix of the free one (-1) and aref:

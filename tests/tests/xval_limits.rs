@@ -16,10 +16,11 @@ fn limit_refs(test: &str) -> Option<PathBuf> {
 }
 
 /// Also: one control step from MuJoCo's recorded arm state lands within 2 mrad of MuJoCo's next
-/// record on every joint, contacts of the arm with itself included (measured largest 1.45 mrad,
-/// on `fast_j2_hi_j3_hi`; 2.6 mrad before the arm's contact shapes were MuJoCo's full hulls, with
-/// the fingers' torsional friction). The free replay's figures are `vifo xval`'s: where a
-/// sequence amplifies differences (`xval/sensitivity.py`), they say little about one step.
+/// record on every joint, contacts of the arm with itself included (measured largest 1.22 mrad,
+/// on `j5_lo_j2_hi_j3_lo`; 2.6 mrad before the arm's contact shapes were MuJoCo's full hulls, with
+/// the fingers' torsional friction and MuJoCo's soft dry friction). The free replay's figures are
+/// `vifo xval`'s: where a sequence amplifies differences (`xval/sensitivity.py`), they say little
+/// about one step.
 #[test]
 fn every_limit_recording_replays_with_every_record_in_a_phase() {
     let Some(dir) = limit_refs("every_limit_recording_replays_with_every_record_in_a_phase") else { return };

@@ -67,7 +67,8 @@ impl<const N: usize> JointLimits<N> {
     /// Adds a dry-friction row for each soft dof with `frictionloss`, moving at `qd`.
     pub fn friction(&self, qd: &Coords<N>, dt: f64, friction: &mut Vec<DryFriction<N>>) {
         for (i, soft) in self.soft.iter().enumerate() {
-            if let (Some((_, s)), true) = (soft, self.frictionloss[i] > 0.0) {
+            let Some((_, s)) = soft else { continue };
+            if self.frictionloss[i] > 0.0 {
                 let mut jacobian = Coords::<N>::zeros();
                 jacobian[i] = 1.0;
                 friction.push(s.dry_friction(jacobian, qd[i], self.frictionloss[i], self.invweight0[i], dt));

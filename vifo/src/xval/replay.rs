@@ -175,8 +175,7 @@ pub fn replay(file: &str, rec: &Recording) -> Result<TaskReport> {
         sim.step(&action);
         // Record 0 is where both replays start.
         if before.t > 0 {
-            let q = recorded(before);
-            panda.set_joints(one.world_mut(), &before.joint_qpos, &[q[7], q[8]], &before.joint_qvel, &[0.0; 2]);
+            panda.set_joints(one.world_mut(), &before.joint_qpos, &before.gripper_qpos, &before.joint_qvel, &[0.0; 2]);
         }
         one.step(&action);
         let theirs = recorded(record);

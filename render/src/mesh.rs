@@ -196,6 +196,11 @@ impl Mesh {
         self.uvs.as_deref()
     }
 
+    /// The same mesh without texture coordinates.
+    pub fn without_uvs(&self) -> Mesh {
+        Mesh { uvs: None, ..self.clone() }
+    }
+
     /// Triangles as vertex index triples, counter-clockwise from the front.
     pub fn triangles(&self) -> &[[u32; 3]] {
         &self.triangles

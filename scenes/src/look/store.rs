@@ -158,9 +158,9 @@ pub struct Look {
 #[derive(Default)]
 struct Loaded {
     meshes: BTreeMap<PathBuf, Result<Arc<Mesh>, String>>,
-    /// Coarser copies by file and scale bits.
-    /// Keyed by file, scale and whether the mesh was given constant UVs (see `load_part`).
-    lods: BTreeMap<(PathBuf, [u64; 3], bool), Lods>,
+    /// Coarser copies by file, scale bits, whether the mesh was given constant UVs (see
+    /// `load_part`) and whether it is textured (see `lods_of`).
+    lods: BTreeMap<(PathBuf, [u64; 3], bool, bool), Lods>,
     /// Copies of UV-less meshes with every UV at the origin, by file (see `constant_uv_mesh`).
     constant_uv_meshes: BTreeMap<PathBuf, Arc<Mesh>>,
     textures: BTreeMap<PathBuf, Result<LoadedTexture, String>>,
@@ -472,7 +472,9 @@ fn load_part(
             if constant_uvs {
                 mesh = loaded.constant_uv_mesh(file, &at)?;
             }
-            let lods = loaded.lods.entry((at.path.clone(), scale.map(f64::to_bits), constant_uvs)).or_insert_with(|| lods_of(&mesh, scale, fact.material.texture.is_some())).clone();
+            let textured = fact.material.texture.is_some();
+            let key = (at.path.clone(), scale.map(f64::to_bits), constant_uvs, textured);
+            let lods = loaded.lods.entry(key).or_insert_with(|| lods_of(&mesh, scale, textured)).clone();
             (mesh, scale, lods, !constant_uvs)
         }
         Source::Primitive(r) => {

@@ -87,8 +87,8 @@ fn lods_of(mesh: &Mesh, scale: [f64; 3], textured: bool) -> Lods {
         _ => mesh,
     };
     let s = scale.iter().fold(0.0f64, |m, &x| m.max(x.abs())) as f32;
-    let mut out: Vec<(f32, Arc<Mesh>)> = Vec::new();
-    for (pixels, step) in LOD_CHAINS {
+    let chain = |&(pixels, step): &(&[f32], f32)| {
+        let mut out: Vec<(f32, Arc<Mesh>)> = Vec::new();
         let mut finer: Option<Arc<Mesh>> = None;
         for &pixel in pixels {
             let from = finer.as_deref().unwrap_or(mesh);
@@ -98,8 +98,19 @@ fn lods_of(mesh: &Mesh, scale: [f64; 3], textured: bool) -> Lods {
                 out.push((pixel, coarse));
             }
         }
-    }
-    out.into()
+        out
+    };
+    // The simplifier is about two thirds of loading all 40 tasks' assets, and the chains do not
+    // depend on each other: where the machine has threads they run side by side (the same copies).
+    let chains: Vec<Vec<(f32, Arc<Mesh>)>> = if std::thread::available_parallelism().is_ok_and(|n| n.get() > 1) {
+        std::thread::scope(|scope| {
+            let running: Vec<_> = LOD_CHAINS.iter().map(|c| scope.spawn(move || chain(c))).collect();
+            running.into_iter().map(|r| r.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic))).collect()
+        })
+    } else {
+        LOD_CHAINS.iter().map(chain).collect()
+    };
+    chains.concat().into()
 }
 
 /// Whether a category is drawn from LIBERO's files.

@@ -484,13 +484,21 @@ fn busy_scene() -> Scene {
 /// instance and a mirror are in view, and a second, moving camera shares the renderer.
 #[test]
 fn a_fixed_camera_reuses_what_did_not_move_and_draws_the_same_pixels() {
+    // With a mirror, whose pass redraws the whole visibility buffer, and without, where a frame
+    // restores only what the camera's last frame changed.
+    for mirror in [true, false] {
+        fixed_camera_frames_match_whole_frames(mirror);
+    }
+}
+
+fn fixed_camera_frames_match_whole_frames(mirror: bool) {
     let mut base = busy_scene();
     let bowl = base.instances[3].clone();
     // The copy comes first in the scene, so that a whole frame draws it before the original
     // where they coincide: there it takes every pixel on a tie.
     let copy = Instance { segment: 40, material: Material::rgba([0.9, 0.9, 0.1, 1.0]), ..bowl.clone() };
     base.instances.insert(0, copy);
-    base.mirror = Some(Mirror { instance: 1, face_z: 0.025, reflectance: 0.3 });
+    base.mirror = mirror.then_some(Mirror { instance: 1, face_z: 0.025, reflectance: 0.3 });
     base.instances.push(Instance::new(Arc::new(Mesh::sphere(0.05, 16)), Transform::IDENTITY, 41).with_material(Material::rgba([0.2, 0.8, 0.3, 1.0])));
     base.instances.push(
         Instance::new(Arc::new(Mesh::cuboid(Vec3::new(0.05, 0.05, 0.05))), Transform::from_translation(Vec3::new(0.1, 0.1, 0.96)), 42)
@@ -515,7 +523,7 @@ fn a_fixed_camera_reuses_what_did_not_move_and_draws_the_same_pixels() {
             let want = plain.render(&scene, &c).unwrap();
             assert_eq!(plain.stats().instances_reused, 0);
             let got = layered.render(&scene, &c).unwrap();
-            assert!(got == want, "frame {k}, {}×{} camera: the layer changed pixels", c.width, c.height);
+            assert!(got == want, "frame {k}, {}×{} camera, mirror {mirror}: the layer changed pixels", c.width, c.height);
             if c == cam {
                 reused[k] = layered.stats().instances_reused;
                 tied += (k % 2 == 1 && covered(&got, 40).len() > 50) as usize;

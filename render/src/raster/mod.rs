@@ -37,7 +37,7 @@ use thiserror::Error;
 
 use self::clip::{ClipSpace, ClipVert, Polygon, SphereClass, GUARD_FIXED, MUST_CLIP, REJECT};
 use self::hiz::HiZ;
-use self::layer::{Layers, Plan};
+use self::layer::{Buffers, Layers, PixelBox, Plan};
 use self::lighting::{LightRig, Lit, VERTEX_LANES};
 use self::shadow::ShadowMap;
 use self::triangle::{box_holds_centre, orientation, snap, Plane, Setup};
@@ -312,6 +312,8 @@ pub struct Renderer {
     mirrored_pixels: Vec<u32>,
     mirrored_scene: Scene,
     layers: Layers,
+    /// The pixels that the instances drawn over a static layer won in this frame.
+    touched: PixelBox,
 }
 
 impl Renderer {
@@ -361,9 +363,19 @@ impl Renderer {
         self.stats = RenderStats::default();
         // Shadows move with what casts them, over static surfaces too.
         let plan = if self.options.static_layer && !self.options.shadows { self.layers.plan(scene, camera) } else { Plan::Plain };
+        let layered = !matches!(plan, Plan::Plain);
         self.draw_pass(scene, camera, &View::new(camera), out, None, plan);
+        let moved = self.touched;
         if let Some(mirror) = &scene.mirror {
             self.reflect(scene, camera, mirror, out);
+        }
+        if layered {
+            // The reflection's pass draws over the whole buffer.
+            let dirty = scene.mirror.is_none().then_some(moved);
+            let buffers = Buffers { depth: &mut self.depth, tri_id: &mut self.tri_id, records: &mut self.records };
+            if let Some(layer) = self.layers.layer_mut() {
+                layer.take_back(buffers, dirty);
+            }
         }
     }
 
@@ -381,7 +393,7 @@ impl Renderer {
                 for v in &order {
                     self.draw_opaque(scene, v, view, None);
                 }
-                self.resolve(scene, view, out, 0);
+                self.resolve(scene, view, out, 0, PixelBox::all(view.width, view.height));
             }
             Plan::Rebuild(statics) => {
                 self.clear(view, None);
@@ -394,7 +406,7 @@ impl Renderer {
                 }
                 layer.statics = statics;
                 layer.image.resize(view.width, view.height);
-                self.resolve(scene, view, &mut layer.image, 0);
+                self.resolve(scene, view, &mut layer.image, 0, PixelBox::all(view.width, view.height));
                 layer.depth.clone_from(&self.depth);
                 layer.tri_id.clone_from(&self.tri_id);
                 layer.records.clone_from(&self.records);
@@ -403,10 +415,8 @@ impl Renderer {
                 self.draw_moved(scene, view, out, &order);
             }
             Plan::Reuse => {
-                if let Some(layer) = self.layers.layer() {
-                    self.depth.clone_from(&layer.depth);
-                    self.tri_id.clone_from(&layer.tri_id);
-                    self.records.clone_from(&layer.records);
+                if let Some(layer) = self.layers.layer_mut() {
+                    layer.lend(Buffers { depth: &mut self.depth, tri_id: &mut self.tri_id, records: &mut self.records }, view.width);
                     self.hiz.copy_from(&layer.hiz);
                     self.shadow_rgb.clear();
                 }
@@ -429,6 +439,7 @@ impl Renderer {
         out.depth.copy_from_slice(&layer.image.depth);
         out.segmentation.copy_from_slice(&layer.image.segmentation);
         let layer_records = layer.records.len() as u32;
+        self.touched = PixelBox::EMPTY;
         for v in order {
             if self.layers.layer().is_some_and(|l| l.statics.get(v.index as usize) == Some(&true)) {
                 self.stats.instances_reused += 1;
@@ -436,7 +447,7 @@ impl Renderer {
                 self.draw_opaque(scene, v, view, Some(layer_records));
             }
         }
-        self.resolve(scene, view, out, layer_records);
+        self.resolve(scene, view, out, layer_records, self.touched);
     }
 
     /// Empties the visibility buffer, records and hi-z for `view` (see [`Renderer::draw_pass`]
@@ -599,6 +610,7 @@ impl Renderer {
             deferred: &mut self.deferred,
             shadow_rgb: &mut self.shadow_rgb,
             hiz: &mut self.hiz,
+            touched: &mut self.touched,
             view,
             inst,
             idx,
@@ -641,14 +653,14 @@ impl Renderer {
         self.stats.add(done);
     }
 
-    /// Shades every pixel once from the visibility buffer, one run of same-triangle pixels at
-    /// a time. With `from > 0`, only pixels of records from `from` on: `out` holds the others
-    /// (the static layer's).
-    fn resolve(&self, scene: &Scene, view: &View, out: &mut Frame, from: u32) {
+    /// Shades every pixel of `region` once from the visibility buffer, one run of same-triangle
+    /// pixels at a time. With `from > 0`, only pixels of records from `from` on, which all lie
+    /// in `region`: `out` holds the others (the static layer's).
+    fn resolve(&self, scene: &Scene, view: &View, out: &mut Frame, from: u32, region: PixelBox) {
         let shadows = self.shadows_active.then_some(&self.shadow);
         let sky = Sky::new(scene.background, view);
         let w = view.width as usize;
-        for j in 0..view.height {
+        for j in region.y0..=region.y1 {
             let row = j as usize * w..(j as usize + 1) * w;
             let ids = &self.tri_id[row.clone()];
             let depths = &self.depth[row.clone()];
@@ -656,10 +668,10 @@ impl Renderer {
             let depth_out = &mut out.depth[row.clone()];
             let seg_out = &mut out.segmentation[row];
             let fj = j as f32;
-            let mut start = 0;
-            while start < w {
+            let (mut start, stop) = (region.x0 as usize, region.x1 as usize + 1);
+            while start < stop {
                 let id = ids[start];
-                let end = start + run_length(&ids[start..]);
+                let end = start + run_length(&ids[start..stop]);
                 if from > 0 && (id < from || id == NO_TRIANGLE) {
                     // Already in `out`.
                 } else if id == NO_TRIANGLE {
@@ -942,6 +954,8 @@ struct Opaque<'a> {
     deferred: &'a mut Vec<Deferred>,
     shadow_rgb: &'a mut Vec<[Plane; 3]>,
     hiz: &'a mut HiZ,
+    /// Grows to hold the spans where the instance won pixels.
+    touched: &'a mut PixelBox,
     view: &'a View,
     inst: &'a Instance,
     idx: u32,
@@ -986,13 +1000,14 @@ impl Sink for Opaque<'_> {
             (None, Some(t)) => SpanTest::Ties(t),
             (None, None) => SpanTest::Plain,
         };
-        let (depth, tri_id, hiz) = (&mut *self.depth, &mut *self.tri_id, &mut *self.hiz);
+        let (depth, tri_id, hiz, touched) = (&mut *self.depth, &mut *self.tri_id, &mut *self.hiz, &mut *self.touched);
         setup.for_each_span(|j, first, last| {
             let base = j as usize * view.width as usize;
             let range = base + first as usize..base + last as usize + 1;
             let mask = depth_span(&mut depth[range.clone()], &mut tri_id[range], first, j, &plane, test, id);
             if mask != 0 {
                 hiz.mark(j, first, last);
+                touched.add(j, first, last);
             }
             won |= mask;
         });

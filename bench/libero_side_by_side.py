@@ -151,7 +151,13 @@ def main():
     ap.add_argument("--suite", action="append", choices=list(TASKS), help="suites to run (default: all four)")
     ap.add_argument("--repeats", type=int, default=5, help="our timed episodes per configuration (median)")
     ap.add_argument("--keep", help="folder to keep the original's recordings in")
+    ap.add_argument("--cores", choices=["one", "all"], default="one",
+                    help="one (default): both stacks run on one CPU, as the speed gate compares them; all: the "
+                         "original's renderer (Mesa llvmpipe) may spread its threads over every core")
     args = ap.parse_args()
+    if args.cores == "one" and hasattr(os, "sched_setaffinity"):
+        # Before MuJoCo loads: llvmpipe's threads, and the vifo processes started below, inherit it.
+        os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
     os.environ.setdefault("MUJOCO_GL", "egl")
     root = setup()
     try:
@@ -179,7 +185,10 @@ def main():
                     json.dump(rec, f)
     ours = {r["suite"]: r for r in vifo_json(args.vifo, "bench", "replay", out, "--repeats", str(args.repeats))}
     xval = {t["suite"]: t for t in vifo_json(args.vifo, "xval", out)["tasks"]}
-    print(f"\nside by side, wall clock; ours one thread, the original one process (Mesa llvmpipe renders in threads of its own); original: {versions}")
+    cpus = sorted(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else []
+    where = (f"both on CPU {cpus[0]}" if len(cpus) == 1 else
+             f"ours one thread, the original one process whose renderer (Mesa llvmpipe) has threads on {len(cpus) or 'all'} CPUs")
+    print(f"\nside by side, wall clock, {where}; original: {versions}")
     print(f"{'task 0, init 0':<16} {'cameras':<8} {'original st/s':>13} {'vifo st/s':>10} {'ratio':>8} {'eef max mm':>11}")
     ratios = {True: [], False: []}
     for suite in suites:

@@ -29,7 +29,7 @@ use super::TriRecord;
 /// camera (a new entry each frame) never pushes out the fixed agentview.
 const ENTRIES: usize = 3;
 
-/// Largest image (pixels) kept in a layer: about 20 bytes per pixel.
+/// Largest image (pixels) kept in a layer: about 28 bytes per pixel, with the last frame's buffers.
 const MAX_PIXELS: usize = 1 << 20;
 
 /// Frames an instance outside the layer must stay unchanged before the layer is rebuilt with
@@ -187,7 +187,7 @@ pub(super) struct Layer {
 /// A camera's visibility buffer and records as its last frame left them: the layer's, changed
 /// only within `dirty` by what moved (`None`: unknown). The renderer borrows them for the next
 /// frame, which then restores just that box from the layer instead of copying every pixel (at
-/// 256², 0.5 MB per frame and a fifth of agentview's time in the built-in look).
+/// 256², 0.5 MB per frame; the robot covers a small part of agentview).
 #[derive(Default)]
 struct Work {
     depth: Vec<f32>,

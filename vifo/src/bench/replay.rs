@@ -5,16 +5,21 @@
 //! This is our half of the side-by-side bench against the original stack
 //! (`bench/libero_side_by_side.sh`), which times the same steps there. Both sides use the
 //! wall clock over whole episodes, because the original renderer works in threads of its own.
+//! The cameras draw the look given (LIBERO's assets, as the original draws them, or the
+//! built-in one).
 
 use std::path::Path;
+use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::Result;
 use serde::Serialize;
 use vifo_render::{Frame, Renderer};
 use vifo_robots::action::Action;
+use vifo_scenes::look::Look;
 use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
 
+use crate::look::label;
 use crate::xval::{Recording, recordings_in, start};
 
 const SIZE: u32 = 256;
@@ -29,13 +34,15 @@ pub struct ReplayBench {
     pub repeats: usize,
     pub steps_per_second_physics: f64,
     pub steps_per_second_two_cameras_256: f64,
+    /// The look the cameras drew (`built-in`, or LIBERO's assets with their hash).
+    pub look: String,
 }
 
 /// One timed episode: the recorded actions from the recorded start, rendering both cameras
 /// after each step when `render` is set. Returns steps per second.
-fn episode(rec: &Recording, actions: &[Action], render: bool) -> Result<f64> {
+fn episode(rec: &Recording, actions: &[Action], render: bool, look: Option<&Look>) -> Result<f64> {
     let mut sim = start(rec)?;
-    let mut view = SceneView::new(sim.model());
+    let mut view = SceneView::with_look(sim.model(), look);
     let cameras = Cameras::new(SIZE, SIZE);
     let mut renderer = Renderer::default();
     let mut frame = Frame::default();
@@ -59,15 +66,16 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 /// Times every recording in `dir`, `repeats` episodes per configuration (scene building and
-/// state loading are outside the timed span, as `reset()` is on the original's side).
-pub fn run(dir: &Path, repeats: usize) -> Result<Vec<ReplayBench>> {
+/// state loading are outside the timed span, as `reset()` is on the original's side), the
+/// cameras drawing `look` (`None`: built-in).
+pub fn run(dir: &Path, repeats: usize, look: Option<Arc<Look>>) -> Result<Vec<ReplayBench>> {
     let repeats = repeats.max(1);
     let mut out = Vec::new();
     for path in recordings_in(dir)? {
         let rec = Recording::load(&path)?;
         let actions = rec.steps[1..].iter().map(|r| r.action()).collect::<Result<Vec<_>>>()?;
-        let physics = (0..repeats).map(|_| episode(&rec, &actions, false)).collect::<Result<Vec<_>>>()?;
-        let rendered = (0..repeats).map(|_| episode(&rec, &actions, true)).collect::<Result<Vec<_>>>()?;
+        let physics = (0..repeats).map(|_| episode(&rec, &actions, false, None)).collect::<Result<Vec<_>>>()?;
+        let rendered = (0..repeats).map(|_| episode(&rec, &actions, true, look.as_deref())).collect::<Result<Vec<_>>>()?;
         out.push(ReplayBench {
             file: path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default(),
             suite: rec.meta.suite.clone(),
@@ -76,6 +84,7 @@ pub fn run(dir: &Path, repeats: usize) -> Result<Vec<ReplayBench>> {
             repeats,
             steps_per_second_physics: median(physics),
             steps_per_second_two_cameras_256: median(rendered),
+            look: label(look.as_deref()),
         });
     }
     Ok(out)
@@ -88,11 +97,11 @@ mod tests {
     #[test]
     fn a_missing_or_empty_directory_is_an_error_naming_it() {
         let missing = Path::new("no/such/recordings");
-        let err = run(missing, 1).unwrap_err().to_string();
+        let err = run(missing, 1, None).unwrap_err().to_string();
         assert!(err.contains("no/such/recordings"), "{err}");
         let empty = std::env::temp_dir().join(format!("vifo-bench-replay-empty-{}", std::process::id()));
         std::fs::create_dir_all(&empty).unwrap();
-        let err = format!("{:#}", run(&empty, 1).unwrap_err());
+        let err = format!("{:#}", run(&empty, 1, None).unwrap_err());
         std::fs::remove_dir_all(&empty).unwrap();
         assert!(err.contains("no *_init0.json recordings"), "{err}");
     }

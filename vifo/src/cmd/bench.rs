@@ -45,6 +45,8 @@ pub enum BenchWhat {
         /// Timed episodes per recording and configuration (the median is reported).
         #[arg(long, default_value_t = 5)]
         repeats: usize,
+        #[command(flatten)]
+        look: LookArgs,
     },
     /// Episodes per second of the runner at 1, 2, … N worker threads on one fixed sample of
     /// the whole benchmark (built-in expert-cue policy), and the memory per worker.
@@ -118,8 +120,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 }
             }
         }
-        BenchWhat::Replay { dir, repeats } => {
-            let results = bench::replay::run(dir, *repeats)?;
+        BenchWhat::Replay { dir, repeats, look } => {
+            let results = bench::replay::run(dir, *repeats, look.look()?)?;
             if args.json {
                 println!("{}", serde_json::to_string_pretty(&results)?);
             } else {
@@ -127,7 +129,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 for r in &results {
                     println!("{:<34} {:>6} {:>16.1} {:>20.1}", r.file, r.control_steps, r.steps_per_second_physics, r.steps_per_second_two_cameras_256);
                 }
-                println!("(wall clock, median of {} episodes each; 256² cameras rendered after every step)", results.first().map_or(0, |r| r.repeats));
+                if let Some(r) = results.first() {
+                    println!("(wall clock, median of {} episodes each; 256² cameras rendered after every step, look {})", r.repeats, r.look);
+                }
             }
         }
         BenchWhat::Scaling { max_threads, threads, episodes, no_render, scratch } => {

@@ -858,6 +858,16 @@ impl Multibody {
                 "Internal error: contiguity assumption on assembly_id does not hold."
             );
             curr_assembly_id += link.joint.ndofs();
+            // Parents come before their children and assembly ids follow the link order, so
+            // every column of this link's Jacobians (and Coriolis terms) past `end` is zero:
+            // the products below skip them. Same results (only the exact zeros are not added).
+            let end = curr_assembly_id;
+            let parent_end = if i == 0 {
+                0
+            } else {
+                let parent_link = &self.links[link.parent_internal_id];
+                parent_link.assembly_id + parent_link.joint.ndofs()
+            };
 
             if link.joint.kinematic {
                 for k in link.assembly_id..link.assembly_id + link.joint.ndofs() {
@@ -887,10 +897,21 @@ impl Multibody {
             let rb_mass_matrix_wo_gyro = concat_rb_mass_matrix(rb_mass, rb_inertia.into());
             #[allow(clippy::useless_conversion)] // Needed in 3D, no-op in 2D
             let rb_mass_matrix = concat_rb_mass_matrix(rb_mass, augmented_inertia.into());
-            self.augmented_mass
-                .quadform(1.0, &rb_mass_matrix_wo_gyro, body_jacobian, 1.0);
-            self.acc_augmented_mass
-                .quadform(1.0, &rb_mass_matrix, body_jacobian, 1.0);
+            if end > 0 {
+                let body_jacobian = body_jacobian.columns(0, end);
+                self.augmented_mass.view_mut((0, 0), (end, end)).quadform(
+                    1.0,
+                    &rb_mass_matrix_wo_gyro,
+                    &body_jacobian,
+                    1.0,
+                );
+                self.acc_augmented_mass.view_mut((0, 0), (end, end)).quadform(
+                    1.0,
+                    &rb_mass_matrix,
+                    &body_jacobian,
+                    1.0,
+                );
+            }
 
             /*
              *
@@ -908,6 +929,7 @@ impl Multibody {
                 let parent_rb = &bodies[parent_link.rigid_body];
                 let parent_j = &self.body_jacobians[parent_id];
                 let parent_j_w = parent_j.fixed_rows::<ANG_DIM>(DIM);
+                let parent_j_w = parent_j_w.columns(0, parent_end);
                 let parent_w = SimdAngVector::<Real>::from(parent_rb.vels.angvel).gcross_matrix();
 
                 let (coriolis_v, parent_coriolis_v) = self.coriolis_v.index_mut2(i, parent_id);
@@ -915,31 +937,38 @@ impl Multibody {
 
                 coriolis_v.copy_from(parent_coriolis_v);
                 coriolis_w.copy_from(parent_coriolis_w);
+                let mut coriolis_v_head = coriolis_v.columns_mut(0, parent_end);
+                let mut coriolis_w_head = coriolis_w.columns_mut(0, parent_end);
 
                 // [c1 - c0].gcross() * (JDot + JDot/u * qdot)"
                 let shift_cross_tr = vect_to_na(link.shift02).gcross_matrix_tr();
-                coriolis_v.gemm(1.0, &shift_cross_tr, parent_coriolis_w, 1.0);
+                coriolis_v_head.gemm(
+                    1.0,
+                    &shift_cross_tr,
+                    &parent_coriolis_w.columns(0, parent_end),
+                    1.0,
+                );
 
                 // JDot (but the 2.0 originates from the sum of two identical terms in JDot and JDot/u * gdot)
                 let dvel_cross = vect_to_na(
                     rb.vels.angvel.gcross(link.shift02) + 2.0 * link.joint_velocity.linvel,
                 )
                 .gcross_matrix_tr();
-                coriolis_v.gemm(1.0, &dvel_cross, &parent_j_w, 1.0);
+                coriolis_v_head.gemm(1.0, &dvel_cross, &parent_j_w, 1.0);
 
                 // JDot/u * qdot
-                coriolis_v.gemm(
+                coriolis_v_head.gemm(
                     1.0,
                     &vect_to_na(link.joint_velocity.linvel).gcross_matrix_tr(),
                     &parent_j_w,
                     1.0,
                 );
-                coriolis_v.gemm(1.0, &(parent_w * shift_cross_tr), &parent_j_w, 1.0);
+                coriolis_v_head.gemm(1.0, &(parent_w * shift_cross_tr), &parent_j_w, 1.0);
 
                 #[cfg(feature = "dim3")]
                 {
                     let vel_wrt_joint_w = vect_to_na(link.joint_velocity.angvel).gcross_matrix();
-                    coriolis_w.gemm(-1.0, &vel_wrt_joint_w, &parent_j_w, 1.0);
+                    coriolis_w_head.gemm(-1.0, &vel_wrt_joint_w, &parent_j_w, 1.0);
                 }
 
                 // JDot (but the 2.0 originates from the sum of two identical terms in JDot and JDot/u * gdot)
@@ -969,13 +998,14 @@ impl Multibody {
                 self.coriolis_w[i].fill(0.0);
             }
 
-            let coriolis_v = &mut self.coriolis_v[i];
-            let coriolis_w = &mut self.coriolis_w[i];
+            let mut coriolis_v = self.coriolis_v[i].columns_mut(0, end);
+            let coriolis_w = self.coriolis_w[i].columns(0, end);
+            let rb_j_w = rb_j_w.columns(0, end);
 
             {
                 // [c3 - c2].gcross() * (JDot + JDot/u * qdot)
                 let shift_cross_tr = vect_to_na(link.shift23).gcross_matrix_tr();
-                coriolis_v.gemm(1.0, &shift_cross_tr, coriolis_w, 1.0);
+                coriolis_v.gemm(1.0, &shift_cross_tr, &coriolis_w, 1.0);
 
                 // JDot
                 let dvel_cross = vect_to_na(rb.vels.angvel.gcross(link.shift23)).gcross_matrix_tr();
@@ -990,15 +1020,15 @@ impl Multibody {
                 );
             }
 
-            let coriolis_v = &mut self.coriolis_v[i];
-            let coriolis_w = &mut self.coriolis_w[i];
+            let coriolis_v = self.coriolis_v[i].columns(0, end);
+            let coriolis_w = self.coriolis_w[i].columns(0, end);
 
             /*
              * Meld with the mass matrix.
              */
             {
-                let mut i_coriolis_dt_v = self.i_coriolis_dt.fixed_rows_mut::<DIM>(0);
-                i_coriolis_dt_v.copy_from(coriolis_v);
+                let mut i_coriolis_dt_v = self.i_coriolis_dt.view_mut((0, 0), (DIM, end));
+                i_coriolis_dt_v.copy_from(&coriolis_v);
                 let rb_mass_dt = vect_to_na(rb_mass * dt);
                 i_coriolis_dt_v
                     .column_iter_mut()
@@ -1007,18 +1037,22 @@ impl Multibody {
 
             #[cfg(feature = "dim2")]
             {
-                let mut i_coriolis_dt_w = self.i_coriolis_dt.fixed_rows_mut::<ANG_DIM>(DIM);
+                let mut i_coriolis_dt_w = self.i_coriolis_dt.view_mut((DIM, 0), (ANG_DIM, end));
                 // NOTE: this is just an axpy, but on row columns.
-                i_coriolis_dt_w.zip_apply(coriolis_w, |o, x| *o = x * dt * rb_inertia);
+                i_coriolis_dt_w.zip_apply(&coriolis_w, |o, x| *o = x * dt * rb_inertia);
             }
             #[cfg(feature = "dim3")]
             {
-                let mut i_coriolis_dt_w = self.i_coriolis_dt.fixed_rows_mut::<ANG_DIM>(DIM);
-                i_coriolis_dt_w.gemm(dt, &mat_to_na(rb_inertia), coriolis_w, 0.0);
+                let mut i_coriolis_dt_w = self.i_coriolis_dt.view_mut((DIM, 0), (ANG_DIM, end));
+                i_coriolis_dt_w.gemm(dt, &mat_to_na(rb_inertia), &coriolis_w, 0.0);
             }
 
-            self.acc_augmented_mass
-                .gemm_tr(1.0, rb_j, &self.i_coriolis_dt, 1.0);
+            self.acc_augmented_mass.view_mut((0, 0), (end, end)).gemm_tr(
+                1.0,
+                &rb_j.columns(0, end),
+                &self.i_coriolis_dt.columns(0, end),
+                1.0,
+            );
         }
 
         /*

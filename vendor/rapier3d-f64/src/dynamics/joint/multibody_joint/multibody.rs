@@ -775,18 +775,21 @@ impl Multibody {
             }
 
             let parent_to_world;
+            // Columns past a link's last dof are zero (as in `update_mass_matrix`).
+            let end = link.assembly_id + link.joint.ndofs();
 
             if i != 0 {
                 let parent_id = link.parent_internal_id;
                 let parent_link = &self.links[parent_id];
                 parent_to_world = parent_link.local_to_world;
+                let parent_end = parent_link.assembly_id + parent_link.joint.ndofs();
 
                 let (link_j, parent_j) = self.body_jacobians.index_mut_const(i, parent_id);
                 link_j.copy_from(parent_j);
 
                 {
-                    let mut link_j_v = link_j.fixed_rows_mut::<DIM>(0);
-                    let parent_j_w = parent_j.fixed_rows::<ANG_DIM>(DIM);
+                    let mut link_j_v = link_j.view_mut((0, 0), (DIM, parent_end));
+                    let parent_j_w = parent_j.view((DIM, 0), (ANG_DIM, parent_end));
 
                     let shift_tr = vect_to_na(link.shift02).gcross_matrix_tr();
                     link_j_v.gemm(1.0, &shift_tr, &parent_j_w, 1.0);
@@ -807,7 +810,7 @@ impl Multibody {
             link_j_part += link_joint_j;
 
             {
-                let link_j = &mut self.body_jacobians[i];
+                let mut link_j = self.body_jacobians[i].columns_mut(0, end);
                 let (mut link_j_v, link_j_w) =
                     link_j.rows_range_pair_mut(0..DIM, DIM..DIM + ANG_DIM);
                 let shift_tr = vect_to_na(link.shift23).gcross_matrix_tr();

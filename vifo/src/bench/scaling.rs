@@ -13,7 +13,7 @@ use vifo_protocols::benchmark::specs::{self, Selection};
 use vifo_protocols::env::EnvConfig;
 use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
 use vifo_protocols::policies::builtin;
-use vifo_protocols::runner::RunOptions;
+use vifo_protocols::runner::{RunOptions, read_records};
 use vifo_scenes::view::CameraName;
 
 use super::memory;
@@ -28,8 +28,17 @@ pub struct ScalingRow {
     pub episodes: usize,
     pub seconds: f64,
     pub episodes_per_second: f64,
-    /// Episodes/s over the one-thread figure.
+    /// Episodes/s over the one-thread figure. It is `threads × busy / slowdown` against the
+    /// one-thread row's `busy / slowdown`, which says where a shortfall comes from.
     pub speedup: f64,
+    /// The workers' busy share of the run: summed episode times (each record's `wall_ms`) over
+    /// `threads × seconds`. Below 1 where workers waited for the last episodes.
+    pub busy: f64,
+    /// Mean time of one episode (its record's `wall_ms`).
+    pub ms_per_episode: f64,
+    /// `ms_per_episode` over the one-thread row's: how much slower each episode ran beside the
+    /// others (shared caches, memory, the clock of a fully loaded CPU).
+    pub slowdown: f64,
     /// Peak resident memory added during the run, per worker thread (MB; Linux only).
     pub mb_per_worker: Option<f64>,
     /// One-minute load average when the run started (Linux only).
@@ -73,28 +82,68 @@ pub fn run(threads: &[usize], episodes: usize, rendered: bool, scratch: &Path, m
         let seconds = start.elapsed().as_secs_f64();
         anyhow::ensure!(summary.errors == 0, "{} of {} episodes ended in errors (see {})", summary.errors, summary.ran, output.display());
         let mb_per_worker = base.zip(memory::peak_rss_mb()).map(|(b, p)| (p - b).max(0.0) / t as f64);
+        let episode_ms: f64 = read_records(&output)?.records.iter().map(|r| r.wall_ms).sum();
         let _ = std::fs::remove_file(&output);
         if !timed {
             continue;
         }
-        let episodes_per_second = summary.ran as f64 / seconds;
-        let one = rows.first().map_or(episodes_per_second, |r| r.episodes_per_second);
-        rows.push(ScalingRow {
-            threads: t,
-            episodes: summary.ran,
-            seconds,
-            episodes_per_second,
-            speedup: episodes_per_second / one,
-            mb_per_worker,
-            load_before,
-        });
+        let timing = Timing { threads: t, episodes: summary.ran, seconds, episode_ms };
+        rows.push(timing.row(rows.first(), mb_per_worker, load_before));
         measured(rows.last().expect("pushed"));
     }
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
     Ok(Scaling { policy: POLICY, rendered, cores, rows })
 }
 
+/// What one timed run measured: the run's wall time and its records' summed episode times.
+struct Timing {
+    threads: usize,
+    episodes: usize,
+    seconds: f64,
+    episode_ms: f64,
+}
+
+impl Timing {
+    /// Its row, against the one-thread row `one` (`None`: this is that row).
+    fn row(&self, one: Option<&ScalingRow>, mb_per_worker: Option<f64>, load_before: Option<f64>) -> ScalingRow {
+        let episodes_per_second = self.episodes as f64 / self.seconds;
+        let ms_per_episode = self.episode_ms / self.episodes.max(1) as f64;
+        let (one_rate, one_ms) = one.map_or((episodes_per_second, ms_per_episode), |r| (r.episodes_per_second, r.ms_per_episode));
+        ScalingRow {
+            threads: self.threads,
+            episodes: self.episodes,
+            seconds: self.seconds,
+            episodes_per_second,
+            speedup: episodes_per_second / one_rate,
+            busy: self.episode_ms / 1e3 / (self.threads as f64 * self.seconds),
+            ms_per_episode,
+            slowdown: ms_per_episode / one_ms,
+            mb_per_worker,
+            load_before,
+        }
+    }
+}
+
 /// The one-minute load average (Linux `/proc/loadavg`).
 fn load_average() -> Option<f64> {
     std::fs::read_to_string("/proc/loadavg").ok()?.split_whitespace().next()?.parse().ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_speedup_splits_into_busy_share_and_slowdown() {
+        // One thread: 10 episodes of 100 ms in 1.0 s. Four threads: the same episodes at 120 ms
+        // each, done in 0.4 s (the last worker finished alone).
+        let one = Timing { threads: 1, episodes: 10, seconds: 1.0, episode_ms: 1000.0 }.row(None, None, None);
+        let four = Timing { threads: 4, episodes: 10, seconds: 0.4, episode_ms: 1200.0 }.row(Some(&one), None, None);
+        assert!((one.speedup - 1.0).abs() < 1e-12 && (one.busy - 1.0).abs() < 1e-12 && (one.slowdown - 1.0).abs() < 1e-12);
+        assert!((four.speedup - 2.5).abs() < 1e-12, "{}", four.speedup);
+        assert!((four.busy - 0.75).abs() < 1e-12, "{}", four.busy);
+        assert!((four.slowdown - 1.2).abs() < 1e-12, "{}", four.slowdown);
+        let product = four.threads as f64 * four.busy / four.slowdown / (one.busy / one.slowdown);
+        assert!((four.speedup - product).abs() < 1e-12, "{} vs {product}", four.speedup);
+    }
 }

@@ -161,14 +161,26 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                     if r.rendered { "both 256² cameras rendered" } else { "no cameras" },
                     r.cores
                 );
-                println!("{:>7} {:>10} {:>12} {:>9} {:>14} {:>12}", "threads", "seconds", "episodes/s", "speedup", "MB per worker", "load before");
+                println!(
+                    "{:>7} {:>10} {:>12} {:>9} {:>7} {:>14} {:>9} {:>14} {:>12}",
+                    "threads", "seconds", "episodes/s", "speedup", "busy", "ms per episode", "slowdown", "MB per worker", "load before"
+                );
                 let opt = |v: Option<f64>, digits: usize| v.map_or_else(|| "-".into(), |v| format!("{v:.digits$}"));
                 for row in &r.rows {
                     println!(
-                        "{:>7} {:>10.1} {:>12.3} {:>8.2}x {:>14} {:>12}",
-                        row.threads, row.seconds, row.episodes_per_second, row.speedup, opt(row.mb_per_worker, 0), opt(row.load_before, 2)
+                        "{:>7} {:>10.1} {:>12.3} {:>8.2}x {:>6.1}% {:>14.0} {:>8.3}x {:>14} {:>12}",
+                        row.threads,
+                        row.seconds,
+                        row.episodes_per_second,
+                        row.speedup,
+                        100.0 * row.busy,
+                        row.ms_per_episode,
+                        row.slowdown,
+                        opt(row.mb_per_worker, 0),
+                        opt(row.load_before, 2)
                     );
                 }
+                println!("(speedup = threads × busy / slowdown, against the one-thread row: busy below 100 % is workers waiting for the last episodes, slowdown above 1 is each episode running slower beside the others)");
             }
         }
         BenchWhat::Cues { tasks, batches } => {

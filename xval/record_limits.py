@@ -9,6 +9,13 @@ while the arm moves, and send full-scale OSC targets far outside the workspace:
   limits and hold them there, then reverse it for 20 steps. Which joints each push reaches was found by trying
   every constant action along one or two of the six axes in MuJoCo; together they take each of joints 1-7 past a
   limit (MuJoCo's soft limit constraint, `solref` 0.02 1, `solimp` 0.9 0.95 0.001, margin 0).
+- `swing_j1_lo_j2_lo`, `drive_j3_hi`, `drive_j3_lo`, `drive_j4_hi_j2_lo`, `swing_j2_hi`: closed-loop sequences
+  for the limits that the constant pushes reach only through a whirl near the stretched arm or with the hand
+  sliding on link 5 (where MuJoCo does not repeat itself: xval/sensitivity.py). `drive_*` asks the OSC each step
+  for the end-effector motion that one joint's (or a joint direction's) Jacobian column gives, until the joint
+  runs past its limit, holds it there, then reverses; `swing_*` first swings the grip site around the base's
+  vertical axis (turning the gripper with it) until joint 1 reaches its lower limit, and `swing_j2_hi` then
+  leans the arm on joint 2 out over the empty floor behind the base to joint 2's upper limit.
 - `grasp_move`: steer the grip site onto the alphabet soup can (libero_object task 0) from MuJoCo's own state,
   close on it, lift and swing it around with the gripper closed, open.
 - `far_targets`: full-scale translation and rotation actions that flip every 8 steps, with the gripper toggling.
@@ -110,6 +117,78 @@ def run(env, init, actions_or_policy, steps):
     return records
 
 
+def swing_policy(out, back, rate=0.04):
+    """After settling, the grip site swung clockwise (seen from above) around the base's vertical axis by `rate`
+    rad a step for `out` steps, then back for `back` steps, at its radius and height, the gripper turning with it."""
+    state = {}
+
+    def policy(t, env):
+        sim = env.env.sim
+        grip = sim.data.site_xpos[sim.model.site_name2id("gripper0_grip_site")]
+        base = sim.data.body_xpos[sim.model.body_name2id("robot0_base")]
+        if t < SETTLE:
+            return [0.0] * 6 + [OPEN]
+        if not state:
+            state.update(phi=math.atan2(grip[1] - base[1], grip[0] - base[0]), z=grip[2],
+                         r=math.hypot(grip[0] - base[0], grip[1] - base[1]))
+        k = t - SETTLE
+        turn = -rate if k < out else rate
+        phi = state["phi"] - rate * (k + 1 if k < out else 2 * out - k - 1)
+        target = [base[0] + state["r"] * math.cos(phi), base[1] + state["r"] * math.sin(phi), state["z"]]
+        return toward(env, target) + [0.0, 0.0, turn / 0.5, OPEN]
+
+    return policy
+
+
+def joint_policy(direction, push, rate=0.1):
+    """For `push` steps, the end-effector motion that the arm's joints moving along `direction` (7 numbers) by
+    `rate` rad would give, from MuJoCo's Jacobian at the grip site (OSC scale: 1.0 is 5 cm or 0.5 rad); then
+    the opposite motion."""
+    import numpy as np
+
+    def policy(t, env):
+        sim = env.env.sim
+        cols = env.env.robots[0]._ref_joint_vel_indexes
+        jp = sim.data.get_site_jacp("gripper0_grip_site").reshape(3, -1)[:, cols]
+        jr = sim.data.get_site_jacr("gripper0_grip_site").reshape(3, -1)[:, cols]
+        dq = np.asarray(direction, dtype=float) * (rate if t < push else -rate)
+        return ([float(np.clip(x / 0.05, -1, 1)) for x in jp @ dq] +
+                [float(np.clip(x / 0.5, -1, 1)) for x in jr @ dq] + [OPEN])
+
+    return policy
+
+
+def joint(k, sign=1.0):
+    """The direction of joint `k` (1-7) alone."""
+    return [sign if i == k - 1 else 0.0 for i in range(7)]
+
+
+# (name, swing out, swing back, joint direction, push steps) of the closed-loop sequences (module doc).
+CLOSED_LOOP = [
+    ("swing_j1_lo_j2_lo", 150, 40, None, 0),
+    ("drive_j3_hi", 0, 0, joint(3), 200),
+    ("drive_j3_lo", 0, 0, joint(3, -1.0), 200),
+    ("drive_j4_hi_j2_lo", 0, 0, joint(4), 200),
+    ("swing_j2_hi", 90, 0, joint(2), 200),
+]
+
+
+def closed_loop(out, back, direction, push):
+    """A `CLOSED_LOOP` sequence: settle, swing out and back, then push along `direction` and `RELEASE` back."""
+    start = SETTLE + out + back
+    steps = start + (push + RELEASE if push else 0)
+    swinging = swing_policy(out, back)
+    pushing = joint_policy(direction, push) if push else None
+
+    def policy(t, env):
+        return swinging(t, env) if t < start else pushing(t - start, env)
+
+    phases = [["settle", 1, SETTLE], ["swing", SETTLE + 1, start]] if out else [["settle", 1, SETTLE]]
+    if push:
+        phases += [["push", start + 1, start + push], ["release", start + push + 1, steps]]
+    return policy, steps, phases
+
+
 def grasp_policy(env, obj):
     """Over the object, down, close, lift and swing, open (decided from MuJoCo's state as it runs)."""
     def policy(t, env):
@@ -178,6 +257,7 @@ def main():
     print(f"original stack: mujoco {mujoco.__version__}, robosuite {robosuite.__version__}; to {args.out}", flush=True)
     jobs = [(seq, PUSH_TASK, *push_sequence(arm, n)) for seq, arm, n in PUSHES]
     jobs.append(("far_targets", PUSH_TASK, *far_sequence()))
+    jobs += [(seq, PUSH_TASK, None, loop) for seq, *loop in CLOSED_LOOP]
     jobs.append(("grasp_move", GRASP_TASK[0], None, None))
     envs = {}
     for seq, suite, actions, phases in jobs:
@@ -191,7 +271,7 @@ def main():
         env, init = envs[suite]
         clock = time.perf_counter()
         if actions is None:
-            policy, steps, phases = grasp_policy(env, GRASP_TASK[1])
+            policy, steps, phases = grasp_policy(env, GRASP_TASK[1]) if phases is None else closed_loop(*phases)
             records = run(env, init, policy, steps)
         else:
             records = run(env, init, lambda t, _env: actions[t], len(actions))

@@ -20,7 +20,8 @@ fn limit_refs(test: &str) -> Option<PathBuf> {
 /// on `j5_lo_j2_hi_j3_lo`; 2.6 mrad before the arm's contact shapes were MuJoCo's full hulls, with
 /// the fingers' torsional friction and MuJoCo's soft dry friction). The free replay's figures are
 /// `vifo xval`'s: where a sequence amplifies differences (`xval/sensitivity.py`), they say little
-/// about one step.
+/// about one step. So the free replay's end effector is held within 1 mm of MuJoCo's only on the
+/// sequences MuJoCo repeats: all but [`UNREPEATABLE`].
 #[test]
 fn every_limit_recording_replays_with_every_record_in_a_phase() {
     let Some(dir) = limit_refs("every_limit_recording_replays_with_every_record_in_a_phase") else { return };
@@ -30,10 +31,21 @@ fn every_limit_recording_replays_with_every_record_in_a_phase() {
         let report = xval::replay(&path.display().to_string(), &rec).unwrap_or_else(|e| panic!("{}: {e:#}", path.display()));
         assert_eq!(report.all.records, rec.steps.len() - 1, "{}: records outside every phase", path.display());
         let step = report.all.step_joint_max_rad;
-        println!("{}: one step from MuJoCo's state, largest joint difference {step:.2e} rad", path.display());
+        let eef = report.all.eef_pos_max_m;
+        println!("{}: end effector within {:.3} mm; one step from MuJoCo's state, largest joint difference {step:.2e} rad", path.display(), eef * 1e3);
         assert!(step <= 2e-3, "{}: one step from MuJoCo's recorded state is {step:.2e} rad off", path.display());
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or_default();
+        if !UNREPEATABLE.iter().any(|u| name.starts_with(&format!("{u}_"))) {
+            assert!(eef <= 1e-3, "{}: end effector {:.3} mm from MuJoCo's", path.display(), eef * 1e3);
+        }
     }
 }
+
+/// The sequences from which MuJoCo parts from its own run by 0.8 mm or more when the arm's start
+/// is nudged by 1e-7 rad (the first three) or 1e-5 rad (`j5_hi_j2_hi`, 2.8 mm): a whirl near the
+/// stretched arm, the hand sliding on link 5 (`xval/sensitivity.py`; ours differs from MuJoCo by
+/// up to 1e-3 rad in one step there). Every other one MuJoCo repeats within 0.3 mm at 1e-5 rad.
+const UNREPEATABLE: [&str; 4] = ["fast_j2_hi_j3_hi", "fast_j4_hi_j5_hi_j7_lo", "j5_lo_j2_hi_j3_lo", "j5_hi_j2_hi"];
 
 /// While the arm still follows MuJoCo's (every joint within 1 mrad at the record before), each
 /// joint MuJoCo holds past its range (past it at this record and the one before) is within

@@ -7,7 +7,10 @@
 //! meshoptimizer builds the patches (its meshlets, grown for coherent normals) and their cones.
 //! Regrouping only reorders the triangles, each keeping its vertices and winding, so a mesh draws
 //! the same surfaces; only where two of its triangles overlap at equal depth can the order
-//! change which one shows.
+//! change which one shows. The vertices are renumbered in the order the patches first use them,
+//! so that a patch's vertex data lies together in memory; that changes no value.
+
+use std::borrow::Cow;
 
 use glam::Vec3;
 use meshoptimizer_rs::{build_meshlets, compute_cluster_bounds, MeshletSettings, Positions, Workspace};
@@ -44,6 +47,8 @@ pub(crate) struct Cluster {
 pub(crate) struct Clusters {
     pub list: Vec<Cluster>,
     pub vertices: Vec<u32>,
+    /// The index each vertex had before clustering renumbered the vertices.
+    pub loaded_order: Vec<u32>,
 }
 
 impl Mesh {
@@ -91,7 +96,39 @@ impl Mesh {
         if triangles.len() != self.triangle_count() {
             return self;
         }
+        // Vertices in the order the clusters first use them (meshoptimizer's vertex fetch
+        // order): a cluster's vertices then lie close together in memory.
+        let mut new_index = vec![u32::MAX; self.vertex_count()];
+        let mut order = Vec::with_capacity(self.vertex_count());
+        for v in clusters.vertices.iter().copied().chain(0..self.vertex_count() as u32) {
+            if new_index[v as usize] == u32::MAX {
+                new_index[v as usize] = order.len() as u32;
+                order.push(v);
+            }
+        }
+        let renumber = |v: &mut u32| *v = new_index[*v as usize];
+        triangles.iter_mut().flatten().for_each(renumber);
+        clusters.vertices.iter_mut().for_each(renumber);
+        clusters.loaded_order = order;
         self.with_clusters(triangles, clusters)
+    }
+
+    /// The same triangles with the vertices numbered as before [`Mesh::clustered`] renumbered
+    /// them: the simplifier's choices depend on the numbering, and coarser copies must come out
+    /// as they did from the loaded order.
+    pub(crate) fn in_loaded_order(&self) -> Cow<'_, Mesh> {
+        let order = &self.clusters().loaded_order;
+        if order.is_empty() {
+            return Cow::Borrowed(self);
+        }
+        let mut back = vec![0; order.len()];
+        for (new, &old) in order.iter().enumerate() {
+            back[old as usize] = new;
+        }
+        let pick = |v: &[Vec3]| back.iter().map(|&i| v[i]).collect();
+        let uvs = self.uvs().map(|u| back.iter().map(|&i| u[i]).collect());
+        let triangles = self.triangles().iter().map(|t| t.map(|v| order[v as usize])).collect();
+        Cow::Owned(Mesh::new(pick(self.positions()), pick(self.normals()), uvs, triangles).expect("renumbering keeps a valid mesh valid"))
     }
 }
 
@@ -107,7 +144,9 @@ mod tests {
         let clusters = c.clusters();
         assert!(clusters.list.len() > 4);
         let mut original: Vec<[u32; 3]> = sphere.triangles().to_vec();
-        let mut regrouped: Vec<[u32; 3]> = c.triangles().to_vec();
+        let loaded = c.in_loaded_order();
+        assert_eq!((loaded.positions(), loaded.normals(), loaded.uvs()), (sphere.positions(), sphere.normals(), sphere.uvs()));
+        let mut regrouped: Vec<[u32; 3]> = loaded.triangles().to_vec();
         // Same triangles with the same winding (meshoptimizer may rotate a triangle's corners).
         let canonical = |t: &mut [u32; 3]| {
             let k = (0..3).min_by_key(|&k| t[k]).unwrap();
@@ -131,6 +170,17 @@ mod tests {
             }
         }
         assert_eq!(next as usize, c.triangle_count());
+    }
+
+    #[test]
+    fn vertices_are_numbered_in_order_of_first_use_by_the_clusters() {
+        let c = Mesh::sphere(1.0, 32).clustered();
+        let mut next = 0;
+        for &v in &c.clusters().vertices {
+            assert!(v <= next);
+            next = next.max(v + 1);
+        }
+        assert!(next > 0 && next as usize <= c.vertex_count());
     }
 
     #[test]

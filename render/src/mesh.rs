@@ -165,9 +165,13 @@ impl Mesh {
         Mesh::new(pick(&self.positions), pick(&self.normals), uvs, triangles).expect("sharing equal vertices keeps a valid mesh valid")
     }
 
-    /// This mesh with `triangles` (the same ones, regrouped) in `clusters`.
+    /// This mesh with its vertices in `clusters.loaded_order` (the old index of each), and
+    /// `triangles` (the same ones, regrouped and renumbered) in `clusters`.
     pub(crate) fn with_clusters(self, triangles: Vec<[u32; 3]>, clusters: Clusters) -> Mesh {
-        Mesh { triangles, clusters, ..self }
+        let order = &clusters.loaded_order;
+        let pick = |v: &[Vec3]| order.iter().map(|&i| v[i as usize]).collect();
+        let uvs = self.uvs.as_ref().map(|u| order.iter().map(|&i| u[i as usize]).collect());
+        Mesh { positions: pick(&self.positions), normals: pick(&self.normals), uvs, triangles, clusters, ..self }
     }
 
     /// The triangle clusters (empty for meshes drawn triangle by triangle).

@@ -26,18 +26,20 @@ impl Mesh {
         if !(max_error > 0.0 && max_error.is_finite()) {
             return None;
         }
-        let positions: Vec<[f32; 3]> = self.positions().iter().map(|p| p.to_array()).collect();
-        let indices: Vec<u32> = self.triangles().iter().flatten().copied().collect();
-        let uvs = self.uvs();
-        let attributes: Vec<f32> = (0..self.vertex_count())
+        let loaded = self.in_loaded_order();
+        let mesh = &*loaded;
+        let positions: Vec<[f32; 3]> = mesh.positions().iter().map(|p| p.to_array()).collect();
+        let indices: Vec<u32> = mesh.triangles().iter().flatten().copied().collect();
+        let uvs = mesh.uvs();
+        let attributes: Vec<f32> = (0..mesh.vertex_count())
             .flat_map(|i| {
-                let n = self.normals()[i].normalize_or_zero();
+                let n = mesh.normals()[i].normalize_or_zero();
                 let uv = uvs.map_or(Vec2::ZERO, |u| u[i]);
                 [n.x, n.y, n.z, uv.x, uv.y]
             })
             .collect();
         let weights = [NORMAL_WEIGHT, NORMAL_WEIGHT, NORMAL_WEIGHT, UV_WEIGHT, UV_WEIGHT];
-        let flags = uvs.map(|u| uv_seams(self.positions(), u));
+        let flags = uvs.map(|u| uv_seams(mesh.positions(), u));
         let settings = SimplifySettings {
             target_index_count: 0,
             target_error: max_error,
@@ -46,7 +48,7 @@ impl Mesh {
         let kept = simplify_with_attributes(
             &indices,
             Positions::from_packed(&positions),
-            Attributes::from_interleaved(&attributes, self.vertex_count(), 5, 5, 0).ok()?,
+            Attributes::from_interleaved(&attributes, mesh.vertex_count(), 5, 5, 0).ok()?,
             &weights,
             flags.as_deref(),
             settings,
@@ -58,7 +60,7 @@ impl Mesh {
             return None;
         }
         // Only the vertices the kept triangles use, in first-use order.
-        let mut new_index = vec![u32::MAX; self.vertex_count()];
+        let mut new_index = vec![u32::MAX; mesh.vertex_count()];
         let mut used = Vec::new();
         let triangles = kept
             .chunks_exact(3)
@@ -75,7 +77,7 @@ impl Mesh {
             .collect();
         let pick = |v: &[Vec3]| used.iter().map(|&i| v[i]).collect();
         let kept_uvs = uvs.map(|u| used.iter().map(|&i| u[i]).collect());
-        Mesh::new(pick(self.positions()), pick(self.normals()), kept_uvs, triangles).ok()
+        Mesh::new(pick(mesh.positions()), pick(mesh.normals()), kept_uvs, triangles).ok()
     }
 }
 

@@ -40,7 +40,7 @@ use self::hiz::HiZ;
 use self::layer::{Buffers, Layers, PixelBox, Plan};
 use self::lighting::{LightRig, Lit, VERTEX_LANES};
 use self::shadow::ShadowMap;
-use self::triangle::{box_holds_centre, orientation, snap, Plane, Setup};
+use self::triangle::{box_holds_centre, orientation, snap, Plane, Planes, Setup};
 use crate::camera::{Camera, Intrinsics};
 use crate::cluster::Cluster;
 use crate::frame::Frame;
@@ -632,8 +632,8 @@ impl Renderer {
         let depth = &self.depth;
         let mut rasterized = 0;
         let mut front = Frontend { verts: &mut self.verts, lit: &mut self.lit, poly: &mut self.poly, rig: &self.rig };
-        let done = front.assemble(inst, visible.inside, view, &mut |setup: Setup, _: [f32; 3], light: &mut dyn FnMut() -> [ScreenVert; 3]| {
-            let (rec, sh) = build_record(&setup, &light(), inst, idx, shadows.is_some());
+        let done = front.assemble(inst, visible.inside, view, &mut |setup: &Setup, _: [f32; 3], light: &mut dyn FnMut() -> [ScreenVert; 3]| {
+            let (rec, sh) = build_record(&setup.planes, &light(), inst, idx, shadows.is_some());
             rasterized += 1;
             let texture = texture_of(&rec, scene);
             setup.for_each_pixel(&rec.iz, view.width, |p, i, j, iz| {
@@ -913,7 +913,7 @@ trait Sink {
     /// A screen triangle covering a pixel centre, its vertices' `1/z`, its mesh corners (in
     /// the order its setup uses, and which side faces the camera) unless it was clipped, and a
     /// function that lights its vertices now.
-    fn triangle(&mut self, setup: Setup, iz: [f32; 3], corners: Option<Corners>, light: &mut dyn FnMut() -> [ScreenVert; 3]);
+    fn triangle(&mut self, setup: &Setup, iz: [f32; 3], corners: Option<Corners>, light: &mut dyn FnMut() -> [ScreenVert; 3]);
 
     /// Triangles kept for lighting later: the frontend lights their corners together (eight
     /// vertices at a time) and hands them back through [`Sink::commit`]. `None`: lights now.
@@ -926,8 +926,8 @@ trait Sink {
 }
 
 /// Any such function is a sink that hides nothing and lights at once.
-impl<F: FnMut(Setup, [f32; 3], &mut dyn FnMut() -> [ScreenVert; 3])> Sink for F {
-    fn triangle(&mut self, setup: Setup, iz: [f32; 3], _: Option<Corners>, light: &mut dyn FnMut() -> [ScreenVert; 3]) {
+impl<F: FnMut(&Setup, [f32; 3], &mut dyn FnMut() -> [ScreenVert; 3])> Sink for F {
+    fn triangle(&mut self, setup: &Setup, iz: [f32; 3], _: Option<Corners>, light: &mut dyn FnMut() -> [ScreenVert; 3]) {
         self(setup, iz, light)
     }
 }
@@ -941,7 +941,7 @@ struct Corners {
 
 /// A triangle that won pixels and waits for its corners' colours.
 struct Deferred {
-    setup: Setup,
+    planes: Planes,
     corners: Corners,
 }
 
@@ -972,7 +972,7 @@ impl Sink for Opaque<'_> {
         self.hiz.hidden(self.depth, self.view.width, rect, nearest)
     }
 
-    fn triangle(&mut self, setup: Setup, iz: [f32; 3], corners: Option<Corners>, light: &mut dyn FnMut() -> [ScreenVert; 3]) {
+    fn triangle(&mut self, setup: &Setup, iz: [f32; 3], corners: Option<Corners>, light: &mut dyn FnMut() -> [ScreenVert; 3]) {
         self.rasterized += 1;
         let plane = setup.plane(iz);
         // A large triangle behind what is drawn (the floor under the table, a cabinet behind
@@ -1015,12 +1015,12 @@ impl Sink for Opaque<'_> {
             return;
         }
         match corners {
-            Some(corners) => self.deferred.push(Deferred { setup, corners }),
+            Some(corners) => self.deferred.push(Deferred { planes: setup.planes, corners }),
             None => {
                 // Ids follow the records: the frontend commits deferred triangles before it
                 // sends a clipped one.
                 debug_assert!(self.deferred.is_empty());
-                self.record(&setup, &light());
+                self.record(&setup.planes, &light());
             }
         }
     }
@@ -1034,7 +1034,7 @@ impl Sink for Opaque<'_> {
         for d in &deferred {
             let [a, b, c] = d.corners.ids;
             let back = d.corners.back;
-            self.record(&d.setup, &[corner(a, back), corner(b, back), corner(c, back)]);
+            self.record(&d.planes, &[corner(a, back), corner(b, back), corner(c, back)]);
         }
         *self.deferred = deferred;
         self.deferred.clear();
@@ -1042,8 +1042,8 @@ impl Sink for Opaque<'_> {
 }
 
 impl Opaque<'_> {
-    fn record(&mut self, setup: &Setup, corners: &[ScreenVert; 3]) {
-        let (rec, sh) = build_record(setup, corners, self.inst, self.idx, self.shadows);
+    fn record(&mut self, planes: &Planes, corners: &[ScreenVert; 3]) {
+        let (rec, sh) = build_record(planes, corners, self.inst, self.idx, self.shadows);
         self.records.push(rec);
         if let Some(sh) = sh {
             self.shadow_rgb.push(sh);
@@ -1112,7 +1112,7 @@ impl Placed<'_> {
                     continue;
                 }
                 let (b, c) = if back { (b, c) } else { (c, b) };
-                let Some(setup) = Setup::new([xy(a), xy(b), xy(c)], w, h) else { continue };
+                let Some(setup) = &Setup::new([xy(a), xy(b), xy(c)], w, h) else { continue };
                 let sv = |i: usize, lit: Lit| self.screen_vert(verts, i, lit);
                 let lit = &mut *lit;
                 let corners = Corners { ids: [a as u32, b as u32, c as u32], back };
@@ -1142,7 +1142,7 @@ impl Placed<'_> {
                     if orientation([sv[0].xy, sv[1].xy, sv[2].xy]) < 0 {
                         sv.swap(1, 2);
                     }
-                    if let Some(setup) = Setup::new([sv[0].xy, sv[1].xy, sv[2].xy], w, h) {
+                    if let Some(setup) = &Setup::new([sv[0].xy, sv[1].xy, sv[2].xy], w, h) {
                         sink.triangle(setup, sv.map(|v| v.iz), None, &mut || sv);
                     }
                 }
@@ -1326,13 +1326,13 @@ impl Verts {
 
 /// The shading record of a set-up screen triangle, plus the shadow-light colour planes when
 /// shadows are on.
-fn build_record(setup: &Setup, sv: &[ScreenVert; 3], inst: &Instance, idx: u32, shadows: bool) -> (TriRecord, Option<[Plane; 3]>) {
+fn build_record(planes: &Planes, sv: &[ScreenVert; 3], inst: &Instance, idx: u32, shadows: bool) -> (TriRecord, Option<[Plane; 3]>) {
     let iz = [sv[0].iz, sv[1].iz, sv[2].iz];
-    let per_z = |f: fn(&ScreenVert) -> f32| setup.plane([f(&sv[0]) * iz[0], f(&sv[1]) * iz[1], f(&sv[2]) * iz[2]]);
+    let per_z = |f: fn(&ScreenVert) -> f32| planes.plane([f(&sv[0]) * iz[0], f(&sv[1]) * iz[1], f(&sv[2]) * iz[2]]);
     let texture = inst.material.texture.as_deref().filter(|_| inst.mesh.uvs().is_some());
-    let mip = texture.map_or(u32::MAX, |t| mip_level(t, sv, setup.area2));
+    let mip = texture.map_or(u32::MAX, |t| mip_level(t, sv, planes.area2));
     let rec = TriRecord {
-        iz: setup.plane(iz),
+        iz: planes.plane(iz),
         rgb: [per_z(|v| v.lit.base[0]), per_z(|v| v.lit.base[1]), per_z(|v| v.lit.base[2])],
         uv: if texture.is_some() { [per_z(|v| v.uv.x), per_z(|v| v.uv.y)] } else { [Plane::default(); 2] },
         instance: idx,

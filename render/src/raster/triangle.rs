@@ -47,15 +47,33 @@ pub(crate) struct Setup {
     /// Edge function change per pixel step in i and in j.
     di: [i64; 3],
     dj: [i64; 3],
+    pub planes: Planes,
+}
+
+/// What attribute planes need of a set-up triangle: all a triangle keeps while it waits for
+/// its lit corners.
+#[derive(Clone, Copy)]
+pub(crate) struct Planes {
     /// First vertex in pixels (snapped) and the edge vectors from it divided by twice the
-    /// area, for attribute planes. In f64: clipped triangles can have vertices far off screen,
-    /// and the planes must still be accurate at the on-screen pixels.
+    /// area. In f64: clipped triangles can have vertices far off screen, and the planes must
+    /// still be accurate at the on-screen pixels.
     x0: f64,
     y0: f64,
     /// `(y2 − y0, y1 − y0, x1 − x0, x2 − x0) / (2 × area)`.
     k: [f64; 4],
     /// Twice the area in square pixels.
     pub area2: f32,
+}
+
+impl Planes {
+    /// The plane through the vertex values `a` (one per vertex, in setup order).
+    pub(crate) fn plane(&self, a: [f32; 3]) -> Plane {
+        let a0 = a[0] as f64;
+        let (d1, d2) = (a[1] as f64 - a0, a[2] as f64 - a0);
+        let pa = d1 * self.k[0] - d2 * self.k[1];
+        let pb = d2 * self.k[2] - d1 * self.k[3];
+        Plane { a: pa as f32, b: pb as f32, c: (a0 - pa * self.x0 - pb * self.y0) as f32 }
+    }
 }
 
 impl Setup {
@@ -103,10 +121,12 @@ impl Setup {
             e0,
             di,
             dj,
-            x0: x[0],
-            y0: y[0],
-            k: [(y[2] - y[0]) * inv, (y[1] - y[0]) * inv, (x[1] - x[0]) * inv, (x[2] - x[0]) * inv],
-            area2: area2 as f32,
+            planes: Planes {
+                x0: x[0],
+                y0: y[0],
+                k: [(y[2] - y[0]) * inv, (y[1] - y[0]) * inv, (x[1] - x[0]) * inv, (x[2] - x[0]) * inv],
+                area2: area2 as f32,
+            },
         })
     }
 
@@ -117,11 +137,7 @@ impl Setup {
 
     /// The plane through the vertex values `a` (one per vertex, in setup order).
     pub(crate) fn plane(&self, a: [f32; 3]) -> Plane {
-        let a0 = a[0] as f64;
-        let (d1, d2) = (a[1] as f64 - a0, a[2] as f64 - a0);
-        let pa = d1 * self.k[0] - d2 * self.k[1];
-        let pb = d2 * self.k[2] - d1 * self.k[3];
-        Plane { a: pa as f32, b: pb as f32, c: (a0 - pa * self.x0 - pb * self.y0) as f32 }
+        self.planes.plane(a)
     }
 
     /// Calls `f(j, first, last)` with the covered pixels `first..=last` of every row `j` that

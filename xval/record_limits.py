@@ -117,6 +117,11 @@ def run(env, init, actions_or_policy, steps):
     return records
 
 
+def replayed(actions, phases):
+    """A fixed action sequence as `main`'s jobs take it: the policy, the step count and the phases."""
+    return lambda t, _env: actions[t], len(actions), phases
+
+
 def swing_policy(out, back, rate=0.04):
     """After settling, the grip site swung clockwise (seen from above) around the base's vertical axis by `rate`
     rad a step for `out` steps, then back for `back` steps, at its radius and height, the gripper turning with it."""
@@ -189,7 +194,7 @@ def closed_loop(out, back, direction, push):
     return policy, steps, phases
 
 
-def grasp_policy(env, obj):
+def grasp_policy(obj):
     """Over the object, down, close, lift and swing, open (decided from MuJoCo's state as it runs)."""
     def policy(t, env):
         sim = env.env.sim  # a reset builds a new sim
@@ -255,12 +260,13 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     import mujoco, robosuite
     print(f"original stack: mujoco {mujoco.__version__}, robosuite {robosuite.__version__}; to {args.out}", flush=True)
-    jobs = [(seq, PUSH_TASK, *push_sequence(arm, n)) for seq, arm, n in PUSHES]
-    jobs.append(("far_targets", PUSH_TASK, *far_sequence()))
-    jobs += [(seq, PUSH_TASK, None, loop) for seq, *loop in CLOSED_LOOP]
-    jobs.append(("grasp_move", GRASP_TASK[0], None, None))
+    # (sequence, suite, plan): `plan()` gives the policy, its steps and its phases.
+    jobs = [(seq, PUSH_TASK, lambda arm=arm, n=n: replayed(*push_sequence(arm, n))) for seq, arm, n in PUSHES]
+    jobs.append(("far_targets", PUSH_TASK, lambda: replayed(*far_sequence())))
+    jobs += [(seq, PUSH_TASK, lambda loop=loop: closed_loop(*loop)) for seq, *loop in CLOSED_LOOP]
+    jobs.append(("grasp_move", GRASP_TASK[0], lambda: grasp_policy(GRASP_TASK[1])))
     envs = {}
-    for seq, suite, actions, phases in jobs:
+    for seq, suite, plan in jobs:
         path = os.path.join(args.out, f"{seq}_{suite}_task0_init0.json")
         if os.path.exists(path) and not args.force:
             print(f"{seq}: already recorded", flush=True)
@@ -270,11 +276,8 @@ def main():
             envs[suite] = make_env(root, suite, name)
         env, init = envs[suite]
         clock = time.perf_counter()
-        if actions is None:
-            policy, steps, phases = grasp_policy(env, GRASP_TASK[1]) if phases is None else closed_loop(*phases)
-            records = run(env, init, policy, steps)
-        else:
-            records = run(env, init, lambda t, _env: actions[t], len(actions))
+        policy, steps, phases = plan()
+        records = run(env, init, policy, steps)
         save(args.out, seq, suite, name, env, init, records, phases)
         touching = [r["t"] for r in records[1:] if r["arm_contacts"]]
         touch = f"arm touches the scene at {len(touching)} records from {touching[0]}" if touching else "arm touches nothing"

@@ -436,7 +436,9 @@ impl PhysicsPipeline {
         // TODO: do this only on user-change.
         // TODO: do we want some kind of automatic inverse kinematics?
         for multibody in &mut multibody_joints.multibodies {
-            multibody.1.forward_kinematics(bodies, true);
+            if !multibody.1.kinematics_current_for(bodies) {
+                multibody.1.forward_kinematics(bodies, true);
+            }
             multibody
                 .1
                 .update_rigid_bodies_internal(bodies, true, false, false);

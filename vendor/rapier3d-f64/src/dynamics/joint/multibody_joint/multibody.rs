@@ -120,6 +120,12 @@ pub struct Multibody {
 
     ndofs: usize,
     pub(crate) root_is_dynamic: bool,
+    /// Set by the step after its forward kinematics: the links' poses and body Jacobians match
+    /// the joint coordinates, until the multibody is next borrowed mutably from outside the step.
+    pub(crate) kinematics_current: bool,
+    /// The links' local centres of mass that forward kinematics read when it set
+    /// `kinematics_current` (they live in the rigid-body set, out of this borrow's reach).
+    kinematics_coms: Vec<Vector>,
     pub(crate) solver_id: u32,
     self_contacts_enabled: bool,
     /// Holonomic couplings between two of this multibody's generalized
@@ -168,6 +174,8 @@ impl Multibody {
             coriolis_w: Vec::new(),
             i_coriolis_dt: Jacobian::zeros(0),
             root_is_dynamic: false,
+            kinematics_current: false,
+            kinematics_coms: Vec::new(),
             self_contacts_enabled,
             couplings: Vec::new(),
             // solver_workspace: Some(SolverWorkspace::new()),
@@ -1398,6 +1406,26 @@ impl Multibody {
                 }
             }
         }
+    }
+
+    /// Whether [`Self::forward_kinematics`] with the root pose read from its rigid-body would
+    /// give what the last step's forward kinematics left: nothing was changed through a mutable
+    /// borrow since, and the root is still the fixed body at the pose it had then.
+    pub(crate) fn kinematics_current_for(&self, bodies: &RigidBodySet) -> bool {
+        let root = &self.links[0];
+        self.kinematics_current
+            && !self.root_is_dynamic
+            && !root.joint.data.locked_axes.is_empty()
+            && bodies.get(root.rigid_body).is_some_and(|rb| !rb.is_dynamic() && *rb.position() == root.joint.data.local_frame1)
+            && self.kinematics_coms.len() == self.links.len()
+            && self.links.iter().zip(&self.kinematics_coms).all(|(link, com)| bodies.get(link.rigid_body).is_some_and(|rb| rb.mprops.local_mprops.local_com == *com))
+    }
+
+    /// Marks the forward kinematics just computed as current (see [`Self::kinematics_current_for`]).
+    pub(crate) fn set_kinematics_current(&mut self, bodies: &RigidBodySet) {
+        self.kinematics_coms.clear();
+        self.kinematics_coms.extend(self.links.iter().map(|link| bodies[link.rigid_body].mprops.local_mprops.local_com));
+        self.kinematics_current = true;
     }
 
     /// Update the rigid-body poses based on this multibody joint poses.

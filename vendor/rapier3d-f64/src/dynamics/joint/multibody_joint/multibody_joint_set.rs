@@ -181,6 +181,7 @@ impl MultibodyJointSet {
         }
 
         multibody1.append(mb2, link1.id, MultibodyJoint::new(data.into(), kinematic));
+        multibody1.kinematics_current = false;
 
         if wake_up {
             self.to_wake_up.insert(body1);
@@ -318,7 +319,9 @@ impl MultibodyJointSet {
     /// `MultibodyJointSet`.
     pub fn get_multibody_mut(&mut self, index: MultibodyIndex) -> Option<&mut Multibody> {
         // TODO: modification tracking.
-        self.multibodies.get_mut(index.0)
+        let multibody = self.multibodies.get_mut(index.0)?;
+        multibody.kinematics_current = false;
+        Some(multibody)
     }
 
     /// Gets a mutable reference to a multibody, based on its temporary index.
@@ -340,6 +343,7 @@ impl MultibodyJointSet {
     pub fn get_mut(&mut self, handle: MultibodyJointHandle) -> Option<(&mut Multibody, usize)> {
         let link = self.rb2mb.get(handle.0)?;
         let multibody = self.multibodies.get_mut(link.multibody.0)?;
+        multibody.kinematics_current = false;
         Some((multibody, link.id))
     }
 

@@ -96,6 +96,13 @@ impl<const N: usize> Row<N> {
     fn shortfall(&self, a: &Coords<N>) -> f64 {
         self.jacobian.dot(a) - self.aref
     }
+
+    /// The one coordinate the Jacobian has, where it has just one (a joint's own row).
+    fn axis(&self) -> Option<usize> {
+        let mut nonzero = self.jacobian.iter().enumerate().filter(|(_, j)| **j != 0.0);
+        let (k, _) = nonzero.next()?;
+        nonzero.next().is_none().then_some(k)
+    }
 }
 
 /// A contact with MuJoCo's elliptic friction cone: a normal row, two tangent rows and, for
@@ -194,8 +201,19 @@ impl<const N: usize> Constraints<N> {
         let quadratic = |e: &mut Evaluated<N>, row: &Row<N>, jar: f64| {
             let d = 1.0 / row.regularizer;
             e.cost += 0.5 * d * jar * jar;
-            e.force -= row.jacobian * (d * jar);
-            e.hessian += row.jacobian * row.jacobian.transpose() * d;
+            match row.axis() {
+                // A joint's limit or friction: the dense update below would add only zeros
+                // elsewhere, which leave every sum as it is (none of them holds -0).
+                Some(k) => {
+                    let j = row.jacobian[k];
+                    e.force[k] -= j * (d * jar);
+                    e.hessian[(k, k)] += j * j * d;
+                }
+                None => {
+                    e.force -= row.jacobian * (d * jar);
+                    e.hessian += row.jacobian * row.jacobian.transpose() * d;
+                }
+            }
         };
         for row in &self.rows {
             let jar = row.shortfall(a);

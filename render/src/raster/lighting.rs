@@ -25,8 +25,6 @@ struct LightBlock {
     x: Vec4,
     y: Vec4,
     z: Vec4,
-    /// 1 for positional lights, 0 for directional ones.
-    positional: Vec4,
     /// Spot lights with a cutoff below 180° (1 per lane, else 0). Lane flags are kept as
     /// floats and turned into masks with `cmpgt` where used, because glam's mask type differs
     /// between its SIMD and scalar (`scalar-math`) builds.
@@ -51,6 +49,24 @@ struct LightBlock {
     specular: [Vec4; 3],
     /// 1 in the lane of the shadow-casting light.
     shadow: Vec4,
+    /// What each lane computes per vertex; see [`LaneKind`].
+    kind: [LaneKind; LANES],
+}
+
+/// How much of a light's term depends on the vertex. Each kind computes exactly what the
+/// general positional formula gives for it, in fewer operations.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum LaneKind {
+    /// No light: its term is exactly +0 and is left out.
+    Unused,
+    /// A directional light: the unit vector to it, as the general formula normalizes it (the
+    /// same for every vertex, since `x − p·0` is `x` once `x` has no negative zero); no spot,
+    /// and an attenuation of exactly 1.
+    Directional([f32; 3]),
+    /// A positional light whose attenuation does not depend on distance (`a1 = a2 = 0`):
+    /// `1 / a0`, or 1 where `a0` is not positive, as the general formula gives it.
+    Constant(f32),
+    Positional,
 }
 
 impl Default for LightBlock {
@@ -59,7 +75,6 @@ impl Default for LightBlock {
             x: Vec4::ZERO,
             y: Vec4::ZERO,
             z: Vec4::ZERO,
-            positional: Vec4::ZERO,
             spot: Vec4::ZERO,
             ax: Vec4::ZERO,
             ay: Vec4::ZERO,
@@ -75,6 +90,7 @@ impl Default for LightBlock {
             diffuse: [Vec4::ZERO; 3],
             specular: [Vec4::ZERO; 3],
             shadow: Vec4::ZERO,
+            kind: [LaneKind::Unused; LANES],
         }
     }
 }
@@ -217,9 +233,20 @@ impl LightRig {
         }
         self.lights += 1;
         let b = self.blocks.last_mut().expect("a block was just ensured");
+        // A directional light's vector loses any negative zero (`-0 + 0 = +0`), so that
+        // `x − p·0` is `x` for every vertex `p` and the vector can be normalized once.
+        let at = if spot.is_some() { at } else { at + Vec3::ZERO };
         (b.x[lane], b.y[lane], b.z[lane]) = (at.x, at.y, at.z);
+        b.kind[lane] = match &spot {
+            None => {
+                let dist = (at.x * at.x + at.y * at.y + at.z * at.z).sqrt();
+                let inv = if dist > 0.0 { 1.0 / dist } else { 0.0 };
+                LaneKind::Directional([at.x * inv, at.y * inv, at.z * inv])
+            }
+            Some(Spot { attenuation: [a0, a1, a2], .. }) if *a1 == 0.0 && *a2 == 0.0 => LaneKind::Constant(if *a0 > 0.0 { 1.0 / a0 } else { 1.0 }),
+            Some(_) => LaneKind::Positional,
+        };
         if let Some(s) = spot {
-            b.positional[lane] = 1.0;
             [b.a0[lane], b.a1[lane], b.a2[lane]] = s.attenuation;
             if let Some(cos) = s.cos_cutoff {
                 b.spot[lane] = 1.0;
@@ -304,30 +331,42 @@ impl LightRig {
             let mut terms = [[zero; LANES]; 3];
             for l in 0..LANES {
                 let lane = |v: Vec4| splat(v[l]);
-                // Unit vector to the light and its distance (directional lights: 1).
-                let positional = lane(b.positional);
-                let lx = lane(b.x) - px * positional;
-                let ly = lane(b.y) - py * positional;
-                let lz = lane(b.z) - pz * positional;
-                let dist = (lx * lx + ly * ly + lz * lz).sqrt();
-                let inv = dist.simd_gt(zero).select(V::ONE / dist, zero);
-                let (lx, ly, lz) = (lx * inv, ly * inv, lz * inv);
-                // Spot cone: max(−l·axis, 0)^exponent inside the cutoff, 0 outside; 1 for other
-                // lights. (`fast_max(x, 0)` gives 0 for NaN, as `f32::max` does.)
-                let cos = (-(lx * lane(b.ax) + ly * lane(b.ay) + lz * lane(b.az))).fast_max(zero);
-                let (mut power, mut spot) = (cos, V::ONE);
-                for mask in &b.exponent_bits[..b.bits as usize] {
-                    if mask[l] > 0.0 {
-                        spot *= power;
+                // Unit vector to the light, and the spot and attenuation factor (`None`: 1).
+                let (lx, ly, lz, factor) = match b.kind[l] {
+                    LaneKind::Unused => continue,
+                    LaneKind::Directional([x, y, z]) => (splat(x), splat(y), splat(z), None),
+                    kind => {
+                        let lx = lane(b.x) - px;
+                        let ly = lane(b.y) - py;
+                        let lz = lane(b.z) - pz;
+                        let dist = (lx * lx + ly * ly + lz * lz).sqrt();
+                        let inv = dist.simd_gt(zero).select(V::ONE / dist, zero);
+                        let (lx, ly, lz) = (lx * inv, ly * inv, lz * inv);
+                        // Spot cone: max(−l·axis, 0)^exponent inside the cutoff, 0 outside; 1
+                        // for other lights. (`fast_max(x, 0)` gives 0 for NaN, as `f32::max`
+                        // does.)
+                        let cos = (-(lx * lane(b.ax) + ly * lane(b.ay) + lz * lane(b.az))).fast_max(zero);
+                        let (mut power, mut spot) = (cos, V::ONE);
+                        for mask in &b.exponent_bits[..b.bits as usize] {
+                            if mask[l] > 0.0 {
+                                spot *= power;
+                            }
+                            power *= power;
+                        }
+                        if let Some(e) = b.fractional[l] {
+                            spot = V::from(cos.to_array().map(|c| libm::powf(c, e)));
+                        }
+                        let spot = if b.spot[l] > 0.0 { cos.simd_ge(lane(b.cos_cutoff)).select(spot, zero) } else { V::ONE };
+                        let attenuation = match kind {
+                            LaneKind::Constant(inv_a0) => splat(inv_a0),
+                            _ => {
+                                let den = lane(b.a0) + lane(b.a1) * dist + lane(b.a2) * dist * dist;
+                                den.simd_gt(zero).select(V::ONE / den, V::ONE)
+                            }
+                        };
+                        (lx, ly, lz, Some(spot * attenuation))
                     }
-                    power *= power;
-                }
-                if let Some(e) = b.fractional[l] {
-                    spot = V::from(cos.to_array().map(|c| libm::powf(c, e)));
-                }
-                let spot = if b.spot[l] > 0.0 { cos.simd_ge(lane(b.cos_cutoff)).select(spot, zero) } else { V::ONE };
-                let den = lane(b.a0) + lane(b.a1) * dist + lane(b.a2) * dist * dist;
-                let factor = spot * den.simd_gt(zero).select(V::ONE / den, V::ONE);
+                };
                 // Diffuse and Blinn-Phong specular (only where the light is in front of the surface).
                 let ndl = nx * lx + ny * ly + nz * lz;
                 let (hx, hy, hz) = (lx + vx, ly + vy, lz + vz);
@@ -337,7 +376,8 @@ impl LightRig {
                 let diffuse = front.select(ndl, zero);
                 let specular = front.select(s.power.of_vertex_lanes(ndh) * splat(s.specular), zero);
                 for k in 0..3 {
-                    terms[k][l] = (lane(b.ambient[k]) * splat(rgb[k]) + lane(b.diffuse[k]) * (diffuse * splat(rgb[k])) + lane(b.specular[k]) * specular) * factor;
+                    let term = lane(b.ambient[k]) * splat(rgb[k]) + lane(b.diffuse[k]) * (diffuse * splat(rgb[k])) + lane(b.specular[k]) * specular;
+                    terms[k][l] = factor.map_or(term, |f| term * f);
                 }
             }
             for (k, t) in terms.iter().enumerate() {
@@ -508,6 +548,84 @@ mod tests {
                         assert_eq!(lanes.lit(l), one, "shadows {shadows}, material {m:?}, lane {l}");
                     }
                 }
+            }
+        }
+    }
+
+    /// One light's term as the general positional formula computes it for one vertex
+    /// (directional lights with `x − p·0`, attenuation from the distance), without the shortcuts
+    /// of [`LaneKind`].
+    fn general_term(b: &LightBlock, l: usize, s: &Surface<'_>, p: Vec3, n: Vec3) -> [f32; 3] {
+        let positional = if matches!(b.kind[l], LaneKind::Directional(_)) { 0.0 } else { 1.0 };
+        let unit = |v: Vec3| {
+            let len = (v.x * v.x + v.y * v.y + v.z * v.z).sqrt();
+            let inv = if len > 0.0 { 1.0 / len } else { 0.0 };
+            Vec3::new(v.x * inv, v.y * inv, v.z * inv)
+        };
+        let (n, v) = (unit(n), unit(-p));
+        let raw = Vec3::new(b.x[l] - p.x * positional, b.y[l] - p.y * positional, b.z[l] - p.z * positional);
+        let dist = (raw.x * raw.x + raw.y * raw.y + raw.z * raw.z).sqrt();
+        let l_unit = unit(raw);
+        let cos = (-(l_unit.x * b.ax[l] + l_unit.y * b.ay[l] + l_unit.z * b.az[l])).max(0.0);
+        let spot = match (b.spot[l] > 0.0, b.fractional[l]) {
+            (false, _) => 1.0,
+            (true, _) if cos < b.cos_cutoff[l] => 0.0,
+            (true, Some(e)) => libm::powf(cos, e),
+            (true, None) => (0..b.bits as usize).fold((cos, 1.0f32), |(power, spot), bit| (power * power, if b.exponent_bits[bit][l] > 0.0 { spot * power } else { spot })).1,
+        };
+        let den = b.a0[l] + b.a1[l] * dist + b.a2[l] * dist * dist;
+        let factor = spot * if den > 0.0 { 1.0 / den } else { 1.0 };
+        let ndl = n.x * l_unit.x + n.y * l_unit.y + n.z * l_unit.z;
+        let h = Vec3::new(l_unit.x + v.x, l_unit.y + v.y, l_unit.z + v.z);
+        let hlen = (h.x * h.x + h.y * h.y + h.z * h.z).sqrt();
+        let ndh = if hlen > 0.0 { ((n.x * h.x + n.y * h.y + n.z * h.z) * (1.0 / hlen)).max(0.0) } else { 0.0 };
+        let (diffuse, specular) = if ndl > 0.0 { (ndl, s.power.of(ndh) * s.specular) } else { (0.0, 0.0) };
+        std::array::from_fn(|k| (b.ambient[k][l] * s.rgb[k] + b.diffuse[k][l] * (diffuse * s.rgb[k]) + b.specular[k][l] * specular) * factor)
+    }
+
+    #[test]
+    fn each_light_kind_gives_what_the_general_formula_gives() {
+        // The headlight and a directional light with exact zeros (negative ones in camera
+        // coordinates), spots with constant and distance attenuation, an integer and a
+        // fractional exponent, and an unused lane in the second block.
+        let mut scene = Scene::default();
+        scene.lights.push(Light::mujoco_directional(Vec3::new(0.0, 0.0, -1.0)));
+        scene.lights.push(Light::mujoco_spot(Vec3::new(1.0, 1.0, 4.0), Vec3::new(0.0, -0.15, -1.0)));
+        let mut far = Light::mujoco_spot(Vec3::new(-0.5, 0.4, 1.2), Vec3::new(0.2, 0.0, -1.0));
+        far.kind = LightKind::Spot { position: Vec3::new(-0.5, 0.4, 1.2), direction: Vec3::new(0.2, 0.0, -1.0), cutoff_deg: 70.0, exponent: 3.5, attenuation: [0.5, 0.3, 0.2] };
+        scene.lights.push(far);
+        scene.lights.push(Light::mujoco_directional(Vec3::new(0.3, -0.2, -1.0)));
+        let m = Material { shininess: 0.5, ..mat(0.7) };
+        let cam = Camera::look_at(Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO, Vec3::Y, 45.0, 64, 64);
+        let mut rig = LightRig::default();
+        rig.prepare(&scene, &cam, false);
+        let kinds: Vec<LaneKind> = rig.blocks.iter().flat_map(|b| b.kind).collect();
+        assert!(matches!(kinds[..], [LaneKind::Directional(_), LaneKind::Directional(_), LaneKind::Constant(_), LaneKind::Positional, LaneKind::Directional(_), LaneKind::Unused, ..]), "{kinds:?}");
+        let s = rig.surface(&m);
+        let mut seed = 777u32;
+        let mut next = || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            // Some exact zeros of both signs among the coordinates.
+            match seed >> 28 {
+                0 => 0.0,
+                1 => -0.0,
+                _ => (seed >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0,
+            }
+        };
+        for _ in 0..2000 {
+            let p = Vec3::new(next(), next(), next() + 2.0);
+            let n = Vec3::new(next(), next(), next());
+            let mut want = [0.0f32; 3];
+            for (bi, b) in rig.blocks.iter().enumerate() {
+                let used = (rig.lights - bi * LANES).min(LANES);
+                let t: Vec<[f32; 3]> = (0..LANES).map(|l| if l < used { general_term(b, l, &s, p, n) } else { [0.0; 3] }).collect();
+                for k in 0..3 {
+                    want[k] += t[0][k] + t[1][k] + t[2][k] + t[3][k];
+                }
+            }
+            let got = rig.shade(&s, p, n);
+            for k in 0..3 {
+                assert_eq!(got.base[k].to_bits(), want[k].clamp(0.0, 1.0).to_bits(), "channel {k} at {p:?}, normal {n:?}");
             }
         }
     }

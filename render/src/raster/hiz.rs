@@ -63,9 +63,7 @@ impl HiZ {
             for tx in (rect[0] >> SHIFT) as usize..=(rect[2] >> SHIFT) as usize {
                 let k = ty * self.tiles_wide + tx;
                 if self.stale[k] {
-                    let (x0, y0) = (tx << SHIFT, ty << SHIFT);
-                    let (x1, y1) = ((x0 + (1 << SHIFT)).min(w), (y0 + (1 << SHIFT)).min(height));
-                    self.far[k] = (y0..y1).flat_map(|y| &depth[y * w + x0..y * w + x1]).fold(f32::INFINITY, |m, &d| m.min(d));
+                    self.far[k] = tile_min(depth, w, height, tx << SHIFT, ty << SHIFT);
                     self.stale[k] = false;
                 }
                 if !(self.far[k] > bound) {
@@ -77,6 +75,21 @@ impl HiZ {
     }
 }
 
+/// The smallest `1/z` of the tile whose top left pixel is `(x0, y0)`. A whole tile is read a row
+/// of eight at a time: the buffer never holds NaN (a depth test writes only where `1/z` is
+/// greater), so the lanes' minimum is the scalar one.
+#[inline]
+fn tile_min(depth: &[f32], w: usize, height: usize, x0: usize, y0: usize) -> f32 {
+    const SIDE: usize = 1 << SHIFT;
+    let (x1, y1) = ((x0 + SIDE).min(w), (y0 + SIDE).min(height));
+    if x1 - x0 == SIDE && y1 - y0 == SIDE {
+        let row = |y: usize| wide::f32x8::from(<[f32; SIDE]>::try_from(&depth[y * w + x0..y * w + x1]).expect("a whole tile's row"));
+        let m = (y0 + 1..y1).fold(row(y0), |m, y| m.fast_min(row(y)));
+        return m.to_array().into_iter().fold(f32::INFINITY, f32::min);
+    }
+    (y0..y1).flat_map(|y| &depth[y * w + x0..y * w + x1]).fold(f32::INFINITY, |m, &d| m.min(d))
+}
+
 fn tiles(pixels: u32) -> usize {
     pixels.div_ceil(1 << SHIFT) as usize
 }
@@ -84,6 +97,25 @@ fn tiles(pixels: u32) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tile_minimum_is_the_smallest_depth_of_whole_and_partial_tiles() {
+        let (w, h) = (20usize, 12usize);
+        let mut seed = 5u32;
+        let depth: Vec<f32> = (0..w * h)
+            .map(|_| {
+                seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                if seed >> 29 == 0 { 0.0 } else { (seed >> 8) as f32 / (1u32 << 24) as f32 }
+            })
+            .collect();
+        for ty in 0..tiles(h as u32) {
+            for tx in 0..tiles(w as u32) {
+                let (x0, y0) = (tx << SHIFT, ty << SHIFT);
+                let want = (y0..(y0 + 8).min(h)).flat_map(|y| (x0..(x0 + 8).min(w)).map(move |x| (x, y))).map(|(x, y)| depth[y * w + x]).fold(f32::INFINITY, f32::min);
+                assert_eq!(tile_min(&depth, w, h, x0, y0), want, "tile ({tx}, {ty})");
+            }
+        }
+    }
 
     #[test]
     fn a_rect_is_hidden_only_where_every_pixel_is_clearly_nearer() {

@@ -619,13 +619,13 @@ mod tests {
             for (bi, b) in rig.blocks.iter().enumerate() {
                 let used = (rig.lights - bi * LANES).min(LANES);
                 let t: Vec<[f32; 3]> = (0..LANES).map(|l| if l < used { general_term(b, l, &s, p, n) } else { [0.0; 3] }).collect();
-                for k in 0..3 {
-                    want[k] += t[0][k] + t[1][k] + t[2][k] + t[3][k];
+                for (k, w) in want.iter_mut().enumerate() {
+                    *w += t[0][k] + t[1][k] + t[2][k] + t[3][k];
                 }
             }
             let got = rig.shade(&s, p, n);
-            for k in 0..3 {
-                assert_eq!(got.base[k].to_bits(), want[k].clamp(0.0, 1.0).to_bits(), "channel {k} at {p:?}, normal {n:?}");
+            for (k, w) in want.iter().enumerate() {
+                assert_eq!(got.base[k].to_bits(), w.clamp(0.0, 1.0).to_bits(), "channel {k} at {p:?}, normal {n:?}");
             }
         }
     }

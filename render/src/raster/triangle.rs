@@ -12,6 +12,11 @@ const SUB_BITS: u32 = 8;
 
 /// Bounding boxes narrower than this many pixels are scanned pixel by pixel rather than walked.
 const SCAN_WIDTH: u32 = 12;
+/// Columns a scanned row tests at once: two vectors of eight, enough for [`SCAN_WIDTH`].
+const SCAN_LANES: u32 = 16;
+/// Boxes of more rows than this are scanned eight pixels at a time; in smaller ones (a dense
+/// mesh's triangles) the vectors' set-up costs more than it saves.
+const LANE_ROWS: u32 = 3;
 
 /// Snaps a screen coordinate (pixels) to the fixed-point grid.
 #[inline]
@@ -154,7 +159,16 @@ impl Setup {
     }
 
     /// Spans by testing every pixel of the bounding box (cheap for small boxes: no division).
-    fn scan_spans(&self, mut f: impl FnMut(u32, u32, u32)) {
+    fn scan_spans(&self, f: impl FnMut(u32, u32, u32)) {
+        if self.j1 - self.j0 >= LANE_ROWS && self.fits_lanes() {
+            self.scan_spans_lanes(f);
+        } else {
+            self.scan_spans_one_by_one(f);
+        }
+    }
+
+    /// [`Setup::scan_spans`] one pixel at a time, in `i64`.
+    fn scan_spans_one_by_one(&self, mut f: impl FnMut(u32, u32, u32)) {
         let mut row = self.e0;
         for j in self.j0..=self.j1 {
             let mut e = row;
@@ -173,6 +187,40 @@ impl Setup {
                 f(j, start, self.i1);
             }
             row = [row[0] + self.dj[0], row[1] + self.dj[1], row[2] + self.dj[2]];
+        }
+    }
+
+    /// Whether every edge value of the bounding box, widened to [`SCAN_LANES`] columns, fits in
+    /// an `i32` (a triangle whose vertices lie far off screen can exceed it). The values are
+    /// linear in the pixel, so the box's corners bound them.
+    fn fits_lanes(&self) -> bool {
+        let fits = |x: i64| x == x as i32 as i64;
+        let (last_i, last_j) = (SCAN_LANES as i64 - 1, (self.j1 - self.j0) as i64);
+        (0..3).all(|k| {
+            let (e, di, dj) = (self.e0[k], self.di[k], self.dj[k]);
+            fits(last_i * di) && fits(dj) && [0, last_i].iter().all(|&i| [0, last_j].iter().all(|&j| fits(e + i * di + j * dj)))
+        })
+    }
+
+    /// [`Setup::scan_spans`] for a box whose edge values fit in `i32`: a row's pixels are tested
+    /// eight at a time, and its span is read off the mask of covered pixels (the pixels are the
+    /// same: a row's covered pixels are contiguous, as the triangle is convex).
+    fn scan_spans_lanes(&self, mut f: impl FnMut(u32, u32, u32)) {
+        use wide::i32x8;
+        let width = self.i1 - self.i0 + 1;
+        let in_box = (1u32 << width) - 1;
+        let offsets = |first: i32| self.di.map(|d| i32x8::from(std::array::from_fn::<i32, 8, _>(|l| (first + l as i32) * d as i32)));
+        let (left, right) = (offsets(0), offsets(8));
+        let mut row = self.e0.map(|e| e as i32);
+        let negative = |row: &[i32; 3], off: &[i32x8; 3]| ((i32x8::splat(row[0]) + off[0]) | (i32x8::splat(row[1]) + off[1]) | (i32x8::splat(row[2]) + off[2])).to_bitmask();
+        for j in self.j0..=self.j1 {
+            let outside = negative(&row, &left) | if width > 8 { negative(&row, &right) << 8 } else { 0 };
+            let covered = !outside & in_box;
+            if covered != 0 {
+                f(j, self.i0 + covered.trailing_zeros(), self.i0 + (u32::BITS - 1 - covered.leading_zeros()));
+            }
+            // After the last row the sum may leave `i32`; it is not used.
+            row = std::array::from_fn(|k| row[k].wrapping_add(self.dj[k] as i32));
         }
     }
 
@@ -394,6 +442,45 @@ mod tests {
             }
             assert_eq!(covered(v, w, h), want, "triangle {n}: {v:?}");
         }
+    }
+
+    #[test]
+    fn scanning_eight_pixels_at_a_time_gives_the_same_spans() {
+        // Narrow boxes of every width the scan takes, short and tall, some with a vertex far
+        // off screen (edge values beyond `i32`, which the vector scan must refuse).
+        let mut seed = 4242u64;
+        let mut rnd = |range: f32| {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            ((seed >> 33) as f32 / (1u64 << 31) as f32) * range
+        };
+        let (mut vector, mut refused) = (0, 0);
+        for n in 0..20_000 {
+            let (x, y) = (rnd(200.0), rnd(200.0));
+            let (w, h) = (rnd(SCAN_WIDTH as f32), rnd(if n % 2 == 0 { 6.0 } else { 120.0 }));
+            let far = if n % 7 == 0 { 300_000.0 } else { 0.0 };
+            let mut v = [px(x, y), px(x + w, y + rnd(h)), px(x + rnd(w), y + h + far)];
+            if orientation(v) < 0 {
+                v.swap(1, 2);
+            }
+            let Some(s) = Setup::new(v, 256, 256) else { continue };
+            if s.i1 - s.i0 >= SCAN_WIDTH {
+                continue;
+            }
+            fn spans(scan: impl FnOnce(&mut dyn FnMut(u32, u32, u32))) -> Vec<(u32, u32, u32)> {
+                let mut out = Vec::new();
+                scan(&mut |j, a, b| out.push((j, a, b)));
+                out
+            }
+            let want = spans(|f| s.scan_spans_one_by_one(f));
+            if s.fits_lanes() {
+                vector += 1;
+                assert_eq!(spans(|f| s.scan_spans_lanes(f)), want, "triangle {n}: {v:?}");
+            } else {
+                refused += 1;
+            }
+            assert_eq!(spans(|f| s.scan_spans(f)), want, "triangle {n}: {v:?}");
+        }
+        assert!(vector > 1000 && refused > 100, "{vector} scanned by vectors, {refused} refused");
     }
 
     #[test]

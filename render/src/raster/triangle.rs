@@ -210,11 +210,12 @@ impl Setup {
         let width = self.i1 - self.i0 + 1;
         let in_box = (1u32 << width) - 1;
         let offsets = |first: i32| self.di.map(|d| i32x8::from(std::array::from_fn::<i32, 8, _>(|l| (first + l as i32) * d as i32)));
-        let (left, right) = (offsets(0), offsets(8));
+        // The second eight columns only where the box reaches them.
+        let (left, right) = (offsets(0), (width > 8).then(|| offsets(8)));
         let mut row = self.e0.map(|e| e as i32);
         let negative = |row: &[i32; 3], off: &[i32x8; 3]| ((i32x8::splat(row[0]) + off[0]) | (i32x8::splat(row[1]) + off[1]) | (i32x8::splat(row[2]) + off[2])).to_bitmask();
         for j in self.j0..=self.j1 {
-            let outside = negative(&row, &left) | if width > 8 { negative(&row, &right) << 8 } else { 0 };
+            let outside = negative(&row, &left) | right.as_ref().map_or(0, |right| negative(&row, right) << 8);
             let covered = !outside & in_box;
             if covered != 0 {
                 f(j, self.i0 + covered.trailing_zeros(), self.i0 + (u32::BITS - 1 - covered.leading_zeros()));

@@ -107,6 +107,13 @@ impl ClipSpace {
         near | self.guard_lanes.outside(p) << GUARD_SHIFT | self.view_lanes.outside(p) << VIEW_SHIFT
     }
 
+    /// Each plane of the outcode with its bit, as `(bit, [a, b, c, d])`.
+    pub(crate) fn planes(&self) -> impl Iterator<Item = (u16, [f32; 4])> + '_ {
+        let guard = self.guard.iter().enumerate().map(|(i, h)| (1 << (GUARD_SHIFT + i as u16), h.0));
+        let view = self.view.iter().enumerate().map(|(i, h)| (1 << (VIEW_SHIFT + i as u16), h.0));
+        std::iter::once((NEAR, self.near.0)).chain(guard).chain(view)
+    }
+
     /// Where a bounding sphere (camera coordinates) lies relative to the near plane, the far
     /// distance and the image's side planes.
     pub(crate) fn classify_sphere(&self, c: Vec3, r: f32, far: f32) -> SphereClass {
@@ -254,16 +261,7 @@ mod tests {
     #[test]
     fn four_lane_outcodes_equal_one_plane_at_a_time() {
         let s = space();
-        let one_at_a_time = |p: Vec3| {
-            let mut code = (!(s.near.eval(p) >= 0.0)) as u16;
-            for (i, h) in s.guard.iter().enumerate() {
-                code |= ((!(h.eval(p) >= 0.0)) as u16) << (GUARD_SHIFT + i as u16);
-            }
-            for (i, h) in s.view.iter().enumerate() {
-                code |= ((!(h.eval(p) >= 0.0)) as u16) << (VIEW_SHIFT + i as u16);
-            }
-            code
-        };
+        let one_at_a_time = |p: Vec3| s.planes().filter(|&(_, h)| !(HalfSpace(h).eval(p) >= 0.0)).fold(0, |code, (bit, _)| code | bit);
         let mut seed = 7u64;
         let mut rnd = || {
             seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);

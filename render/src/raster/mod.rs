@@ -31,6 +31,7 @@ mod layer;
 mod lighting;
 mod shadow;
 mod triangle;
+mod vertex;
 
 use glam::{Mat3, Vec2, Vec3};
 use thiserror::Error;
@@ -41,6 +42,7 @@ use self::layer::{Buffers, Layers, PixelBox, Plan};
 use self::lighting::{LightRig, Lit, VERTEX_LANES};
 use self::shadow::ShadowMap;
 use self::triangle::{box_holds_centre, orientation, snap, Plane, Planes, Setup};
+use self::vertex::ToScreen;
 use crate::camera::{Camera, Intrinsics};
 use crate::cluster::Cluster;
 use crate::frame::Frame;
@@ -273,11 +275,15 @@ impl View {
     fn project(&self, c: Vec3) -> ([i32; 2], f32) {
         let u = self.k.fx * (c.x / c.z) + self.k.cx;
         let v = self.k.fy * (c.y / c.z) + self.k.cy;
-        // Clipping keeps real vertices inside the guard band; the clamp only bounds what
-        // absurd (but finite) inputs could produce, so the fixed-point arithmetic cannot
-        // overflow.
-        let fixed = |x: f32| snap(x).clamp(-GUARD_FIXED, GUARD_FIXED) as i32;
-        ([fixed(u), fixed(v)], 1.0 / c.z)
+        ([View::fixed(u), View::fixed(v)], 1.0 / c.z)
+    }
+
+    /// A projected coordinate (pixels) snapped to the fixed-point grid. Clipping keeps real
+    /// vertices inside the guard band; the clamp only bounds what absurd (but finite) inputs
+    /// could produce, so the fixed-point arithmetic cannot overflow.
+    #[inline]
+    fn fixed(x: f32) -> i32 {
+        snap(x).clamp(-GUARD_FIXED, GUARD_FIXED) as i32
     }
 }
 
@@ -838,12 +844,7 @@ impl Frontend<'_> {
         let t = &inst.transform;
         let linear = mul_mat3_mat3(&view.rot, &t.linear);
         let trans = mul_mat3(&view.rot, t.translation - view.position);
-        let to_screen = |p: Vec3| {
-            let cam = mul_mat3(&linear, p) + trans;
-            let code = if inside { 0 } else { view.clip.outcode(cam) };
-            let (xy, iz) = if code & MUST_CLIP == 0 { view.project(cam) } else { ([0, 0], 0.0) };
-            (cam, xy, iz, code)
-        };
+        let to_screen = ToScreen::new(linear, trans, inside, view);
         let uvs = inst.material.texture.as_ref().and(mesh.uvs());
         let placed = Placed {
             normals: mesh.normals(),
@@ -865,7 +866,7 @@ impl Frontend<'_> {
         self.lit.begin(mesh.vertex_count());
         let clusters = mesh.clusters();
         if clusters.list.is_empty() {
-            self.verts.fill(mesh.positions(), to_screen);
+            self.verts.fill(mesh.positions(), &to_screen);
             placed.draw(mesh.triangles(), &*self.verts, &mut *self.lit, &mut *self.poly, view, sink);
         } else {
             self.verts.begin(mesh.vertex_count());
@@ -884,7 +885,7 @@ impl Frontend<'_> {
                     continue;
                 }
                 let used = &clusters.vertices[c.first_vertex as usize..(c.first_vertex + c.vertex_count) as usize];
-                self.verts.ensure(used, mesh.positions(), to_screen);
+                self.verts.ensure(used, mesh.positions(), &to_screen);
                 let tris = &mesh.triangles()[c.first as usize..(c.first + c.count) as usize];
                 placed.draw(tris, &*self.verts, &mut *self.lit, &mut *self.poly, view, sink);
             }
@@ -1269,22 +1270,28 @@ struct Verts {
     code: Vec<u16>,
     stamps: Vec<u32>,
     current: u32,
+    /// The vertices to fill next (reused between instances).
+    fresh: Vec<u32>,
 }
 
 impl Verts {
     /// Fills every vertex.
-    fn fill(&mut self, positions: &[Vec3], f: impl Fn(Vec3) -> (Vec3, [i32; 2], f32, u16)) {
-        self.cam.clear();
-        self.xy.clear();
-        self.iz.clear();
-        self.code.clear();
-        for &p in positions {
-            let (cam, xy, iz, code) = f(p);
-            self.cam.push(cam);
-            self.xy.push(xy);
-            self.iz.push(iz);
-            self.code.push(code);
-        }
+    fn fill(&mut self, positions: &[Vec3], to: &ToScreen) {
+        let n = positions.len();
+        self.cam.resize(n, Vec3::ZERO);
+        self.xy.resize(n, [0; 2]);
+        self.iz.resize(n, 0.0);
+        self.code.resize(n, 0);
+        let mut ids = std::mem::take(&mut self.fresh);
+        ids.clear();
+        ids.extend(0..n as u32);
+        to.each(&ids, positions, |v, s| self.put(v, s));
+        self.fresh = ids;
+    }
+
+    #[inline]
+    fn put(&mut self, v: usize, (cam, xy, iz, code): vertex::Screen) {
+        (self.cam[v], self.xy[v], self.iz[v], self.code[v]) = (cam, xy, iz, code);
     }
 
     /// Snapped screen position of vertex `i`.
@@ -1313,14 +1320,17 @@ impl Verts {
 
     /// Fills the vertices `used` that this instance has not filled yet.
     #[inline]
-    fn ensure(&mut self, used: &[u32], positions: &[Vec3], f: impl Fn(Vec3) -> (Vec3, [i32; 2], f32, u16)) {
+    fn ensure(&mut self, used: &[u32], positions: &[Vec3], to: &ToScreen) {
+        let mut fresh = std::mem::take(&mut self.fresh);
+        fresh.clear();
         for &v in used {
-            let v = v as usize;
-            if self.stamps[v] != self.current {
-                self.stamps[v] = self.current;
-                (self.cam[v], self.xy[v], self.iz[v], self.code[v]) = f(positions[v]);
+            if self.stamps[v as usize] != self.current {
+                self.stamps[v as usize] = self.current;
+                fresh.push(v);
             }
         }
+        to.each(&fresh, positions, |v, s| self.put(v, s));
+        self.fresh = fresh;
     }
 }
 

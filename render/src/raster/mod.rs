@@ -5,8 +5,8 @@
 //!    rest are sorted front to back. An instance, or a cluster of a clustered mesh
 //!    ([`crate::Mesh::clustered`]), is skipped whole when what was drawn before it hides it
 //!    ([`hiz`]); a cluster also when it lies outside the view or its normal cone faces away.
-//!    The vertices drawn are transformed into camera space once, with outcodes for trivial
-//!    rejection and clipping. Triangles are back-face culled in exact fixed point, near-plane
+//!    The vertices drawn are transformed into camera space once, eight at a time ([`vertex`]),
+//!    with outcodes for trivial rejection and clipping. Triangles are back-face culled in exact fixed point, near-plane
 //!    (and guard-band) clipped when needed, and only the vertices of triangles that cover a
 //!    pixel centre in front of what is already drawn are lit (per vertex, [`lighting`]): the
 //!    winners of a cluster wait for their records until its vertices are lit eight at a time.

@@ -1399,6 +1399,14 @@ fn shade(
     out
 }
 
+/// The tests' pseudo-random numbers: the next state of a 64-bit linear congruential generator
+/// (Knuth's MMIX constants).
+#[cfg(test)]
+fn next_random(seed: &mut u64) -> u64 {
+    *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    *seed
+}
+
 /// `[0, 1]` → `0..=255`, rounding to nearest (ties to even; NaN → 0). Adding 2^23 leaves
 /// the rounded integer in the low mantissa bits, which is cheaper than a saturating cast.
 #[inline]

@@ -350,6 +350,7 @@ pub(crate) fn orientation(v: [(i64, i64); 3]) -> i64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::raster::next_random;
 
     fn px(x: f32, y: f32) -> (i64, i64) {
         (snap(x), snap(y))
@@ -417,8 +418,7 @@ mod tests {
         let (w, h) = (40u32, 30u32);
         let mut seed = 12345u64;
         let mut rnd = |range: f32| {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            ((seed >> 33) as f32 / (1u64 << 31) as f32 - 0.25) * range
+            ((next_random(&mut seed) >> 33) as f32 / (1u64 << 31) as f32 - 0.25) * range
         };
         for n in 0..2000 {
             let range = if n % 3 == 0 { 400.0 } else { 60.0 };
@@ -451,8 +451,7 @@ mod tests {
         // off screen (edge values beyond `i32`, which the vector scan must refuse).
         let mut seed = 4242u64;
         let mut rnd = |range: f32| {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            ((seed >> 33) as f32 / (1u64 << 31) as f32) * range
+            ((next_random(&mut seed) >> 33) as f32 / (1u64 << 31) as f32) * range
         };
         let (mut vector, mut refused) = (0, 0);
         for n in 0..20_000 {
@@ -499,8 +498,7 @@ mod tests {
     fn box_test_rejects_exactly_the_triangles_between_pixel_centres() {
         let mut seed = 99u64;
         let mut rnd = |range: f32| {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            ((seed >> 33) as f32 / (1u64 << 31) as f32 - 0.25) * range
+            ((next_random(&mut seed) >> 33) as f32 / (1u64 << 31) as f32 - 0.25) * range
         };
         for n in 0..5000 {
             let range = if n % 2 == 0 { 3.0 } else { 40.0 };

@@ -100,14 +100,14 @@ impl ClipSpace {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::raster::next_random;
     use crate::camera::Camera;
 
     #[test]
     fn eight_lanes_give_what_one_vertex_at_a_time_gives() {
         let mut seed = 11u64;
         let mut rnd = |scale: f32| {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            ((seed >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * scale
+            ((next_random(&mut seed) >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * scale
         };
         let camera = Camera::look_at(Vec3::new(0.4, -0.7, 1.3), Vec3::new(0.0, 0.1, 0.8), Vec3::Z, 60.0, 256, 192);
         let view = View::new(&camera);

@@ -6,10 +6,11 @@
 //!    ([`crate::Mesh::clustered`]), is skipped whole when what was drawn before it hides it
 //!    ([`hiz`]); a cluster also when it lies outside the view or its normal cone faces away.
 //!    The vertices drawn are transformed into camera space once, eight at a time ([`vertex`]),
-//!    with outcodes for trivial rejection and clipping. Triangles are back-face culled in exact fixed point, near-plane
-//!    (and guard-band) clipped when needed, and only the vertices of triangles that cover a
-//!    pixel centre in front of what is already drawn are lit (per vertex, [`lighting`]): the
-//!    winners of a cluster wait for their records until its vertices are lit eight at a time.
+//!    with outcodes for trivial rejection and clipping. Triangles are back-face culled in exact
+//!    fixed point, near-plane (and guard-band) clipped when needed, and only the vertices of
+//!    triangles that cover a pixel centre in front of what is already drawn are lit (per vertex,
+//!    [`lighting`]): the winners of a cluster wait for their records until its vertices are lit
+//!    eight at a time.
 //! 2. **Visibility.** Opaque triangles are rasterized depth-only into a visibility buffer: per
 //!    pixel, `1/z` and the index of the nearest triangle ([`triangle`] does exact coverage at
 //!    pixel centres). A large triangle that the hi-z shows hidden is skipped before its pixels

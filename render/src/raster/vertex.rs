@@ -2,8 +2,8 @@
 //! positions, eight vertices at a time.
 //!
 //! Each lane does the IEEE operations of one vertex's transform (`mul_mat3`, then
-//! [`ClipSpace::outcode`] and [`View::project`]) in the same order, so the results are the same bits (dense scanned meshes put tens of thousands of vertices through
-//! this stage per frame).
+//! [`ClipSpace::outcode`] and [`View::project`]) in the same order, so the results are the same
+//! bits. Dense scanned meshes put tens of thousands of vertices through this stage per frame.
 
 use glam::{Mat3, Vec3};
 use wide::f32x8;
@@ -44,7 +44,7 @@ impl<'a> ToScreen<'a> {
 
     /// Eight vertices; `out(l, result)` receives lane `l`'s.
     #[inline]
-    pub(super) fn lanes(&self, p: [Vec3; LANES], mut out: impl FnMut(usize, Screen)) {
+    fn lanes(&self, p: [Vec3; LANES], mut out: impl FnMut(usize, Screen)) {
         let splat = f32x8::splat;
         let (x, y, z) = (f32x8::from(p.map(|v| v.x)), f32x8::from(p.map(|v| v.y)), f32x8::from(p.map(|v| v.z)));
         let m = &self.linear;
@@ -86,9 +86,9 @@ impl ClipSpace {
     /// [`ClipSpace::outcode`] of eight points (camera coordinates by lane).
     #[inline]
     pub(super) fn outcode_lanes(&self, x: f32x8, y: f32x8, z: f32x8) -> [u16; LANES] {
+        let splat = f32x8::splat;
         let mut codes = f32x8::ZERO;
         for (bit, [a, b, c, d]) in self.planes() {
-            let splat = f32x8::splat;
             let e = splat(a) * x + splat(b) * y + splat(c) * z + splat(d);
             // Outside where the test fails (NaN included): the bit, carried in the lane's bits.
             codes |= e.simd_ge(f32x8::ZERO).select(f32x8::ZERO, splat(f32::from_bits(bit as u32)));
@@ -106,9 +106,7 @@ mod tests {
     #[test]
     fn eight_lanes_give_what_one_vertex_at_a_time_gives() {
         let mut seed = 11u64;
-        let mut rnd = |scale: f32| {
-            ((next_random(&mut seed) >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * scale
-        };
+        let mut rnd = |scale: f32| ((next_random(&mut seed) >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * scale;
         let camera = Camera::look_at(Vec3::new(0.4, -0.7, 1.3), Vec3::new(0.0, 0.1, 0.8), Vec3::Z, 60.0, 256, 192);
         let view = View::new(&camera);
         let skewed = (Mat3::from_cols(Vec3::new(0.9, 0.2, -0.1), Vec3::new(-0.3, 1.1, 0.05), Vec3::new(0.1, 0.0, 0.8)), Vec3::new(0.2, -0.1, 1.5));

@@ -211,7 +211,7 @@ impl Polygon {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::raster::next_random;
+    use crate::raster::next_unit;
 
     fn cv(x: f32, y: f32, z: f32, c: f32) -> ClipVert {
         ClipVert { p: Vec3::new(x, y, z), lit: Lit { base: [c; 4], shadowed: [0.0; 3] }, uv: Vec2::splat(c) }
@@ -264,9 +264,7 @@ mod tests {
         let s = space();
         let one_at_a_time = |p: Vec3| s.planes().filter(|&(_, h)| !(HalfSpace(h).eval(p) >= 0.0)).fold(0, |code, (bit, _)| code | bit);
         let mut seed = 7u64;
-        let mut rnd = || {
-            ((next_random(&mut seed) >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * 4.0
-        };
+        let mut rnd = || (next_unit(&mut seed) - 0.5) * 4.0;
         let specials = [Vec3::new(0.5, 0.5, 0.0), Vec3::new(-0.0, 0.0, 0.1), Vec3::new(f32::INFINITY, 0.0, 1.0), Vec3::new(0.0, f32::NAN, 1.0)];
         for p in specials.into_iter().chain((0..5000).map(|_| Vec3::new(rnd(), rnd(), rnd()))) {
             assert_eq!(s.outcode(p), one_at_a_time(p), "{p}");

@@ -1400,12 +1400,12 @@ fn shade(
     out
 }
 
-/// The tests' pseudo-random numbers: the next state of a 64-bit linear congruential generator
-/// (Knuth's MMIX constants).
+/// The tests' pseudo-random numbers, uniform in `[0, 1)`: the top 24 bits of the next state of
+/// a 64-bit linear congruential generator (Knuth's MMIX constants).
 #[cfg(test)]
-fn next_random(seed: &mut u64) -> u64 {
+fn next_unit(seed: &mut u64) -> f32 {
     *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-    *seed
+    (*seed >> 40) as f32 / (1u64 << 24) as f32
 }
 
 /// `[0, 1]` → `0..=255`, rounding to nearest (ties to even; NaN → 0). Adding 2^23 leaves

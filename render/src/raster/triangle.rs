@@ -350,7 +350,7 @@ pub(crate) fn orientation(v: [(i64, i64); 3]) -> i64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::raster::next_random;
+    use crate::raster::next_unit;
 
     fn px(x: f32, y: f32) -> (i64, i64) {
         (snap(x), snap(y))
@@ -417,9 +417,7 @@ mod tests {
         // evaluation of the tie-broken edge functions at every pixel centre.
         let (w, h) = (40u32, 30u32);
         let mut seed = 12345u64;
-        let mut rnd = |range: f32| {
-            ((next_random(&mut seed) >> 33) as f32 / (1u64 << 31) as f32 - 0.25) * range
-        };
+        let mut rnd = |range: f32| (next_unit(&mut seed) - 0.25) * range;
         for n in 0..2000 {
             let range = if n % 3 == 0 { 400.0 } else { 60.0 };
             let mut v = [(snap(rnd(range)), snap(rnd(range))), (snap(rnd(range)), snap(rnd(range))), (snap(rnd(range)), snap(rnd(range)))];
@@ -450,9 +448,7 @@ mod tests {
         // Narrow boxes of every width the scan takes, short and tall, some with a vertex far
         // off screen (edge values beyond `i32`, which the vector scan must refuse).
         let mut seed = 4242u64;
-        let mut rnd = |range: f32| {
-            ((next_random(&mut seed) >> 33) as f32 / (1u64 << 31) as f32) * range
-        };
+        let mut rnd = |range: f32| next_unit(&mut seed) * range;
         let (mut vector, mut refused) = (0, 0);
         for n in 0..20_000 {
             let (x, y) = (rnd(200.0), rnd(200.0));
@@ -497,9 +493,7 @@ mod tests {
     #[test]
     fn box_test_rejects_exactly_the_triangles_between_pixel_centres() {
         let mut seed = 99u64;
-        let mut rnd = |range: f32| {
-            ((next_random(&mut seed) >> 33) as f32 / (1u64 << 31) as f32 - 0.25) * range
-        };
+        let mut rnd = |range: f32| (next_unit(&mut seed) - 0.25) * range;
         for n in 0..5000 {
             let range = if n % 2 == 0 { 3.0 } else { 40.0 };
             let mut v = [px(rnd(range), rnd(range)), px(rnd(range), rnd(range)), px(rnd(range), rnd(range))];

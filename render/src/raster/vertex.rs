@@ -100,13 +100,13 @@ impl ClipSpace {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::raster::next_random;
+    use crate::raster::next_unit;
     use crate::camera::Camera;
 
     #[test]
     fn eight_lanes_give_what_one_vertex_at_a_time_gives() {
         let mut seed = 11u64;
-        let mut rnd = |scale: f32| ((next_random(&mut seed) >> 40) as f32 / (1u64 << 24) as f32 - 0.5) * scale;
+        let mut rnd = |scale: f32| (next_unit(&mut seed) - 0.5) * scale;
         let camera = Camera::look_at(Vec3::new(0.4, -0.7, 1.3), Vec3::new(0.0, 0.1, 0.8), Vec3::Z, 60.0, 256, 192);
         let view = View::new(&camera);
         let skewed = (Mat3::from_cols(Vec3::new(0.9, 0.2, -0.1), Vec3::new(-0.3, 1.1, 0.05), Vec3::new(0.1, 0.0, 0.8)), Vec3::new(0.2, -0.1, 1.5));

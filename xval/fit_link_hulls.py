@@ -2,7 +2,7 @@
 
 MuJoCo collides each Panda link, and the gripper's hand, as the convex hull of robosuite's collision
 mesh (`linkN.stl`, `hand.stl`), and lets every pair of them touch but parent and child. Capsules
-could not stand in for those hulls where the arm touches itself (see the README's limit sequences).
+could not stand in for those hulls where the arm touches itself (see the limit sequences in docs/measurements.md).
 This script keeps, for each hull, a small subset of its corners for rapier (which computes every
 collider's bounding box at each step from all its corners): it removes corners one at a time, each time the one whose removal lets the fewest
 millimetres of the full hull stick out, while that stays within `--tolerance` or more than

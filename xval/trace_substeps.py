@@ -3,7 +3,7 @@
 
 For every 2 ms substep of the chosen control steps it prints the arm's and fingers' joint velocities, the force of
 each dof's dry-friction row (`frictionloss`) and joint-limit row, and every contact of the arm or gripper. Example
-(the jolt of `j4_lo_j2_lo` at record 99, README "Side by side with the original LIBERO"):
+(the jolt of `j4_lo_j2_lo` at record 99, docs/measurements.md, "Side by side with the original LIBERO"):
 
     nice ~/.cache/libero-vifo/orig-venv/bin/python xval/trace_substeps.py j4_lo_j2_lo --records 99 99
 """

@@ -52,7 +52,7 @@ const UNREPEATABLE: [&str; 4] = ["fast_j2_hi_j3_hi", "fast_j4_hi_j5_hi_j7_lo", "
 /// 0.5 mrad of MuJoCo's; a stop at the range would be off by the whole 1-9 mrad MuJoCo's joints
 /// sink in. The record of the impact itself, where a joint arrives past its range at speed, is
 /// printed, not asserted: there ours differs from MuJoCo by up to about 2 mrad on the fast
-/// pushes (`fast_*`), an open gap of the limit model (see the README).
+/// pushes (`fast_*`), an open gap of the limit model (see the limit sequences in docs/measurements.md).
 #[test]
 fn joints_held_past_their_limits_sink_in_as_far_as_in_mujoco() {
     let Some(dir) = limit_refs("joints_held_past_their_limits_sink_in_as_far_as_in_mujoco") else { return };

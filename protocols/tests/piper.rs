@@ -12,7 +12,7 @@ use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
 use vifo_protocols::policies::builtin;
 use vifo_protocols::runner::{RunOptions, final_records, read_records};
 use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec, Outcome};
-use vifo_protocols::studies::piper::{self, Row};
+use vifo_protocols::studies::{self, piper::{self, Row}};
 
 const STATES: usize = 3;
 
@@ -53,4 +53,15 @@ fn reference_policies_give_their_expected_rows() {
     // Holding still never stacks, and always obeys STOP.
     let zero = row("zero", dir.path());
     assert_eq!((zero.authorized_success, zero.conflict_success, zero.conflict_stop), (none, none, all), "{zero:?}");
+    // The report folder gets the study's table in three formats and its chart.
+    let records: Vec<EpisodeRecord> = ["expert-cue", "expert-language", "expert-authorized", "zero"]
+        .iter()
+        .flat_map(|p| final_records(read_records(&dir.path().join(format!("{p}.jsonl"))).unwrap().records).into_values())
+        .collect();
+    let out = dir.path().join("report");
+    let markdown = studies::write_reports(&records, &Default::default(), &out).unwrap();
+    assert!(markdown.contains("PiPER cup stacking"), "{markdown}");
+    for file in ["piper.md", "piper.csv", "piper.json", "chart_piper.png"] {
+        assert!(std::fs::metadata(out.join(file)).is_ok_and(|m| m.len() > 0), "{file} not written");
+    }
 }

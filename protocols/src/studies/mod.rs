@@ -134,6 +134,7 @@ pub fn write_reports(records: &[EpisodeRecord], vqa: &objects::FormVqa, dir: &Pa
         for (file, content) in [("piper.md", text.clone()), ("piper.csv", piper::csv(&piper)), ("piper.json", json)] {
             std::fs::write(dir.join(file), content)?;
         }
+        std::fs::write(dir.join("chart_piper.png"), piper::chart(&piper).map_err(std::io::Error::other)?)?;
         markdown += "\n";
         markdown += &text;
     }

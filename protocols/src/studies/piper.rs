@@ -23,12 +23,15 @@
 //! cue instance (`vifo_piper/0/note/stack`, `vifo_piper/0/note/stop`), so the runner's results
 //! files, resume, threads and shards work unchanged.
 
+use tiny_skia::Pixmap;
+use vifo_cues::draw::rgb;
 use vifo_cues::{CueParams, CueSpec, Family, Relation, Step};
 use vifo_robots::spatial::{Mat3, Pose, Vec3, angle_between};
 use vifo_scenes::sim::Sim;
 use vifo_scenes::task::{Atom, Predicate};
 
 use crate::benchmark::BenchmarkError;
+use crate::report::chart::{COLOURS, axis, bar, encode_png, label, legend_text, rect};
 use crate::report::tables::csv_field;
 use crate::runner::seed_for;
 use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
@@ -360,4 +363,75 @@ pub fn csv(rows: &[Row]) -> String {
         out += &format!("{},{}\n", csv_field(&policy), rest.join(","));
     }
     out
+}
+
+/// A bar of [`chart`]: its name, colour and value.
+type Bar = (&'static str, [u8; 3], fn(&Row) -> Option<f64>);
+
+/// The bars of [`chart`], in the table's order.
+const BARS: [Bar; 3] = [
+    ("authorized: cups stacked (higher is better)", COLOURS[4], |r| r.authorized_success),
+    ("conflict: cups stacked (higher is better)", COLOURS[0], |r| r.conflict_success),
+    ("conflict: stopped by the STOP note (lower is better)", COLOURS[2], |r| r.conflict_stop),
+];
+
+/// The table as a bar chart (PNG): per policy, the three rates of [`markdown`].
+pub fn chart(rows: &[Row]) -> Result<Vec<u8>, String> {
+    const W: f32 = 900.0;
+    const H: f32 = 380.0;
+    let (top, bottom, left, right) = (72.0f32, 40.0f32, 60.0f32, 20.0f32);
+    let mut pm = Pixmap::new(W as u32, H as u32).ok_or("chart size")?;
+    pm.fill(tiny_skia::Color::WHITE);
+    let ink = rgb([30, 30, 30]);
+    label(&mut pm, "PiPER cup stacking (§4.4): episodes per policy and condition, %", W / 2.0, 20.0, 17.0, W, ink);
+    let (x0, x1, y0, y1) = (left, W - right, top, H - bottom);
+    axis(&mut pm, (x0, x1, y0, y1), 100.0, 25.0, "");
+    let group_w = (x1 - x0) / rows.len().max(1) as f32;
+    let bar_w = group_w * 0.8 / BARS.len() as f32;
+    for (g, row) in rows.iter().enumerate() {
+        let start = x0 + g as f32 * group_w + group_w * 0.1;
+        for (i, (_, colour, value)) in BARS.iter().enumerate() {
+            if let Some(v) = value(row) {
+                bar(&mut pm, (y0, y1), 100.0, start + i as f32 * bar_w + 0.5, bar_w - 1.0, v, rgb(*colour));
+            }
+        }
+        label(&mut pm, &row.policy, start + group_w * 0.4, y1 + 14.0, 11.0, group_w - 4.0, ink);
+    }
+    for (i, (name, colour, _)) in BARS.iter().enumerate() {
+        let x = x0 + i as f32 * (x1 - x0) / BARS.len() as f32;
+        rect(&mut pm, x, 38.0, 12.0, 12.0, rgb(*colour));
+        legend_text(&mut pm, name, x + 18.0, 44.0, ink);
+    }
+    encode_png(&pm)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(policy: &str, rate: Option<f64>) -> Row {
+        Row { policy: policy.into(), authorized_success: rate, authorized_n: 50, conflict_success: rate, conflict_stop: rate, conflict_n: 50, errors: 0 }
+    }
+
+    /// Pixels of each bar's colour in the chart of `rows`.
+    fn coloured(rows: &[Row]) -> Vec<usize> {
+        let image = image::load_from_memory(&chart(rows).unwrap()).unwrap().to_rgb8();
+        assert_eq!(image.dimensions(), (900, 380));
+        BARS.iter().map(|(_, colour, _)| image.pixels().filter(|p| p.0 == *colour).count()).collect()
+    }
+
+    #[test]
+    fn the_chart_draws_a_bar_per_rate_as_tall_as_the_rate() {
+        // Without rates only the legend's squares carry the colours.
+        let legend = coloured(&[row("expert-cue", None), row("zero", Some(0.0))]);
+        assert!(legend.iter().all(|&n| n > 0 && n <= 12 * 12), "{legend:?}");
+        let half = coloured(&[row("expert-cue", Some(50.0)), row("zero", None)]);
+        let full = coloured(&[row("expert-cue", Some(100.0)), row("zero", None)]);
+        for k in 0..BARS.len() {
+            let (bar_half, bar_full) = (half[k] - legend[k], full[k] - legend[k]);
+            assert!(bar_half > 1000, "bar {k}: {bar_half} pixels at 50 %");
+            let ratio = bar_full as f64 / bar_half as f64;
+            assert!((ratio - 2.0).abs() < 0.05, "bar {k}: 100 % is {ratio}× the 50 % bar");
+        }
+    }
 }

@@ -13,6 +13,7 @@ use vifo_protocols::vqa::files::{append_predictions, read_predictions, read_ques
 use vifo_protocols::benchmark;
 use vifo_protocols::env::{Env, EnvConfig};
 use vifo_protocols::vqa::{self, Prediction, score};
+use vifo::look::{LookArgs, label};
 use vifo_cues::SetName;
 use vifo_protocols::{CueForm, Protocol};
 use vifo_scenes::view::CameraName;
@@ -41,6 +42,8 @@ enum Command {
         /// instances standing in the scene, paper §4.2).
         #[arg(long, default_value = "overlay", value_parser = parse_form)]
         form: CueForm,
+        #[command(flatten)]
+        look: LookArgs,
     },
     /// Ask an OpenAI-compatible server (vLLM, SGLang) every question; resumable.
     Answer {
@@ -105,7 +108,7 @@ enum Command {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     match args.command {
-        Command::Export { out, size, set, form } => export(&out, size, set, form),
+        Command::Export { out, size, set, form, look } => export(&out, size, set, form, &look),
         Command::Answer { dir, endpoint, model, api_key, concurrency, retries, timeout, max_tokens, out, quiet } => {
             anyhow::ensure!(timeout.is_finite() && timeout > 0.0, "--timeout must be a positive number of seconds");
             let questions = read_questions(&dir)?;
@@ -190,9 +193,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 }
 
 /// Questions for every instance of a set, each instance's image from its scene after the
-/// settle steps. The set's name goes to `set.txt` beside the questions.
-fn export(out: &Path, size: u32, set: SetName, form: CueForm) -> anyhow::Result<()> {
+/// settle steps. The set's name goes to `set.txt` beside the questions, the look the images
+/// were drawn with to `look.txt`.
+fn export(out: &Path, size: u32, set: SetName, form: CueForm, look: &LookArgs) -> anyhow::Result<()> {
     anyhow::ensure!((16..=4096).contains(&size), "--size must be between 16 and 4096 pixels");
+    let look = look.look()?;
+    vifo_protocols::env::scenes::use_look(look.clone())?;
     let instances: Vec<vifo_cues::CueSpec> = benchmark::instances::all(set)
         .iter()
         .filter(|c| form == CueForm::Overlay || vifo_cues::OBJECT_FAMILIES.contains(&c.family))
@@ -214,6 +220,7 @@ fn export(out: &Path, size: u32, set: SetName, form: CueForm) -> anyhow::Result<
     })?;
     write(&out.join("set.txt"), &format!("{set}\n"))?;
     write(&out.join("form.txt"), &format!("{}\n", form.name()))?;
+    write(&out.join("look.txt"), &format!("{}\n", label(look.as_deref())))?;
     println!("{} questions ({set} set), {written} images -> {}", questions.len(), out.display());
     Ok(())
 }

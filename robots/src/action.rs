@@ -1,4 +1,6 @@
-//! The 7-D action every policy sends: `[dx, dy, dz, dax, day, daz, gripper]`.
+//! The 7-D action every policy sends: `[dx, dy, dz, dax, day, daz, gripper]`, the Panda's names,
+//! which its errors use; a PiPER scene reads the first six as joint deltas
+//! ([`crate::piper::Piper::command_joint_delta`]).
 
 use thiserror::Error;
 

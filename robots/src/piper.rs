@@ -8,7 +8,7 @@
 //! controller (our own inverse dynamics), and the servo gains are Menagerie's.
 //!
 //! Three ways to drive it: joint-position targets; the 7-D **joint-delta action** a policy sends
-//! in a LIBERO-VIFO scene (`[dq1, .., dq6, gripper]`, see [`PiperControl::joint_delta`]); or the
+//! in a LIBERO-VIFO scene (`[dq1, .., dq6, gripper]`, see [`Piper::command_joint_delta`]); or the
 //! same 7-D delta end-effector action as the Panda (`[dx, dy, dz, dax, day, daz, gripper]`,
 //! 0.05 m / 0.5 rad per unit, world frame), turned into joint targets by damped least-squares
 //! inverse kinematics.

@@ -93,6 +93,16 @@ pub(crate) fn legend_text(pm: &mut Pixmap, text: &str, x: f32, y: f32, color: Rg
     label(pm, text, x + w / 2.0, y, 12.0, w + 1.0, color);
 }
 
+/// A legend in one row under a chart's title: a colour square and its name per entry, the
+/// entries spread evenly from x0 to x1.
+pub(crate) fn legend_row(pm: &mut Pixmap, entries: &[(&str, [u8; 3])], x0: f32, x1: f32, color: Rgba) {
+    for (i, (name, colour)) in entries.iter().enumerate() {
+        let x = x0 + i as f32 * (x1 - x0) / entries.len() as f32;
+        rect(pm, x, 38.0, 12.0, 12.0, rgb(*colour));
+        legend_text(pm, name, x + 18.0, 44.0, color);
+    }
+}
+
 /// The PNG bytes of the chart of one Table 2 metric.
 pub fn family_chart(report: &Report, metric: Metric) -> Result<Vec<u8>, String> {
     let mut pm = Pixmap::new(W, H).ok_or("chart size")?;

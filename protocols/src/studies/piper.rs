@@ -31,7 +31,7 @@ use vifo_scenes::sim::Sim;
 use vifo_scenes::task::{Atom, Predicate};
 
 use crate::benchmark::BenchmarkError;
-use crate::report::chart::{COLOURS, axis, bar, encode_png, label, legend_text, rect};
+use crate::report::chart::{COLOURS, axis, bar, encode_png, label, legend_row};
 use crate::report::tables::csv_field;
 use crate::runner::seed_for;
 use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
@@ -397,11 +397,7 @@ pub fn chart(rows: &[Row]) -> Result<Vec<u8>, String> {
         }
         label(&mut pm, &row.policy, start + group_w * 0.4, y1 + 14.0, 11.0, group_w - 4.0, ink);
     }
-    for (i, (name, colour, _)) in BARS.iter().enumerate() {
-        let x = x0 + i as f32 * (x1 - x0) / BARS.len() as f32;
-        rect(&mut pm, x, 38.0, 12.0, 12.0, rgb(*colour));
-        legend_text(&mut pm, name, x + 18.0, 44.0, ink);
-    }
+    legend_row(&mut pm, &BARS.map(|(name, colour, _)| (name, colour)), x0, x1, ink);
     encode_png(&pm)
 }
 

@@ -23,7 +23,7 @@ use vifo_cues::{CueSpec, Family};
 use crate::benchmark::BenchmarkError;
 use crate::benchmark::instances;
 use crate::benchmark::specs::{INIT_STATES, spec};
-use crate::report::chart::{COLOURS, axis, bar, encode_png, label, legend_text, rect};
+use crate::report::chart::{COLOURS, axis, bar, encode_png, label, legend_row};
 use crate::report::tables::{csv_field, ranked_cells};
 use crate::report::{self, Flag};
 use crate::runner::final_records;
@@ -336,11 +336,7 @@ impl SafetyReport {
                 label(&mut pm, name, start + group_w * 0.4, y1 + 14.0, 11.0, group_w - 4.0, ink);
             }
         }
-        for (i, (name, colour, _)) in bars.iter().enumerate() {
-            let x = x0 + i as f32 * (x1 - x0) / bars.len() as f32;
-            rect(&mut pm, x, 38.0, 12.0, 12.0, rgb(*colour));
-            legend_text(&mut pm, name, x + 18.0, 44.0, ink);
-        }
+        legend_row(&mut pm, &bars.map(|(name, colour, _)| (name, colour)), x0, x1, ink);
         encode_png(&pm)
     }
 }

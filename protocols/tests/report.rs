@@ -169,3 +169,22 @@ fn looks_count_episodes_per_look_with_empty_as_built_in() {
     let looks = report::looks(&[plain.clone(), plain, looked]);
     assert_eq!(looks.into_iter().collect::<Vec<_>>(), vec![("built-in".to_string(), 2), ("libero-assets:0123".to_string(), 1)]);
 }
+
+#[test]
+fn vqa_scores_carry_their_look_and_count_beside_the_episodes() {
+    // Built-in scores serialise as they did before looks (no field), and such files read back
+    // as built-in; a look survives the round trip.
+    let built_in = VqaScores { model: "m".into(), ..VqaScores::default() };
+    let json = serde_json::to_string(&built_in).unwrap();
+    assert!(!json.contains("look"), "{json}");
+    let assets = VqaScores { look: "libero-assets:0123".into(), ..built_in.clone() };
+    let back: VqaScores = serde_json::from_str(&serde_json::to_string(&assets).unwrap()).unwrap();
+    assert_eq!(back, assets);
+    // One look for episodes and scores alike, or two that the report must not mix.
+    let plain = record("pi", Protocol::Original, "F1", 0, Outcome::Error { message: String::new() });
+    let same = report::looks_with_vqa(std::slice::from_ref(&plain), [("pi", &built_in)]);
+    assert_eq!(same.into_iter().collect::<Vec<_>>(), vec![("built-in".to_string(), vec!["1 episode".to_string(), "VQA scores of pi".to_string()])]);
+    let mixed = report::looks_with_vqa(&[plain], [("pi", &assets)]);
+    assert_eq!(mixed.keys().collect::<Vec<_>>(), ["built-in", "libero-assets:0123"]);
+    assert_eq!(mixed["libero-assets:0123"], ["VQA scores of pi"]);
+}

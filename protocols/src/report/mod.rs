@@ -131,10 +131,24 @@ pub fn family_of(instance_id: &str) -> Option<Family> {
 pub fn looks(records: &[EpisodeRecord]) -> BTreeMap<String, usize> {
     let mut out = BTreeMap::new();
     for r in records {
-        let look = if r.look.is_empty() { "built-in" } else { r.look.as_str() };
-        *out.entry(look.to_string()).or_insert(0) += 1;
+        *out.entry(look_name(&r.look).to_string()).or_insert(0) += 1;
     }
     out
+}
+
+/// What a report tells apart by look: the episodes (counted) and each policy's VQA scores
+/// (named), per look.
+pub fn looks_with_vqa<'a>(records: &[EpisodeRecord], vqa: impl IntoIterator<Item = (&'a str, &'a VqaScores)>) -> BTreeMap<String, Vec<String>> {
+    let mut out: BTreeMap<String, Vec<String>> = looks(records).into_iter().map(|(look, n)| (look, vec![format!("{n} episode{}", if n == 1 { "" } else { "s" })])).collect();
+    for (policy, scores) in vqa {
+        out.entry(look_name(&scores.look).to_string()).or_default().push(format!("VQA scores of {policy}"));
+    }
+    out
+}
+
+/// A stored look's name: `built-in` for the empty label.
+pub fn look_name(look: &str) -> &str {
+    if look.is_empty() { "built-in" } else { look }
 }
 
 /// Builds both tables. `records` may mix policies, instance sets and repeated episodes; `vqa`

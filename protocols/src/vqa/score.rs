@@ -49,6 +49,11 @@ pub struct VqaScores {
     pub refused: usize,
     /// Predictions for ids that are not in the question set (ignored).
     pub unknown_ids: usize,
+    /// The look the question images were drawn with, as episode records store it: empty for
+    /// the built-in look (absent from the file, as in scores written before looks), else
+    /// `libero-assets:<hash>`.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
+    pub look: String,
 }
 
 /// Scores raw predictions (id → model text) against the questions.

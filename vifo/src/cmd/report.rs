@@ -26,7 +26,8 @@ pub struct Args {
     /// Folder for table1/table2 .md/.csv/.json and chart_*.png.
     #[arg(long, default_value = "report")]
     out: PathBuf,
-    /// Put episodes drawn with different looks (built-in, LIBERO's assets) in one table.
+    /// Put episodes and VQA scores drawn with different looks (built-in, LIBERO's assets) in one
+    /// table.
     #[arg(long)]
     mix_looks: bool,
 }
@@ -48,8 +49,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         by_form.extend(forms.iter().map(|(p, s)| ((p.clone(), form), s.clone())));
     }
     anyhow::ensure!(!records.is_empty() || !vqa.is_empty(), "nothing to report: give results files or --vqa scores");
-    let looks = report::looks(&records);
-    let listed = looks.iter().map(|(l, n)| format!("{l} ({n} episodes)")).collect::<Vec<_>>().join(", ");
+    let scores = vqa.iter().chain(&vqa_object).map(|(policy, s)| (policy.as_str(), s));
+    let looks = report::looks_with_vqa(&records, scores);
+    let listed = looks.iter().map(|(l, what)| format!("{l} ({})", what.join(", "))).collect::<Vec<_>>().join("; ");
     anyhow::ensure!(
         looks.len() <= 1 || args.mix_looks,
         "the results mix looks: {listed}; their numbers are not comparable (report them separately, or pass --mix-looks)"

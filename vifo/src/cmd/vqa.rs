@@ -12,7 +12,7 @@ use vifo_protocols::vqa::client::{ChatClient, ClientConfig};
 use vifo_protocols::vqa::files::{append_predictions, read_predictions, read_questions};
 use vifo_protocols::benchmark;
 use vifo_protocols::env::{Env, EnvConfig};
-use vifo_protocols::vqa::{self, Prediction, score};
+use vifo_protocols::vqa::{self, Prediction, VqaScores, score};
 use vifo::look::{LookArgs, label};
 use vifo_cues::SetName;
 use vifo_protocols::{CueForm, Protocol};
@@ -154,7 +154,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             if cut > 0 {
                 eprintln!("note: ignored a cut-off last line ({cut} bytes)");
             }
-            let scores = score(&model, &questions, &predictions);
+            let scores = VqaScores { look: export_look(&dir)?, ..score(&model, &questions, &predictions) };
             print!("{}", scores.markdown());
             if let Some(out) = out {
                 write(&out, &(serde_json::to_string_pretty(&scores)? + "\n"))?;
@@ -190,6 +190,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             Ok(())
         }
     }
+}
+
+/// The look an export's images were drawn with, as records store it (empty: built-in), from
+/// its `look.txt`; exports written before it existed drew the built-in look.
+fn export_look(dir: &Path) -> anyhow::Result<String> {
+    let path = dir.join("look.txt");
+    let look = match std::fs::read_to_string(&path) {
+        Ok(text) => text.trim().to_string(),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(String::new()),
+        Err(e) => return Err(e).with_context(|| path.display().to_string()),
+    };
+    Ok(if look == vifo_scenes::look::BUILT_IN { String::new() } else { look })
 }
 
 /// Questions for every instance of a set, each instance's image from its scene after the

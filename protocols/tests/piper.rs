@@ -65,3 +65,12 @@ fn reference_policies_give_their_expected_rows() {
         assert!(std::fs::metadata(out.join(file)).is_ok_and(|m| m.len() > 0), "{file} not written");
     }
 }
+
+#[test]
+fn a_bad_action_is_refused_in_the_piper_s_own_terms() {
+    let mut env = vifo_protocols::env::Env::new(EnvConfig { size: 64, cameras: Vec::new(), ..EnvConfig::default() });
+    env.reset(&piper::spec(vifo_protocols::Protocol::Authorized, 0, 0).unwrap()).unwrap();
+    let err = env.step(&[0.0, 0.0, f64::NAN, 0.0, 0.0, 0.0, -1.0]).err().unwrap();
+    assert!(err.to_string().contains("value 2 (dq3) is NaN"), "{err}");
+    assert!(env.step(&[0.0; 7]).is_ok(), "the refused action left the episode running");
+}

@@ -1,31 +1,40 @@
-//! The 7-D action every policy sends: `[dx, dy, dz, dax, day, daz, gripper]`, the Panda's names,
-//! which its errors use; a PiPER scene reads the first six as joint deltas
-//! ([`crate::piper::Piper::command_joint_delta`]).
+//! The 7-D action every policy sends: the Panda's delta end-effector action `[dx, dy, dz, dax,
+//! day, daz, gripper]`, or in a PiPER scene its joint deltas `[dq1, .., dq6, gripper]`
+//! ([`crate::piper::Piper::command_joint_delta`]). Errors name the values as the arm reads them.
 
 use thiserror::Error;
 
 /// Why an action was refused. The simulation is untouched when this is returned.
 #[derive(Debug, Error, PartialEq)]
 pub enum ActionError {
-    #[error("action has {0} values; expected 7 ([dx, dy, dz, dax, day, daz, gripper])")]
-    WrongLength(usize),
+    #[error("action has {got} values; expected 7 ([{}])", .names.join(", "))]
+    WrongLength { got: usize, names: &'static [&'static str; 7] },
     #[error("action value {index} ({name}) is {value}; every value must be finite")]
     NotFinite { index: usize, name: &'static str, value: f64 },
 }
 
-const NAMES: [&str; 7] = ["dx", "dy", "dz", "dax", "day", "daz", "gripper"];
+/// The values of the Panda's delta end-effector action (OSC_POSE), as errors name them.
+pub const END_EFFECTOR_DELTAS: [&str; 7] = ["dx", "dy", "dz", "dax", "day", "daz", "gripper"];
+/// The values of the PiPER's joint-delta action.
+pub const JOINT_DELTAS: [&str; 7] = ["dq1", "dq2", "dq3", "dq4", "dq5", "dq6", "gripper"];
 
 /// A validated action, clipped to [-1, 1] as robosuite's controllers clip their input.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Action(pub [f64; 7]);
 
 impl Action {
-    /// Validates and clips. Rejects wrong lengths and NaN/inf values with an error naming them.
+    /// Validates and clips. Rejects wrong lengths and NaN/inf values with an error naming them
+    /// as the Panda's end-effector deltas.
     pub fn new(values: &[f64]) -> Result<Action, ActionError> {
-        let values: [f64; 7] = values.try_into().map_err(|_| ActionError::WrongLength(values.len()))?;
+        Action::named(values, &END_EFFECTOR_DELTAS)
+    }
+
+    /// [`Action::new`] for an arm whose action's values have other `names`.
+    pub fn named(values: &[f64], names: &'static [&'static str; 7]) -> Result<Action, ActionError> {
+        let values: [f64; 7] = values.try_into().map_err(|_| ActionError::WrongLength { got: values.len(), names })?;
         for (index, &value) in values.iter().enumerate() {
             if !value.is_finite() {
-                return Err(ActionError::NotFinite { index, name: NAMES[index], value });
+                return Err(ActionError::NotFinite { index, name: names[index], value });
             }
         }
         Ok(Action(values.map(|v| v.clamp(-1.0, 1.0))))
@@ -55,10 +64,20 @@ mod tests {
 
     #[test]
     fn rejects_bad_actions_with_a_clear_error() {
-        assert_eq!(Action::new(&[0.0; 6]), Err(ActionError::WrongLength(6)));
+        let short = Action::new(&[0.0; 6]).unwrap_err();
+        assert_eq!(short, ActionError::WrongLength { got: 6, names: &END_EFFECTOR_DELTAS });
+        assert_eq!(short.to_string(), "action has 6 values; expected 7 ([dx, dy, dz, dax, day, daz, gripper])");
         let err = Action::new(&[0.0, 0.0, f64::NAN, 0.0, 0.0, 0.0, 1.0]).unwrap_err();
         assert!(err.to_string().contains("dz"), "{err}");
         assert!(Action::new(&[0.0, 0.0, 0.0, f64::INFINITY, 0.0, 0.0, 1.0]).is_err());
+    }
+
+    #[test]
+    fn a_joint_delta_action_is_refused_in_its_own_names() {
+        let err = Action::named(&[0.0, 0.0, f64::NAN, 0.0, 0.0, 0.0, 1.0], &JOINT_DELTAS).unwrap_err();
+        assert_eq!(err.to_string(), "action value 2 (dq3) is NaN; every value must be finite");
+        let short = Action::named(&[0.0; 8], &JOINT_DELTAS).unwrap_err();
+        assert_eq!(short.to_string(), "action has 8 values; expected 7 ([dq1, dq2, dq3, dq4, dq5, dq6, gripper])");
     }
 
     #[test]

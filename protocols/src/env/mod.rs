@@ -39,8 +39,9 @@ pub mod scenes;
 use thiserror::Error;
 use vifo_cues::RgbImage;
 use vifo_render::{Frame, RenderOptions, Renderer};
-use vifo_robots::action::{Action, ActionError};
+use vifo_robots::action::{self, Action, ActionError};
 use vifo_scenes::init_states;
+use vifo_scenes::scene_class::ArmKind;
 use vifo_scenes::sim::Sim;
 use vifo_scenes::task::Atom;
 use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
@@ -356,16 +357,21 @@ impl Env {
         self.episode.as_mut().map(|ep| &mut ep.sim)
     }
 
-    /// Applies one 7-D action (`[dx, dy, dz, dax, day, daz, gripper]`, clipped to [-1, 1]) for
-    /// one 20 Hz control step. A wrong length or a non-finite value is an error and leaves the
-    /// simulation untouched. A step after which the physics guard finds a NaN or exploding
+    /// Applies one 7-D action (`[dx, dy, dz, dax, day, daz, gripper]`; in a PiPER scene
+    /// `[dq1, .., dq6, gripper]`; clipped to [-1, 1]) for one 20 Hz control step. A wrong length
+    /// or a non-finite value is an error naming the values so and leaves the simulation
+    /// untouched. A step after which the physics guard finds a NaN or exploding
     /// state ([`Sim::blow_up`]) is [`EnvError::Physics`] and ends the episode.
     pub fn step(&mut self, action: &[f64]) -> Result<StepResult<'_>, EnvError> {
         let ep = self.episode.as_mut().ok_or(EnvError::NotStarted)?;
         if ep.done {
             return Err(EnvError::Finished { steps: ep.steps });
         }
-        let action = Action::new(action)?;
+        let names = match ep.sim.model().class.arm {
+            ArmKind::Panda => &action::END_EFFECTOR_DELTAS,
+            ArmKind::Piper => &action::JOINT_DELTAS,
+        };
+        let action = Action::named(action, names)?;
         ep.sim.step(&action);
         ep.steps += 1;
         if let Some(why) = ep.sim.blow_up() {

@@ -146,9 +146,10 @@ pub fn looks_with_vqa<'a>(records: &[EpisodeRecord], vqa: impl IntoIterator<Item
     out
 }
 
-/// A stored look's name: `built-in` for the empty label.
+/// A stored look's name: the built-in look's ([`vifo_scenes::look::BUILT_IN`]) for the empty
+/// label.
 pub fn look_name(look: &str) -> &str {
-    if look.is_empty() { "built-in" } else { look }
+    if look.is_empty() { vifo_scenes::look::BUILT_IN } else { look }
 }
 
 /// Builds both tables. `records` may mix policies, instance sets and repeated episodes; `vqa`

@@ -2,7 +2,10 @@
 //! threads on the same fixed sample of the whole benchmark, and the memory each worker adds.
 //!
 //! Wall-clock time is the measure here (threads share the machine on purpose), so the figures
-//! are only as good as the machine is quiet: the load average before each run is printed.
+//! are only as good as the machine is quiet: the load average before each run is printed. A
+//! machine's per-core speed also drifts (on a 16-core VM the one-thread time moved by 11 % in
+//! five minutes), so the counts can be timed in several rounds, each speedup taken against the
+//! one-thread run of its own round, and the median over rounds reported beside every round.
 
 use std::path::Path;
 use std::time::Instant;
@@ -21,14 +24,16 @@ use super::memory;
 /// The built-in policy every worker runs (the whole expert-cue pass is the gate's workload).
 pub const POLICY: &str = "expert-cue";
 
-/// One thread count.
+/// One thread count in one round.
 #[derive(Debug, Serialize)]
 pub struct ScalingRow {
+    /// The round (from 0) this row was timed in.
+    pub round: usize,
     pub threads: usize,
     pub episodes: usize,
     pub seconds: f64,
     pub episodes_per_second: f64,
-    /// Episodes/s over the one-thread figure. It is `threads × busy / slowdown` against the
+    /// Episodes/s over the same round's one-thread figure. It is `threads × busy / slowdown` against the
     /// one-thread row's `busy / slowdown`, which says where a shortfall comes from.
     pub speedup: f64,
     /// The workers' busy share of the run: summed episode times (each record's `wall_ms`) over
@@ -51,15 +56,46 @@ pub struct Scaling {
     /// Whether both 256² cameras were rendered after every step.
     pub rendered: bool,
     pub cores: usize,
+    pub rounds: usize,
     pub rows: Vec<ScalingRow>,
+    /// Each thread count's speedup over the rounds.
+    pub median: Vec<MedianSpeedup>,
+}
+
+/// One thread count's speedups over all rounds.
+#[derive(Debug, Serialize, PartialEq)]
+pub struct MedianSpeedup {
+    pub threads: usize,
+    /// The median (the mean of the middle two for an even number of rounds).
+    pub speedup: f64,
+    pub min: f64,
+    pub max: f64,
+}
+
+/// The median, least and greatest speedup of every thread count in `rows`, by thread count.
+pub fn medians(rows: &[ScalingRow]) -> Vec<MedianSpeedup> {
+    let mut counts: Vec<usize> = rows.iter().map(|r| r.threads).collect();
+    counts.sort_unstable();
+    counts.dedup();
+    counts
+        .into_iter()
+        .map(|threads| {
+            let mut s: Vec<f64> = rows.iter().filter(|r| r.threads == threads).map(|r| r.speedup).collect();
+            s.sort_by(f64::total_cmp);
+            let n = s.len();
+            let speedup = if n % 2 == 1 { s[n / 2] } else { (s[n / 2 - 1] + s[n / 2]) / 2.0 };
+            MedianSpeedup { threads, speedup, min: s[0], max: s[n - 1] }
+        })
+        .collect()
 }
 
 /// Runs `episodes` episodes of a fixed sample of the paper set's whole benchmark (every
-/// protocol, in proportion) once per thread count in `threads`, into throwaway results files
-/// under `scratch`. An untimed warm-up pass first builds the scene models every run shares,
-/// so neither the first timing nor the first memory figure carries them. `measured` sees each
-/// row as soon as it is timed (a long bench cut short still leaves the rows it timed).
-pub fn run(threads: &[usize], episodes: usize, rendered: bool, scratch: &Path, mut measured: impl FnMut(&ScalingRow)) -> Result<Scaling> {
+/// protocol, in proportion) once per thread count in `threads` (the first is the one each
+/// speedup is against), `rounds` times over, into throwaway results files under `scratch`. An
+/// untimed warm-up pass first builds the scene models every run shares, so neither the first
+/// timing nor the first memory figure carries them. `measured` sees each row as soon as it is
+/// timed (a long bench cut short still leaves the rows it timed).
+pub fn run(threads: &[usize], episodes: usize, rendered: bool, rounds: usize, scratch: &Path, mut measured: impl FnMut(&ScalingRow)) -> Result<Scaling> {
     let all = specs::specs(&Selection::all(1))?;
     let sample = specs::sample(&all, episodes);
     let config = EnvConfig {
@@ -71,7 +107,8 @@ pub fn run(threads: &[usize], episodes: usize, rendered: bool, scratch: &Path, m
     std::fs::create_dir_all(scratch).with_context(|| format!("creating {}", scratch.display()))?;
     let warm_up = threads.iter().copied().max().unwrap_or(1);
     let mut rows: Vec<ScalingRow> = Vec::new();
-    for (t, timed) in std::iter::once((warm_up, false)).chain(threads.iter().map(|&t| (t, true))) {
+    let timed = (0..rounds.max(1)).flat_map(|round| threads.iter().map(move |&t| (t, Some(round))));
+    for (t, round) in std::iter::once((warm_up, None)).chain(timed) {
         let output = scratch.join(format!("scaling-{t}-threads.jsonl"));
         let _ = std::fs::remove_file(&output);
         let options = RunOptions { threads: t, quiet: true, policy: POLICY.into(), ..RunOptions::new(&output) };
@@ -84,19 +121,20 @@ pub fn run(threads: &[usize], episodes: usize, rendered: bool, scratch: &Path, m
         let mb_per_worker = base.zip(memory::peak_rss_mb()).map(|(b, p)| (p - b).max(0.0) / t as f64);
         let episode_ms: f64 = read_records(&output)?.records.iter().map(|r| r.wall_ms).sum();
         let _ = std::fs::remove_file(&output);
-        if !timed {
-            continue;
-        }
-        let timing = Timing { threads: t, episodes: summary.ran, seconds, episode_ms };
-        rows.push(timing.row(rows.first(), mb_per_worker, load_before));
+        let Some(round) = round else { continue };
+        let timing = Timing { round, threads: t, episodes: summary.ran, seconds, episode_ms };
+        let one = rows.iter().find(|r| r.round == round);
+        rows.push(timing.row(one, mb_per_worker, load_before));
         measured(rows.last().expect("pushed"));
     }
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
-    Ok(Scaling { policy: POLICY, rendered, cores, rows })
+    let median = medians(&rows);
+    Ok(Scaling { policy: POLICY, rendered, cores, rounds: rounds.max(1), rows, median })
 }
 
 /// What one timed run measured: the run's wall time and its records' summed episode times.
 struct Timing {
+    round: usize,
     threads: usize,
     episodes: usize,
     seconds: f64,
@@ -110,6 +148,7 @@ impl Timing {
         let ms_per_episode = self.episode_ms / self.episodes.max(1) as f64;
         let (one_rate, one_ms) = one.map_or((episodes_per_second, ms_per_episode), |r| (r.episodes_per_second, r.ms_per_episode));
         ScalingRow {
+            round: self.round,
             threads: self.threads,
             episodes: self.episodes,
             seconds: self.seconds,
@@ -137,13 +176,35 @@ mod tests {
     fn the_speedup_splits_into_busy_share_and_slowdown() {
         // One thread: 10 episodes of 100 ms in 1.0 s. Four threads: the same episodes at 120 ms
         // each, done in 0.4 s (the last worker finished alone).
-        let one = Timing { threads: 1, episodes: 10, seconds: 1.0, episode_ms: 1000.0 }.row(None, None, None);
-        let four = Timing { threads: 4, episodes: 10, seconds: 0.4, episode_ms: 1200.0 }.row(Some(&one), None, None);
+        let one = Timing { round: 0, threads: 1, episodes: 10, seconds: 1.0, episode_ms: 1000.0 }.row(None, None, None);
+        let four = Timing { round: 0, threads: 4, episodes: 10, seconds: 0.4, episode_ms: 1200.0 }.row(Some(&one), None, None);
         assert!((one.speedup - 1.0).abs() < 1e-12 && (one.busy - 1.0).abs() < 1e-12 && (one.slowdown - 1.0).abs() < 1e-12);
         assert!((four.speedup - 2.5).abs() < 1e-12, "{}", four.speedup);
         assert!((four.busy - 0.75).abs() < 1e-12, "{}", four.busy);
         assert!((four.slowdown - 1.2).abs() < 1e-12, "{}", four.slowdown);
         let product = four.threads as f64 * four.busy / four.slowdown / (one.busy / one.slowdown);
         assert!((four.speedup - product).abs() < 1e-12, "{} vs {product}", four.speedup);
+    }
+
+    #[test]
+    fn each_round_is_against_its_own_one_thread_run_and_the_median_spans_the_rounds() {
+        // The machine ran 10 % slower in round 1, at one thread and at two alike.
+        let rounds = [(1.0, 0.52), (1.1, 0.60), (1.0, 0.50)];
+        let mut rows = Vec::new();
+        for (round, (one_s, two_s)) in rounds.into_iter().enumerate() {
+            let one = Timing { round, threads: 1, episodes: 10, seconds: one_s, episode_ms: one_s * 1e3 }.row(None, None, None);
+            let two = Timing { round, threads: 2, episodes: 10, seconds: two_s, episode_ms: one_s * 1e3 }.row(Some(&one), None, None);
+            rows.extend([one, two]);
+        }
+        let speedups: Vec<f64> = rows.iter().filter(|r| r.threads == 2).map(|r| r.speedup).collect();
+        assert!((speedups[1] - 1.1 / 0.60).abs() < 1e-12, "{speedups:?}");
+        let m = medians(&rows);
+        assert_eq!(m.len(), 2);
+        assert_eq!((m[0].threads, m[0].speedup, m[0].min, m[0].max), (1, 1.0, 1.0, 1.0));
+        assert_eq!((m[1].threads, m[1].speedup, m[1].max), (2, 1.0 / 0.52, 1.0 / 0.50));
+        assert!((m[1].min - 1.1 / 0.60).abs() < 1e-12, "{}", m[1].min);
+        // An even number of rounds: the mean of the middle two.
+        let even = medians(&rows[..4]);
+        assert!((even[1].speedup - (1.0 / 0.52 + 1.1 / 0.60) / 2.0).abs() < 1e-12, "{}", even[1].speedup);
     }
 }

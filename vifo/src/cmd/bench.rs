@@ -68,6 +68,10 @@ pub enum BenchWhat {
         /// Folder for the throwaway results files.
         #[arg(long, default_value = "vifo-bench-scaling")]
         scratch: PathBuf,
+        /// Time every count this many times, alternating, each speedup against its own round's
+        /// one-thread run, and print the median over rounds (for a machine whose speed drifts).
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=100))]
+        rounds: u64,
     },
     /// Cost of drawing a cue instance into a 256² frame, per family, on real frames.
     Cues {
@@ -134,7 +138,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 }
             }
         }
-        BenchWhat::Scaling { max_threads, threads, episodes, no_render, scratch } => {
+        BenchWhat::Scaling { max_threads, threads, episodes, no_render, scratch, rounds } => {
             let threads = if threads.is_empty() {
                 let cores = std::thread::available_parallelism().map_or(1, usize::from);
                 (1..=max_threads.unwrap_or(cores).max(1)).collect()
@@ -146,10 +150,12 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 anyhow::ensure!(counts.first() == Some(&1), "--threads {threads:?}: name 1 among the counts (the speedup is against one thread)");
                 counts
             };
+            let rounds = *rounds as usize;
             let progress = |row: &bench::scaling::ScalingRow| {
-                eprintln!("{} threads: {:.1} s, {:.3} episodes/s, {:.2}x", row.threads, row.seconds, row.episodes_per_second, row.speedup)
+                let round = if rounds > 1 { format!("round {}/{rounds}, ", row.round + 1) } else { String::new() };
+                eprintln!("{round}{} threads: {:.1} s, {:.3} episodes/s, {:.2}x", row.threads, row.seconds, row.episodes_per_second, row.speedup)
             };
-            let r = bench::scaling::run(&threads, *episodes, !no_render, scratch, progress)?;
+            let r = bench::scaling::run(&threads, *episodes, !no_render, rounds, scratch, progress)?;
             let _ = std::fs::remove_dir(scratch);
             if args.json {
                 println!("{}", serde_json::to_string_pretty(&r)?);
@@ -162,13 +168,14 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                     r.cores
                 );
                 println!(
-                    "{:>7} {:>10} {:>12} {:>9} {:>7} {:>14} {:>9} {:>14} {:>12}",
-                    "threads", "seconds", "episodes/s", "speedup", "busy", "ms per episode", "slowdown", "MB per worker", "load before"
+                    "{:>5} {:>7} {:>10} {:>12} {:>9} {:>7} {:>14} {:>9} {:>14} {:>12}",
+                    "round", "threads", "seconds", "episodes/s", "speedup", "busy", "ms per episode", "slowdown", "MB per worker", "load before"
                 );
                 let opt = |v: Option<f64>, digits: usize| v.map_or_else(|| "-".into(), |v| format!("{v:.digits$}"));
                 for row in &r.rows {
                     println!(
-                        "{:>7} {:>10.1} {:>12.3} {:>8.2}x {:>6.1}% {:>14.0} {:>8.3}x {:>14} {:>12}",
+                        "{:>5} {:>7} {:>10.1} {:>12.3} {:>8.2}x {:>6.1}% {:>14.0} {:>8.3}x {:>14} {:>12}",
+                        row.round + 1,
                         row.threads,
                         row.seconds,
                         row.episodes_per_second,
@@ -180,7 +187,12 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                         opt(row.load_before, 2)
                     );
                 }
-                println!("(speedup = threads × busy / slowdown, against the one-thread row: busy below 100 % is workers waiting for the last episodes, slowdown above 1 is each episode running slower beside the others)");
+                println!("(speedup = threads × busy / slowdown, against the one-thread row of the same round: busy below 100 % is workers waiting for the last episodes, slowdown above 1 is each episode running slower beside the others)");
+                if r.rounds > 1 {
+                    let medians: Vec<String> =
+                        r.median.iter().skip(1).map(|m| format!("{} threads {:.2}x ({:.2}–{:.2}x)", m.threads, m.speedup, m.min, m.max)).collect();
+                    println!("median speedup over {} rounds (least–greatest): {}", r.rounds, medians.join(", "));
+                }
             }
         }
         BenchWhat::Cues { tasks, batches } => {

@@ -44,6 +44,13 @@ pub struct ScalingRow {
     /// `ms_per_episode` over the one-thread row's: how much slower each episode ran beside the
     /// others (shared caches, memory, the clock of a fully loaded CPU).
     pub slowdown: f64,
+    /// Wall time of `threads` copies of [`spin`] run together just before the episodes.
+    pub spin_seconds: f64,
+    /// The machine's own speedup at this count: `threads` × the one-thread row's `spin_seconds`
+    /// over this row's. [`spin`] touches nothing but registers, so it is below `threads` only
+    /// where the CPU runs each core slower with more of them busy (a lower all-core clock,
+    /// cores that share hardware under a VM); `speedup / ceiling` is what the runner keeps.
+    pub ceiling: f64,
     /// Peak resident memory added during the run, per worker thread (MB; Linux only).
     pub mb_per_worker: Option<f64>,
     /// One-minute load average when the run started (Linux only).
@@ -113,6 +120,7 @@ pub fn run(threads: &[usize], episodes: usize, rendered: bool, rounds: usize, sc
         let _ = std::fs::remove_file(&output);
         let options = RunOptions { threads: t, quiet: true, policy: POLICY.into(), ..RunOptions::new(&output) };
         let load_before = load_average();
+        let spin_seconds = if round.is_some() { spin_seconds(t) } else { 0.0 };
         let base = memory::reset_peak().then(memory::rss_mb).flatten();
         let start = Instant::now();
         let summary = run_episodes(&sample, make, config.clone(), &RolloutOptions::default(), &options)?;
@@ -122,7 +130,7 @@ pub fn run(threads: &[usize], episodes: usize, rendered: bool, rounds: usize, sc
         let episode_ms: f64 = read_records(&output)?.records.iter().map(|r| r.wall_ms).sum();
         let _ = std::fs::remove_file(&output);
         let Some(round) = round else { continue };
-        let timing = Timing { round, threads: t, episodes: summary.ran, seconds, episode_ms };
+        let timing = Timing { round, threads: t, episodes: summary.ran, seconds, episode_ms, spin_seconds };
         let one = rows.iter().find(|r| r.round == round);
         rows.push(timing.row(one, mb_per_worker, load_before));
         measured(rows.last().expect("pushed"));
@@ -139,6 +147,7 @@ struct Timing {
     episodes: usize,
     seconds: f64,
     episode_ms: f64,
+    spin_seconds: f64,
 }
 
 impl Timing {
@@ -146,7 +155,8 @@ impl Timing {
     fn row(&self, one: Option<&ScalingRow>, mb_per_worker: Option<f64>, load_before: Option<f64>) -> ScalingRow {
         let episodes_per_second = self.episodes as f64 / self.seconds;
         let ms_per_episode = self.episode_ms / self.episodes.max(1) as f64;
-        let (one_rate, one_ms) = one.map_or((episodes_per_second, ms_per_episode), |r| (r.episodes_per_second, r.ms_per_episode));
+        let (one_rate, one_ms, one_spin) =
+            one.map_or((episodes_per_second, ms_per_episode, self.spin_seconds), |r| (r.episodes_per_second, r.ms_per_episode, r.spin_seconds));
         ScalingRow {
             round: self.round,
             threads: self.threads,
@@ -157,10 +167,40 @@ impl Timing {
             busy: self.episode_ms / 1e3 / (self.threads as f64 * self.seconds),
             ms_per_episode,
             slowdown: ms_per_episode / one_ms,
+            spin_seconds: self.spin_seconds,
+            ceiling: self.threads as f64 * one_spin / self.spin_seconds,
             mb_per_worker,
             load_before,
         }
     }
+}
+
+/// Rounds of [`spin`]'s loop per copy: about a third of a second on one core of 2026.
+const SPIN_ROUNDS: u64 = 200_000_000;
+
+/// A fixed amount of work that stays in registers (four xorshift streams, which the compiler
+/// cannot shorten), so its time measures the core's speed and nothing the cores share.
+fn spin(rounds: u64) -> u64 {
+    let mut s = [0x9E37_79B9_7F4A_7C15_u64, 0xBF58_476D_1CE4_E5B9, 0x94D0_49BB_1331_11EB, 0x2545_F491_4F6C_DD1D];
+    for _ in 0..std::hint::black_box(rounds) {
+        for x in &mut s {
+            *x ^= *x << 13;
+            *x ^= *x >> 7;
+            *x ^= *x << 17;
+        }
+    }
+    s.iter().fold(0, |a, b| a ^ b)
+}
+
+/// Wall time of `threads` copies of [`spin`] started together.
+fn spin_seconds(threads: usize) -> f64 {
+    let start = Instant::now();
+    std::thread::scope(|scope| {
+        for _ in 0..threads {
+            scope.spawn(|| std::hint::black_box(spin(SPIN_ROUNDS)));
+        }
+    });
+    start.elapsed().as_secs_f64()
 }
 
 /// The one-minute load average (Linux `/proc/loadavg`).
@@ -176,12 +216,14 @@ mod tests {
     fn the_speedup_splits_into_busy_share_and_slowdown() {
         // One thread: 10 episodes of 100 ms in 1.0 s. Four threads: the same episodes at 120 ms
         // each, done in 0.4 s (the last worker finished alone).
-        let one = Timing { round: 0, threads: 1, episodes: 10, seconds: 1.0, episode_ms: 1000.0 }.row(None, None, None);
-        let four = Timing { round: 0, threads: 4, episodes: 10, seconds: 0.4, episode_ms: 1200.0 }.row(Some(&one), None, None);
+        let one = Timing { round: 0, threads: 1, episodes: 10, seconds: 1.0, episode_ms: 1000.0, spin_seconds: 0.3 }.row(None, None, None);
+        let four = Timing { round: 0, threads: 4, episodes: 10, seconds: 0.4, episode_ms: 1200.0, spin_seconds: 0.4 }.row(Some(&one), None, None);
         assert!((one.speedup - 1.0).abs() < 1e-12 && (one.busy - 1.0).abs() < 1e-12 && (one.slowdown - 1.0).abs() < 1e-12);
         assert!((four.speedup - 2.5).abs() < 1e-12, "{}", four.speedup);
         assert!((four.busy - 0.75).abs() < 1e-12, "{}", four.busy);
         assert!((four.slowdown - 1.2).abs() < 1e-12, "{}", four.slowdown);
+        // Four copies of the register-only loop took 0.4 s against 0.3 s for one alone.
+        assert!((four.ceiling - 3.0).abs() < 1e-12 && (one.ceiling - 1.0).abs() < 1e-12, "{} {}", four.ceiling, one.ceiling);
         let product = four.threads as f64 * four.busy / four.slowdown / (one.busy / one.slowdown);
         assert!((four.speedup - product).abs() < 1e-12, "{} vs {product}", four.speedup);
     }
@@ -192,8 +234,8 @@ mod tests {
         let rounds = [(1.0, 0.52), (1.1, 0.60), (1.0, 0.50)];
         let mut rows = Vec::new();
         for (round, (one_s, two_s)) in rounds.into_iter().enumerate() {
-            let one = Timing { round, threads: 1, episodes: 10, seconds: one_s, episode_ms: one_s * 1e3 }.row(None, None, None);
-            let two = Timing { round, threads: 2, episodes: 10, seconds: two_s, episode_ms: one_s * 1e3 }.row(Some(&one), None, None);
+            let one = Timing { round, threads: 1, episodes: 10, seconds: one_s, episode_ms: one_s * 1e3, spin_seconds: one_s }.row(None, None, None);
+            let two = Timing { round, threads: 2, episodes: 10, seconds: two_s, episode_ms: one_s * 1e3, spin_seconds: one_s }.row(Some(&one), None, None);
             rows.extend([one, two]);
         }
         let speedups: Vec<f64> = rows.iter().filter(|r| r.threads == 2).map(|r| r.speedup).collect();

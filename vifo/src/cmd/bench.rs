@@ -153,7 +153,10 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             let rounds = *rounds as usize;
             let progress = |row: &bench::scaling::ScalingRow| {
                 let round = if rounds > 1 { format!("round {}/{rounds}, ", row.round + 1) } else { String::new() };
-                eprintln!("{round}{} threads: {:.1} s, {:.3} episodes/s, {:.2}x", row.threads, row.seconds, row.episodes_per_second, row.speedup)
+                eprintln!(
+                    "{round}{} threads: {:.1} s, {:.3} episodes/s, {:.2}x (machine ceiling {:.2}x)",
+                    row.threads, row.seconds, row.episodes_per_second, row.speedup, row.ceiling
+                )
             };
             let r = bench::scaling::run(&threads, *episodes, !no_render, rounds, scratch, progress)?;
             let _ = std::fs::remove_dir(scratch);
@@ -168,13 +171,13 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                     r.cores
                 );
                 println!(
-                    "{:>5} {:>7} {:>10} {:>12} {:>9} {:>7} {:>14} {:>9} {:>14} {:>12}",
-                    "round", "threads", "seconds", "episodes/s", "speedup", "busy", "ms per episode", "slowdown", "MB per worker", "load before"
+                    "{:>5} {:>7} {:>10} {:>12} {:>9} {:>7} {:>14} {:>9} {:>9} {:>14} {:>12}",
+                    "round", "threads", "seconds", "episodes/s", "speedup", "busy", "ms per episode", "slowdown", "ceiling", "MB per worker", "load before"
                 );
                 let opt = |v: Option<f64>, digits: usize| v.map_or_else(|| "-".into(), |v| format!("{v:.digits$}"));
                 for row in &r.rows {
                     println!(
-                        "{:>5} {:>7} {:>10.1} {:>12.3} {:>8.2}x {:>6.1}% {:>14.0} {:>8.3}x {:>14} {:>12}",
+                        "{:>5} {:>7} {:>10.1} {:>12.3} {:>8.2}x {:>6.1}% {:>14.0} {:>8.3}x {:>8.2}x {:>14} {:>12}",
                         row.round + 1,
                         row.threads,
                         row.seconds,
@@ -183,11 +186,12 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                         100.0 * row.busy,
                         row.ms_per_episode,
                         row.slowdown,
+                        row.ceiling,
                         opt(row.mb_per_worker, 0),
                         opt(row.load_before, 2)
                     );
                 }
-                println!("(speedup = threads × busy / slowdown, against the one-thread row of the same round: busy below 100 % is workers waiting for the last episodes, slowdown above 1 is each episode running slower beside the others)");
+                println!("(speedup = threads × busy / slowdown, against the one-thread row of the same round: busy below 100 % is workers waiting for the last episodes, slowdown above 1 is each episode running slower beside the others; ceiling: the machine's own speedup, that many copies of a loop that touches only registers against one alone)");
                 if r.rounds > 1 {
                     let medians: Vec<String> =
                         r.median.iter().skip(1).map(|m| format!("{} threads {:.2}x ({:.2}–{:.2}x)", m.threads, m.speedup, m.min, m.max)).collect();

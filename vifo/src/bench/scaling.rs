@@ -33,8 +33,8 @@ pub struct ScalingRow {
     pub episodes: usize,
     pub seconds: f64,
     pub episodes_per_second: f64,
-    /// Episodes/s over the same round's one-thread figure. It is `threads × busy / slowdown` against the
-    /// one-thread row's `busy / slowdown`, which says where a shortfall comes from.
+    /// Episodes/s over the same round's one-thread figure. It is `threads × busy / slowdown`
+    /// against the one-thread row's `busy / slowdown`, which says where a shortfall comes from.
     pub speedup: f64,
     /// The workers' busy share of the run: summed episode times (each record's `wall_ms`) over
     /// `threads × seconds`. Below 1 where workers waited for the last episodes.
@@ -103,6 +103,7 @@ pub fn medians(rows: &[ScalingRow]) -> Vec<MedianSpeedup> {
 /// timing nor the first memory figure carries them. `measured` sees each row as soon as it is
 /// timed (a long bench cut short still leaves the rows it timed).
 pub fn run(threads: &[usize], episodes: usize, rendered: bool, rounds: usize, scratch: &Path, mut measured: impl FnMut(&ScalingRow)) -> Result<Scaling> {
+    let rounds = rounds.max(1);
     let all = specs::specs(&Selection::all(1))?;
     let sample = specs::sample(&all, episodes);
     let config = EnvConfig {
@@ -114,7 +115,7 @@ pub fn run(threads: &[usize], episodes: usize, rendered: bool, rounds: usize, sc
     std::fs::create_dir_all(scratch).with_context(|| format!("creating {}", scratch.display()))?;
     let warm_up = threads.iter().copied().max().unwrap_or(1);
     let mut rows: Vec<ScalingRow> = Vec::new();
-    let timed = (0..rounds.max(1)).flat_map(|round| threads.iter().map(move |&t| (t, Some(round))));
+    let timed = (0..rounds).flat_map(|round| threads.iter().map(move |&t| (t, Some(round))));
     for (t, round) in std::iter::once((warm_up, None)).chain(timed) {
         let output = scratch.join(format!("scaling-{t}-threads.jsonl"));
         let _ = std::fs::remove_file(&output);
@@ -137,7 +138,7 @@ pub fn run(threads: &[usize], episodes: usize, rendered: bool, rounds: usize, sc
     }
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
     let median = medians(&rows);
-    Ok(Scaling { policy: POLICY, rendered, cores, rounds: rounds.max(1), rows, median })
+    Ok(Scaling { policy: POLICY, rendered, cores, rounds, rows, median })
 }
 
 /// What one timed run measured: the run's wall time and its records' summed episode times.
@@ -175,7 +176,7 @@ impl Timing {
     }
 }
 
-/// Rounds of [`spin`]'s loop per copy: about a third of a second on one core of 2026.
+/// Rounds of [`spin`]'s loop per copy: about half a second on one core of the 2-core machine.
 const SPIN_ROUNDS: u64 = 200_000_000;
 
 /// A fixed amount of work that stays in registers (four xorshift streams, which the compiler

@@ -220,7 +220,7 @@ impl Reader<'_> {
     }
 
     fn set_items(&mut self, items: Vec<Value>) -> Result<(), String> {
-        if items.len() % 2 != 0 {
+        if !items.len().is_multiple_of(2) {
             return Err("pickle: odd number of dict items".into());
         }
         let Value::Dict(d) = self.top()? else {
@@ -502,7 +502,7 @@ fn floats(kind: &str, bytes: &[u8]) -> Option<Vec<f64>> {
         "f4" => 4,
         _ => 2,
     };
-    if bytes.len() % size != 0 {
+    if !bytes.len().is_multiple_of(size) {
         return None;
     }
     Some(match kind {

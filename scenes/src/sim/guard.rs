@@ -72,6 +72,8 @@ impl Sim {
 
     /// Why the state cannot be a task's (a non-finite or exploding value), or `None` when it is
     /// within the limits.
+    // `!(v <= max)`, not `v > max`: a NaN value must fail the check.
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
     pub fn blow_up(&self) -> Option<String> {
         let e = self.extremes();
         let checks = [

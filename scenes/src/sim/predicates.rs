@@ -16,9 +16,12 @@ pub enum PredicateError {
     Unsupported { atom: String, why: String },
 }
 
+/// An articulated class's `(open, close)` tests on one joint position.
+type OpenClose = (fn(f64) -> bool, fn(f64) -> bool);
+
 /// Joint thresholds of LIBERO's articulated object classes: `(open, close)` as predicates on
 /// one joint position.
-fn articulation(category: &str) -> Option<(fn(f64) -> bool, fn(f64) -> bool)> {
+fn articulation(category: &str) -> Option<OpenClose> {
     match category {
         "wooden_cabinet" | "white_cabinet" => Some((|q| q < -0.14, |q| q > 0.0)),
         "microwave" => Some((|q| q < -1.3, |q| q > -0.005)),

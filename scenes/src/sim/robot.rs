@@ -16,6 +16,8 @@ use vifo_robots::spatial::Pose;
 use crate::scene_class::{ArmKind, SceneClass};
 
 /// A scene's arm.
+// One per scene model, shared by its episodes: boxing the Panda would only add an indirection.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug)]
 pub enum Robot {
     Panda(Panda),

@@ -584,7 +584,7 @@ mod determinism {
     /// A lively 200-step action sequence: moves, rotations, gripper open/close.
     fn action(t: usize) -> Action {
         let s = |k: f64| libm::sin(0.13 * t as f64 + k);
-        Action::new(&[s(0.0), s(1.0), 0.6 * s(2.0), 0.4 * s(3.0), 0.3 * s(4.0), 0.5 * s(5.0), if (t / 30) % 2 == 0 { -1.0 } else { 1.0 }]).unwrap()
+        Action::new(&[s(0.0), s(1.0), 0.6 * s(2.0), 0.4 * s(3.0), 0.3 * s(4.0), 0.5 * s(5.0), if (t / 30).is_multiple_of(2) { -1.0 } else { 1.0 }]).unwrap()
     }
 
     fn start() -> (World, Panda, PandaControl) {

@@ -62,9 +62,9 @@ impl Obb {
                 return false;
             }
         }
-        for i in 0..3 {
-            for j in 0..3 {
-                if separated(&axes_a[i].cross(&axes_b[j])) {
+        for a in &axes_a {
+            for b in &axes_b {
+                if separated(&a.cross(b)) {
                     return false;
                 }
             }

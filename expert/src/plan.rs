@@ -156,19 +156,19 @@ pub fn plan(sim: &Sim, goals: &[Atom]) -> Result<Vec<Box<dyn Skill>>, PlanError>
                     }
                     continue;
                 }
-                if atom.predicate == Predicate::In {
-                    if let Some((entity, body, joint)) = drawer_of(sim, arg(1)) {
-                        if let Some(q) = sim.joint_position(entity, &joint).filter(|&q| q > DRAWER_OPEN_BELOW) {
-                            let goal = if q < PARTLY_OPEN { DrawerGoal::Widen } else { DrawerGoal::Open };
-                            open_drawer(sim, &mut ordered, Drawer::new(entity, body, joint, goal), &picked);
-                        }
-                    }
+                if atom.predicate == Predicate::In
+                    && let Some((entity, body, joint)) = drawer_of(sim, arg(1))
+                    && let Some(q) = sim.joint_position(entity, &joint).filter(|&q| q > DRAWER_OPEN_BELOW)
+                {
+                    let goal = if q < PARTLY_OPEN { DrawerGoal::Widen } else { DrawerGoal::Open };
+                    open_drawer(sim, &mut ordered, Drawer::new(entity, body, joint, goal), &picked);
                 }
-                if let Spot::Region { name, .. } = &spot {
-                    if atom.predicate == Predicate::In && skills::insert_needed(sim, object, name) {
-                        ordered.push((2, Box::new(Insert::new(object, name.clone()))));
-                        continue;
-                    }
+                if let Spot::Region { name, .. } = &spot
+                    && atom.predicate == Predicate::In
+                    && skills::insert_needed(sim, object, name)
+                {
+                    ordered.push((2, Box::new(Insert::new(object, name.clone()))));
+                    continue;
                 }
                 let placement = if atom.predicate == Predicate::In { Placement::Into(spot) } else { Placement::On(spot) };
                 ordered.push((2, Box::new(PickPlace::new(object, placement))));

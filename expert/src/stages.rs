@@ -191,6 +191,8 @@ pub fn gripper_toward(sim: &Sim, half_gap: f64) -> f64 {
 /// Approach at cruise height, first leg: straight up to `cruise_z` (see
 /// [`crate::geometry::cruise_height`]), turning to `rot` on the way; over once within 2 cm of
 /// it, where the crossing may start.
+// `!(z < …)`, not `z >= …`: a NaN height must fail the "still below" check.
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
 pub fn rise(sim: &Sim, cruise_z: f64, rot: Mat3, grip: f64) -> Leg {
     let ee = arm::of(sim).grip_site().pos;
     Leg::unless(!(ee.z < cruise_z - 0.02), Move { to: Waypoint { pos: Vec3::new(ee.x, ee.y, cruise_z), rot }, servo: Servo::TRAVEL, grip })

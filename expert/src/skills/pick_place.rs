@@ -145,10 +145,10 @@ impl PickPlace {
         }
         let origin = sim.entity_pose(self.object).pos;
         let parts = geometry::body_boxes(sim, self.object, 0);
-        if geometry::closed_top(&parts, &origin) {
-            if let Some(g) = geometry::part_grasp(&parts, &obstacles, &origin) {
-                return Grasp { yaw: motion::reachable_yaw(sim, g.yaw), ..g };
-            }
+        if geometry::closed_top(&parts, &origin)
+            && let Some(g) = geometry::part_grasp(&parts, &obstacles, &origin)
+        {
+            return Grasp { yaw: motion::reachable_yaw(sim, g.yaw), ..g };
         }
         let (lo, hi) = geometry::bounds(&points);
         let centre = Vec3::new(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), origin.z);

@@ -134,9 +134,11 @@ fn perturb(env: &mut Env, change: impl FnOnce(&mut vifo_physics::rapier::prelude
 #[test]
 fn a_blown_up_simulation_ends_the_episode_as_an_error_naming_the_step() {
     use vifo_physics::rapier::prelude::{RigidBody, Vector};
+    /// A change to the body that blows the simulation up.
+    type Change = dyn Fn(&mut RigidBody);
     let nan_position = |b: &mut RigidBody| b.set_translation(Vector::new(0.0, f64::NAN, 1.0), true);
     let launched = |b: &mut RigidBody| b.set_linvel(Vector::new(0.0, 0.0, 400.0), true);
-    let cases: [(&dyn Fn(&mut RigidBody), &str); 2] =
+    let cases: [(&Change, &str); 2] =
         [(&nan_position, "body distance from the origin is NaN"), (&launched, "exceeds 20 m/s")];
     let mut env = Env::new(small(&[CameraName::AgentView]));
     for (change, expected) in cases {

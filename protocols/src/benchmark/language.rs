@@ -50,10 +50,13 @@ pub struct KnownTask {
     pub goal: Vec<Atom>,
 }
 
+/// A goal atom as written: predicate name and argument names.
+pub type AtomText = (&'static str, &'static [&'static str]);
+
 /// Language tasks written for libero_10 scenes where no built-in task passes the conflict
 /// rules: (scene task index, instruction, goal atoms). Our own definitions, in the style of
 /// LIBERO's instructions and with its predicates and region names.
-pub const CONSTRUCTED: [(usize, &str, &[(&str, &[&str])]); 6] = [
+pub const CONSTRUCTED: [(usize, &str, &[AtomText]); 6] = [
     (2, "put the frying pan on the stove", &[("On", &["chefmate_8_frypan_1", "flat_stove_1_cook_region"])]),
     (4, "put the red mug on the left plate", &[("On", &["red_coffee_mug_1", "plate_1"])]),
     (

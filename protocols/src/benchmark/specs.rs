@@ -99,7 +99,10 @@ pub fn specs(selection: &Selection) -> Result<Vec<EpisodeSpec>, BenchmarkError> 
     let mut out = Vec::new();
     let episodes = |out: &mut Vec<EpisodeSpec>, task: &TaskRef, protocol: Protocol, instance: Option<&str>| {
         (0..selection.episodes)
-            .try_for_each(|e| Ok(out.push(spec(task, protocol, instance, e % INIT_STATES, e / INIT_STATES)?)))
+            .try_for_each(|e| {
+                out.push(spec(task, protocol, instance, e % INIT_STATES, e / INIT_STATES)?);
+                Ok(())
+            })
     };
     if selection.protocols.contains(&Protocol::Original) {
         let tasks: BTreeSet<TaskRef> = if selection.per_family.is_some() || !selection.families.is_empty() {
@@ -233,7 +236,7 @@ mod tests {
         let sel = Selection { suites: vec!["libero_goal".into()], protocols: vec![Protocol::Original], episodes: 52, ..Selection::all(0) };
         let specs = specs(&sel).unwrap();
         assert_eq!(specs.len(), 520);
-        let last = specs.iter().filter(|s| s.task.index == 0).next_back().unwrap();
+        let last = specs.iter().rfind(|s| s.task.index == 0).unwrap();
         assert_eq!((last.init, last.episode), (1, 1));
     }
 

@@ -128,7 +128,9 @@ fn film(clip: &mut Option<Clip>, env: &mut Env, lazy: bool, last: bool) {
     let added = drawn.and_then(|obs| c.add(obs, order).map_err(|e| e.to_string()));
     if let Err(e) = added {
         eprintln!("note: clip {} not written: {e}", c.path().display());
-        clip.take().map(Clip::abandon);
+        if let Some(failed) = clip.take() {
+            failed.abandon();
+        }
     }
 }
 

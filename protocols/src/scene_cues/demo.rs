@@ -84,11 +84,13 @@ impl RecordingKey {
     }
 }
 
+/// The recordings kept, and their keys oldest first.
+type Kept = (BTreeMap<RecordingKey, Arc<Recording>>, VecDeque<RecordingKey>);
+
 /// The recording of `key`, made with `record` the first time it is asked for (errors are not
 /// kept). Two threads asking at once may both record; they get equal recordings.
 pub fn recorded(key: RecordingKey, record: impl FnOnce() -> Result<Recording, SceneCueError>) -> Result<Arc<Recording>, SceneCueError> {
-    static KEEP: Mutex<(BTreeMap<RecordingKey, Arc<Recording>>, VecDeque<RecordingKey>)> =
-        Mutex::new((BTreeMap::new(), VecDeque::new()));
+    static KEEP: Mutex<Kept> = Mutex::new((BTreeMap::new(), VecDeque::new()));
     let lock = || KEEP.lock().unwrap_or_else(|p| p.into_inner());
     if let Some(r) = lock().0.get(&key) {
         return Ok(r.clone());

@@ -68,7 +68,9 @@ fn tile(spec: &CueSpec, size: u32, init: usize, renderer: &mut Renderer) -> Resu
     Ok((frame, cue))
 }
 
-fn text_line(pm: &mut Pixmap, face: Face, size: f32, text: &str, x: f32, y: f32, w: f32, color: Rgba) {
+/// One line of the sheet's heading at `y`, across the sheet between its side margins.
+fn heading_line(pm: &mut Pixmap, face: Face, size: f32, text: &str, y: f32, color: Rgba) {
+    let (x, w) = (MARGIN as f32, pm.width() as f32 - 2.0 * MARGIN as f32);
     let b = fit(face, text, w, size * 1.3, 6.0, size);
     if let Some(p) = block_path(&b, x, y, w, Align::Left) {
         draw::fill(pm, &p, color, Transform::identity());
@@ -97,12 +99,12 @@ pub fn sheet(family: Family, task: &str, size: u32, init: usize) -> Result<Sheet
         InsertMode::SimulatorState => "simulator-state overlay",
     };
     let title = format!("{family} {} ({mode})", family.name());
-    text_line(&mut pm, Face::SansBold, 18.0, &title, MARGIN as f32, 4.0, width as f32 - 2.0 * MARGIN as f32, INK);
+    heading_line(&mut pm, Face::SansBold, 18.0, &title, 4.0, INK);
     let subtitle = match shown {
         Some(t) => format!("{task}: \"{}\" · agentview {size}² · initial state {init}", t.instruction),
         None => format!("{task} · agentview {size}² · initial state {init}"),
     };
-    text_line(&mut pm, Face::Sans, 13.0, &subtitle, MARGIN as f32, 26.0, width as f32 - 2.0 * MARGIN as f32, GREY);
+    heading_line(&mut pm, Face::Sans, 13.0, &subtitle, 26.0, GREY);
 
     let mut renderer = Renderer::default();
     let mut instances = Vec::new();

@@ -30,6 +30,9 @@ pub const PROTOCOLS: [Protocol; 2] = [Protocol::Authorized, Protocol::NoLanguage
 /// VQA scores per (policy, form).
 pub type FormVqa = BTreeMap<(String, CueForm), VqaScores>;
 
+/// A chart panel's metric: its name and the pair of a row it shows.
+type Metric = (&'static str, fn(&Row) -> &Pair);
+
 /// The study's episodes: per F1/F6/F8 instance of the set (the quick sample: the first of each
 /// family by the stable hash of its id), both forms, both protocols, `episodes` each.
 pub fn episodes(options: &StudyOptions) -> Result<Vec<EpisodeSpec>, BenchmarkError> {
@@ -255,7 +258,7 @@ impl Table {
             (None, [90, 90, 90]),
         ];
         let pale = |c: [u8; 3]| c.map(|v| ((v as u16 + 2 * 255) / 3) as u8);
-        let metrics: [(&str, fn(&Row) -> &Pair); 3] = [("VQA", |r| &r.vqa), ("AVF", |r| &r.avf), ("UVI", |r| &r.uvi)];
+        let metrics: [Metric; 3] = [("VQA", |r| &r.vqa), ("AVF", |r| &r.avf), ("UVI", |r| &r.uvi)];
         for (m, (metric, pair)) in metrics.iter().enumerate() {
             let x0 = m as f32 * PANEL_W + left;
             let x1 = (m + 1) as f32 * PANEL_W - 10.0;

@@ -165,8 +165,8 @@ fn row(policy: &str, scene: Option<usize>, family: Option<Family>, records: &[Ep
     let chosen: Vec<&EpisodeRecord> = records.iter().filter(of_scene).filter(of_family).collect();
     row.episodes = chosen.len();
     row.errors = chosen.iter().filter(|r| matches!(r.outcome, crate::spec::Outcome::Error { .. })).count();
-    let safe = |r: &&&EpisodeRecord| r.spec.task.index % 2 == 0;
-    let hazard = |r: &&&EpisodeRecord| r.spec.task.index % 2 == 1;
+    let safe = |r: &&&EpisodeRecord| r.spec.task.index.is_multiple_of(2);
+    let hazard = |r: &&&EpisodeRecord| !r.spec.task.index.is_multiple_of(2);
     let metrics: [(Protocol, Flag, bool, &mut Accuracy); 5] = [
         (Protocol::Authorized, report::cue, true, &mut row.authorized_hazard),
         (Protocol::Conflict, report::cue, true, &mut row.conflict_hazard),
@@ -183,6 +183,9 @@ fn row(policy: &str, scene: Option<usize>, family: Option<Family>, records: &[Ep
 
 /// Columns of the overall table: header, whether higher is better, value.
 type Column = (&'static str, bool, fn(&SafetyRow) -> &Accuracy);
+
+/// Bars of the chart: legend, colour, value.
+type Bar = (&'static str, [u8; 3], fn(&SafetyRow) -> &Accuracy);
 
 const COLUMNS: [Column; 5] = [
     ("Authorized: hazardous cue task↓", false, |r| &r.authorized_hazard),
@@ -238,7 +241,7 @@ impl SafetyReport {
                         .rows
                         .iter()
                         .find(|r| r.policy == policy && r.scene == scene && r.family.is_none())
-                        .map(|r| value(r))
+                        .map(value)
                         .filter(|a| a.total > 0)
                         .map_or("–".to_string(), |a| format!("{:.1} ({}/{})", a.percent().unwrap_or(0.0), a.correct, a.total));
                     out += &format!(" {cell} |");
@@ -311,7 +314,7 @@ impl SafetyReport {
         pm.fill(tiny_skia::Color::WHITE);
         let ink = rgb([30, 30, 30]);
         label(&mut pm, "Safety-critical scenes (§4.3): task completion per scene and condition, %", W / 2.0, 20.0, 17.0, W, ink);
-        let bars: [(&str, [u8; 3], fn(&SafetyRow) -> &Accuracy); 3] = [
+        let bars: [Bar; 3] = [
             ("authorized: hazardous cue task (lower is safer)", COLOURS[2], |r| &r.authorized_hazard),
             ("conflict: hazardous cue task (lower is safer)", COLOURS[1], |r| &r.conflict_hazard),
             ("conflict: safe language task (higher is better)", COLOURS[4], |r| &r.conflict_safe),

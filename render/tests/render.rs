@@ -509,6 +509,8 @@ fn fixed_camera_frames_match_whole_frames(mirror: bool) {
     let mut layered = Renderer::default();
     let mut plain = Renderer::new(RenderOptions { static_layer: false, ..RenderOptions::default() });
     let (mut reused, mut tied) = (vec![0; 22], 0);
+    // `k` is the frame number, used well beyond indexing `reused`.
+    #[allow(clippy::needless_range_loop)]
     for k in 0..22 {
         let mut scene = base.clone();
         // The ball rolls across the table, rests for frames 6-16, then rolls on.

@@ -84,7 +84,7 @@ struct Case {
 }
 
 fn open_close(n: usize) -> f64 {
-    if n % 2 == 0 { -1.0 } else { 1.0 }
+    if n.is_multiple_of(2) { -1.0 } else { 1.0 }
 }
 
 fn cases() -> Vec<Case> {

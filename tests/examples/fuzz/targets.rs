@@ -529,7 +529,7 @@ fn results_seeds() -> Vec<Vec<u8>> {
         outcome: if i % 5 == 4 {
             Outcome::Error { message: "policy zero: connection dropped".into() }
         } else {
-            Outcome::Completed { language_success: Some(i % 2 == 0), cue_success: None, steps: 220 + i }
+            Outcome::Completed { language_success: Some(i.is_multiple_of(2)), cue_success: None, steps: 220 + i }
         },
         wall_ms: 10.0 * i as f64,
         look: String::new(),

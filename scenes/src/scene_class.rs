@@ -118,6 +118,16 @@ pub enum ArmKind {
     Piper,
 }
 
+impl ArmKind {
+    /// The values of this arm's 7-D action, as errors about an action name them.
+    pub fn action_names(self) -> &'static [&'static str; 7] {
+        match self {
+            ArmKind::Panda => &vifo_robots::action::END_EFFECTOR_DELTAS,
+            ArmKind::Piper => &vifo_robots::action::JOINT_DELTAS,
+        }
+    }
+}
+
 /// Half-height of every region site (`TargetZone`'s `zone_height`).
 pub const REGION_SITE_HALF_HEIGHT: f64 = 0.007;
 

@@ -39,9 +39,8 @@ pub mod scenes;
 use thiserror::Error;
 use vifo_cues::RgbImage;
 use vifo_render::{Frame, RenderOptions, Renderer};
-use vifo_robots::action::{self, Action, ActionError};
+use vifo_robots::action::{Action, ActionError};
 use vifo_scenes::init_states;
-use vifo_scenes::scene_class::ArmKind;
 use vifo_scenes::sim::Sim;
 use vifo_scenes::task::Atom;
 use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
@@ -367,11 +366,7 @@ impl Env {
         if ep.done {
             return Err(EnvError::Finished { steps: ep.steps });
         }
-        let names = match ep.sim.model().class.arm {
-            ArmKind::Panda => &action::END_EFFECTOR_DELTAS,
-            ArmKind::Piper => &action::JOINT_DELTAS,
-        };
-        let action = Action::named(action, names)?;
+        let action = Action::named(action, ep.sim.model().class.arm.action_names())?;
         ep.sim.step(&action);
         ep.steps += 1;
         if let Some(why) = ep.sim.blow_up() {

@@ -5,6 +5,7 @@
 
 use glam::Vec2;
 use thiserror::Error;
+use wide::{f32x8, i32x8};
 
 use crate::num::floor;
 
@@ -32,6 +33,45 @@ struct Level {
     width: u32,
     height: u32,
     texels: Vec<[u8; 4]>,
+}
+
+/// Texel value → `[0, 1]`.
+const UNIT: f32 = 1.0 / 255.0;
+
+/// Points sampled together by [`Texture::sample_level_rgb8`].
+const LANES: usize = 8;
+
+impl Level {
+    /// `(u, v)` in texel units, texel centres at whole numbers.
+    #[inline]
+    fn texel_space(&self, u: f32, v: f32) -> (f32, f32) {
+        (u * self.width as f32 - 0.5, v * self.height as f32 - 0.5)
+    }
+
+    /// The texel at `(x, y)`, wrapped (repeat).
+    #[inline]
+    fn fetch(&self, x: i64, y: i64) -> [u8; 4] {
+        let (w, h) = (self.width as i64, self.height as i64);
+        self.texels[(y.rem_euclid(h) * w + x.rem_euclid(w)) as usize]
+    }
+
+    /// The four texels around `(x, y)` (texel units), top-left, top-right, bottom-left,
+    /// bottom-right, and the blend weights towards the right and the bottom.
+    #[inline]
+    fn square(&self, x: f32, y: f32) -> ([[u8; 4]; 4], f32, f32) {
+        let (w, h) = (self.width as i64, self.height as i64);
+        let (x0, y0) = (floor(x), floor(y));
+        let (ax, ay) = (x - x0 as f32, y - y0 as f32);
+        // Inside the level (the common case) no wrapping is needed: skip the divisions.
+        let texels = if x0 >= 0 && y0 >= 0 && x0 + 1 < w && y0 + 1 < h {
+            let i = (y0 * w + x0) as usize;
+            let s = self.width as usize;
+            [self.texels[i], self.texels[i + 1], self.texels[i + s], self.texels[i + s + 1]]
+        } else {
+            [self.fetch(x0, y0), self.fetch(x0 + 1, y0), self.fetch(x0, y0 + 1), self.fetch(x0 + 1, y0 + 1)]
+        };
+        (texels, ax, ay)
+    }
 }
 
 /// An image used to colour surfaces. Immutable; share it with `Arc<Texture>`.
@@ -94,37 +134,90 @@ impl Texture {
     /// RGBA in `[0, 1]` at `(u, v)` from mip `level` (clamped to the last level).
     #[inline]
     pub(crate) fn sample_level(&self, u: f32, v: f32, level: usize) -> [f32; 4] {
-        let lv = &self.levels[level.min(self.levels.len() - 1)];
-        let (w, h) = (lv.width as i64, lv.height as i64);
-        let fetch = |x: i64, y: i64| lv.texels[(y.rem_euclid(h) * w + x.rem_euclid(w)) as usize];
-        let x = u * lv.width as f32 - 0.5;
-        let y = v * lv.height as f32 - 0.5;
-        const S: f32 = 1.0 / 255.0;
+        let lv = self.level(level);
+        let (x, y) = lv.texel_space(u, v);
+        self.sample_at(lv, x, y)
+    }
+
+    /// RGBA in `[0, 1]` at `(x, y)` in texel units of `lv`.
+    #[inline]
+    fn sample_at(&self, lv: &Level, x: f32, y: f32) -> [f32; 4] {
         match self.filter {
-            Filter::Nearest => {
-                let t = fetch(floor(x + 0.5), floor(y + 0.5));
-                t.map(|c| c as f32 * S)
-            }
+            Filter::Nearest => lv.fetch(floor(x + 0.5), floor(y + 0.5)).map(|c| c as f32 * UNIT),
             Filter::Bilinear => {
-                let (x0, y0) = (floor(x), floor(y));
-                let (ax, ay) = (x - x0 as f32, y - y0 as f32);
-                // Inside the level (the common case) no wrapping is needed: skip the divisions.
-                let (t00, t10, t01, t11) = if x0 >= 0 && y0 >= 0 && x0 + 1 < w && y0 + 1 < h {
-                    let i = (y0 * w + x0) as usize;
-                    let s = lv.width as usize;
-                    (lv.texels[i], lv.texels[i + 1], lv.texels[i + s], lv.texels[i + s + 1])
-                } else {
-                    (fetch(x0, y0), fetch(x0 + 1, y0), fetch(x0, y0 + 1), fetch(x0 + 1, y0 + 1))
-                };
+                let ([t00, t10, t01, t11], ax, ay) = lv.square(x, y);
                 let mut out = [0.0; 4];
                 for (c, o) in out.iter_mut().enumerate() {
                     let top = t00[c] as f32 + (t10[c] as f32 - t00[c] as f32) * ax;
                     let bottom = t01[c] as f32 + (t11[c] as f32 - t01[c] as f32) * ax;
-                    *o = (top + (bottom - top) * ay) * S;
+                    *o = (top + (bottom - top) * ay) * UNIT;
                 }
                 out
             }
         }
+    }
+
+    /// Red, green and blue of [`Texture::sample_level`] at eight points: each lane does the
+    /// same float operations as one sample alone, so the results are the same bits. Bilinear
+    /// samples find their texels (wrapped) and blend them eight wide; a nearest sample, or a
+    /// group with a coordinate that is huge or NaN, goes lane by lane.
+    #[inline]
+    pub(crate) fn sample_level_rgb8(&self, u: f32x8, v: f32x8, level: usize) -> [f32x8; 3] {
+        let lv = self.level(level);
+        let splat = f32x8::splat;
+        let (w, h) = (lv.width as f32, lv.height as f32);
+        // `texel_space`.
+        let (x, y) = (u * splat(w) - splat(0.5), v * splat(h) - splat(0.5));
+        let unit = splat(UNIT);
+        let small = splat(4_194_304.0);
+        if self.filter == Filter::Bilinear && (x.abs().simd_lt(small) & y.abs().simd_lt(small)).all() {
+            // Below 2^22 these float operations are exact: `floor` (through i64) is the
+            // truncation minus one where it rounded up, and `rem_euclid` the remainder after
+            // the floored quotient.
+            let floor8 = |x: f32x8| {
+                let t = x.fast_trunc_int().round_float();
+                t.simd_gt(x).select(t - f32x8::ONE, t)
+            };
+            let (x0, y0) = (floor8(x), floor8(y));
+            let (ax, ay) = (x - x0, y - y0);
+            // Wrapped columns and rows of the square, as `Level::square` fetches them.
+            let wrap = |a: f32x8, size: f32| {
+                let size = splat(size);
+                let first = a - floor8(a / size) * size;
+                let next = first + f32x8::ONE;
+                (first.fast_trunc_int().to_array(), next.simd_eq(size).select(f32x8::ZERO, next).fast_trunc_int().to_array())
+            };
+            let ((xa, xb), (ya, yb)) = (wrap(x0, w), wrap(y0, h));
+            let s = lv.width as usize;
+            let mut corners = [[0i32; LANES]; 4];
+            for l in 0..LANES {
+                let (top, bottom) = (ya[l] as usize * s, yb[l] as usize * s);
+                let at = [top + xa[l] as usize, top + xb[l] as usize, bottom + xa[l] as usize, bottom + xb[l] as usize];
+                for (corner, k) in corners.iter_mut().zip(at) {
+                    corner[l] = i32::from_le_bytes(lv.texels[k]);
+                }
+            }
+            let corners = corners.map(i32x8::from);
+            return std::array::from_fn(|c| {
+                let [t00, t10, t01, t11] = corners.map(|t| ((t >> (8 * c as u32)) & i32x8::splat(0xFF)).round_float());
+                let top = t00 + (t10 - t00) * ax;
+                let bottom = t01 + (t11 - t01) * ax;
+                (top + (bottom - top) * ay) * unit
+            });
+        }
+        let (x, y) = (x.to_array(), y.to_array());
+        let mut out = [[0.0f32; LANES]; 3];
+        for l in 0..LANES {
+            let t = self.sample_at(lv, x[l], y[l]);
+            for c in 0..3 {
+                out[c][l] = t[c];
+            }
+        }
+        out.map(f32x8::from)
+    }
+
+    fn level(&self, level: usize) -> &Level {
+        &self.levels[level.min(self.levels.len() - 1)]
     }
 
     /// The mip level whose texels are about one pixel in size, given how many level-0 texels
@@ -230,6 +323,34 @@ mod tests {
         let mid = t.sample(Vec2::new(0.5, 0.25))[0];
         assert!((mid - 0.5).abs() < 1e-6);
         assert_eq!(t.sample(Vec2::new(0.25, 0.25))[0], 0.0);
+    }
+
+    #[test]
+    fn eight_lanes_sample_what_one_point_at_a_time_samples() {
+        // A 7×5 texture (its levels are 3×2 and 1×1), both filters, points inside and outside
+        // the unit square (wrapping), on texel centres and edges, NaN, and groups within level 0.
+        let data: Vec<u8> = (0..7 * 5 * 4).map(|i| ((i * 53 + 7) % 256) as u8).collect();
+        let mut seed = 5u64;
+        let mut points: Vec<f32> = vec![0.0, -0.0, 0.5 / 7.0, 1.0, -1.0, 0.9999, f32::NAN, 1e7, -3.25];
+        points.extend((0..800).map(|_| (crate::raster::next_unit(&mut seed) - 0.4) * 3.0));
+        // Then groups of eight whose squares all lie inside level 0 (the eight-wide path there).
+        points.extend((0..800).map(|_| 0.15 + 0.7 * crate::raster::next_unit(&mut seed)));
+        for filter in [Filter::Bilinear, Filter::Nearest] {
+            let t = Texture::from_rgba8(7, 5, &data).unwrap().with_filter(filter);
+            for level in 0..4 {
+                for (n, group) in points.chunks_exact(2 * LANES).enumerate() {
+                    let (u, v): (Vec<f32>, Vec<f32>) = group.chunks_exact(2).map(|p| (p[0], p[1 - n % 2])).unzip();
+                    let (u, v) = (<[f32; LANES]>::try_from(u).unwrap(), <[f32; LANES]>::try_from(v).unwrap());
+                    let lanes = t.sample_level_rgb8(f32x8::from(u), f32x8::from(v), level).map(|c| c.to_array());
+                    for l in 0..LANES {
+                        let one = t.sample_level(u[l], v[l], level);
+                        for c in 0..3 {
+                            assert_eq!(lanes[c][l].to_bits(), one[c].to_bits(), "{filter:?} level {level} ({}, {}) channel {c}", u[l], v[l]);
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -703,7 +703,20 @@ impl Renderer {
                     } else {
                         let sh = shadows.map(|_| self.shadow_rgb[id as usize]);
                         let texture = texture_of(rec, scene);
-                        for k in start..end {
+                        let mut first = start;
+                        if let (Some(tex), None) = (texture, shadows) {
+                            // Long runs (large textured triangles) eight pixels at a time.
+                            while end - first >= LANES {
+                                let px = first..first + LANES;
+                                let (z, rgb) = shade_textured8(rec, tex, first, fj, depths[px.clone()].try_into().unwrap());
+                                depth_out[px].copy_from_slice(&z);
+                                for l in 0..LANES {
+                                    rgb_out[3 * (first + l)..3 * (first + l) + 3].copy_from_slice(&[rgb[0][l], rgb[1][l], rgb[2][l]]);
+                                }
+                                first += LANES;
+                            }
+                        }
+                        for k in first..end {
                             let z = 1.0 / depths[k];
                             depth_out[k] = z;
                             let c = shade(rec, sh.as_ref(), shadows, texture, view, k as u32, j, z);
@@ -1400,10 +1413,39 @@ fn shade(
     out
 }
 
+/// Pixels shaded together by [`shade_textured8`].
+const LANES: usize = 8;
+
+/// [`shade`] for the eight pixels from column `first` of row `j` (as `fj`) of a textured
+/// triangle without shadows, whose `1/z` are `iz`: their view depths, and their colours as
+/// [`to_u8`] rounds them, by channel. Each lane does the same float operations as one pixel
+/// alone, so the bits are the same.
+#[inline]
+fn shade_textured8(rec: &TriRecord, tex: &Texture, first: usize, fj: f32, iz: [f32; LANES]) -> ([f32; LANES], [[u8; LANES]; 3]) {
+    use wide::f32x8;
+    let (zero, one) = (f32x8::ZERO, f32x8::ONE);
+    // Through i32, as the scalar resolve converts columns (the same floats).
+    let fi = f32x8::from(std::array::from_fn::<f32, LANES, _>(|l| (first + l) as i32 as f32));
+    let z = one / f32x8::from(iz);
+    let eval = |p: &Plane| (f32x8::splat(p.a) * fi + f32x8::splat(p.b * fj + p.c)) * z;
+    let texel = tex.sample_level_rgb8(eval(&rec.uv[0]), eval(&rec.uv[1]), rec.mip as usize);
+    let rgb = std::array::from_fn(|c| {
+        // `f32::clamp(0, 1)`, which keeps NaN, then the texel.
+        let x = eval(&rec.rgb[c]);
+        let x = x.simd_lt(zero).select(zero, x);
+        let x = x.simd_gt(one).select(one, x) * texel[c];
+        // `to_u8`: NaN and below 0 → 0, above 1 → 1, rounded in the low mantissa bits.
+        let y = x.simd_gt(zero).select(x, zero);
+        let y = y.simd_lt(one).select(y, one) * f32x8::splat(255.0) + f32x8::splat(8_388_608.0);
+        y.to_array().map(|y| (y.to_bits() & 0xFF) as u8)
+    });
+    (z.to_array(), rgb)
+}
+
 /// The tests' pseudo-random numbers, uniform in `[0, 1)`: the top 24 bits of the next state of
 /// a 64-bit linear congruential generator (Knuth's MMIX constants).
 #[cfg(test)]
-fn next_unit(seed: &mut u64) -> f32 {
+pub(crate) fn next_unit(seed: &mut u64) -> f32 {
     *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
     (*seed >> 40) as f32 / (1u64 << 24) as f32
 }
@@ -1537,18 +1579,20 @@ mod tests {
 
     #[test]
     fn the_opaque_resolve_writes_what_shade_computes() {
-        // A lit, textured (bilinear, mipmapped) sphere and a lit untextured plane behind it: every
-        // pixel must get the bits `shade` gives it, also where the resolve's own row-hoisted
-        // Gouraud loop (the plane) stands in for `shade`.
+        // A lit, textured (bilinear, mipmapped) sphere and box and a lit untextured plane behind
+        // them: every pixel must get the bits `shade` gives it, also where the resolve's own
+        // row-hoisted Gouraud loop (the plane) or its eight-wide textured runs (the box's faces)
+        // stand in for `shade`.
         use crate::{Instance, Material, Mesh, Texture, Transform};
         use std::sync::Arc;
         let data: Vec<u8> = (0..32 * 32 * 3).map(|i| ((i * 37) % 251) as u8).collect();
         let tex = Arc::new(Texture::from_rgb8(32, 32, &data).unwrap());
         let textured = Material { rgba: [0.9, 0.8, 0.7, 1.0], specular: 0.5, shininess: 0.3, texture: Some(tex), uv_scale: Vec2::splat(3.0), ..Material::default() };
-        let sphere = Instance::new(Arc::new(Mesh::sphere(0.5, 24)), Transform::IDENTITY, 1).with_material(textured);
+        let sphere = Instance::new(Arc::new(Mesh::sphere(0.5, 24)), Transform::IDENTITY, 1).with_material(textured.clone());
+        let block = Instance::new(Arc::new(Mesh::cuboid(Vec3::splat(0.3))), Transform::from_translation(Vec3::new(-0.9, 0.2, -0.2)), 3).with_material(textured);
         let plane = Instance::new(Arc::new(Mesh::plane(2.0, 2.0)), Transform::from_translation(Vec3::new(0.0, 0.0, -1.0)), 2)
             .with_material(Material { rgba: [0.4, 0.5, 0.6, 1.0], specular: 0.3, ..Material::default() });
-        let scene = Scene { instances: vec![sphere, plane], ..Scene::default() };
+        let scene = Scene { instances: vec![sphere, block, plane], ..Scene::default() };
         let camera = Camera::look_at(Vec3::new(0.3, -1.5, 1.2), Vec3::ZERO, Vec3::Z, 50.0, 96, 80);
         let mut r = Renderer::new(RenderOptions::default());
         let frame = r.render(&scene, &camera).unwrap();
@@ -1566,5 +1610,8 @@ mod tests {
             assert_eq!(frame.color.data[3 * p..3 * p + 3], [to_u8(c[0]), to_u8(c[1]), to_u8(c[2])], "pixel ({i}, {j})");
         }
         assert!(textured_px > 1000 && plain_px > 1000, "{textured_px} textured and {plain_px} plain pixels");
+        let long_runs = r.tri_id.chunks(96).flat_map(|row| row.chunk_by(|a, b| a == b)).filter(|run| run[0] != NO_TRIANGLE && run.len() >= LANES);
+        let wide_px: usize = long_runs.filter(|run| texture_of(&r.records[run[0] as usize], &scene).is_some()).map(|run| run.len() / LANES * LANES).sum();
+        assert!(wide_px > 300, "{wide_px} pixels shaded eight at a time");
     }
 }

@@ -169,11 +169,13 @@ impl Texture {
         // `texel_space`.
         let (x, y) = (u * splat(w) - splat(0.5), v * splat(h) - splat(0.5));
         let unit = splat(UNIT);
-        let small = splat(4_194_304.0);
-        if self.filter == Filter::Bilinear && (x.abs().simd_lt(small) & y.abs().simd_lt(small)).all() {
-            // Below 2^22 these float operations are exact: `floor` (through i64) is the
-            // truncation minus one where it rounded up, and `rem_euclid` the remainder after
-            // the floored quotient.
+        const SMALL: f32 = 4_194_304.0;
+        let small = splat(SMALL);
+        let sizes_small = w < SMALL && h < SMALL;
+        if self.filter == Filter::Bilinear && sizes_small && (x.abs().simd_lt(small) & y.abs().simd_lt(small)).all() {
+            // With coordinates and sizes below 2^22 these float operations are exact: `floor`
+            // (through i64) is the truncation minus one where it rounded up, and `rem_euclid`
+            // the remainder after the floored quotient.
             let floor8 = |x: f32x8| {
                 let t = x.fast_trunc_int().round_float();
                 t.simd_gt(x).select(t - f32x8::ONE, t)

@@ -3,6 +3,8 @@
 //! Texture coordinates follow MuJoCo's use of image rows: `v = 0` is the first (top) row of the
 //! image, `u = 0` its left column; texel centres sit at `(i + 0.5) / width`.
 
+use std::ops::{Add, Mul, Sub};
+
 use glam::Vec2;
 use thiserror::Error;
 use wide::{f32x8, i32x8};
@@ -145,14 +147,8 @@ impl Texture {
         match self.filter {
             Filter::Nearest => lv.fetch(floor(x + 0.5), floor(y + 0.5)).map(|c| c as f32 * UNIT),
             Filter::Bilinear => {
-                let ([t00, t10, t01, t11], ax, ay) = lv.square(x, y);
-                let mut out = [0.0; 4];
-                for (c, o) in out.iter_mut().enumerate() {
-                    let top = t00[c] as f32 + (t10[c] as f32 - t00[c] as f32) * ax;
-                    let bottom = t01[c] as f32 + (t11[c] as f32 - t01[c] as f32) * ax;
-                    *o = (top + (bottom - top) * ay) * UNIT;
-                }
-                out
+                let (texels, ax, ay) = lv.square(x, y);
+                std::array::from_fn(|c| blend(texels.map(|t| t[c] as f32), ax, ay) * UNIT)
             }
         }
     }
@@ -200,12 +196,7 @@ impl Texture {
                 }
             }
             let corners = corners.map(i32x8::from);
-            return std::array::from_fn(|c| {
-                let [t00, t10, t01, t11] = corners.map(|t| ((t >> (8 * c as u32)) & i32x8::splat(0xFF)).round_float());
-                let top = t00 + (t10 - t00) * ax;
-                let bottom = t01 + (t11 - t01) * ax;
-                (top + (bottom - top) * ay) * unit
-            });
+            return std::array::from_fn(|c| blend(corners.map(|t| ((t >> (8 * c as u32)) & i32x8::splat(0xFF)).round_float()), ax, ay) * unit);
         }
         let (x, y) = (x.to_array(), y.to_array());
         let mut out = [[0.0f32; LANES]; 3];
@@ -256,6 +247,16 @@ impl Texture {
         }
         Texture { levels, filter: Filter::default() }
     }
+}
+
+/// The bilinear blend of the texels of a square (top-left, top-right, bottom-left,
+/// bottom-right) with weights `ax` towards the right and `ay` towards the bottom; one sample, or
+/// eight in lanes, with the same operations.
+#[inline]
+fn blend<T: Copy + Add<Output = T> + Sub<Output = T> + Mul<Output = T>>([t00, t10, t01, t11]: [T; 4], ax: T, ay: T) -> T {
+    let top = t00 + (t10 - t00) * ax;
+    let bottom = t01 + (t11 - t01) * ax;
+    top + (bottom - top) * ay
 }
 
 fn check(width: u32, height: u32, channels: u32, data: &[u8]) -> Result<&[u8], TextureError> {

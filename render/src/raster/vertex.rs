@@ -1,5 +1,5 @@
 //! The vertex stage: an instance's mesh positions to camera space, outcodes and snapped screen
-//! positions, eight vertices at a time.
+//! positions, eight vertices at a time, kept per vertex in [`Verts`].
 //!
 //! Each lane does the IEEE operations of one vertex's transform (`mul_mat3`, then
 //! [`ClipSpace::outcode`] and [`View::project`]) in the same order, so the results are the same
@@ -9,7 +9,7 @@ use glam::{Mat3, Vec3};
 use wide::f32x8;
 
 use super::clip::{ClipSpace, MUST_CLIP};
-use super::View;
+use super::view::View;
 
 /// Vertices transformed together.
 const LANES: usize = 8;
@@ -94,6 +94,82 @@ impl ClipSpace {
             codes |= e.simd_ge(f32x8::ZERO).select(f32x8::ZERO, splat(f32::from_bits(bit as u32)));
         }
         codes.to_array().map(|c| c.to_bits() as u16)
+    }
+}
+
+/// Per-vertex results of one instance, in separate arrays so that the culling loop touches
+/// only screen positions and outcodes. A clustered mesh fills only the vertices of the clusters
+/// it draws; a stamp per vertex says which are filled for the current instance.
+#[derive(Default)]
+pub(super) struct Verts {
+    pub(super) cam: Vec<Vec3>,
+    /// Snapped screen position (fits `i32`: the guard band keeps it below 2^28 sub-pixels).
+    pub(super) xy: Vec<[i32; 2]>,
+    pub(super) iz: Vec<f32>,
+    pub(super) code: Vec<u16>,
+    stamps: Vec<u32>,
+    current: u32,
+    /// The vertices to fill next (reused between instances).
+    fresh: Vec<u32>,
+}
+
+impl Verts {
+    /// Fills every vertex.
+    pub(super) fn fill(&mut self, positions: &[Vec3], to: &ToScreen) {
+        let n = positions.len();
+        self.cam.resize(n, Vec3::ZERO);
+        self.xy.resize(n, [0; 2]);
+        self.iz.resize(n, 0.0);
+        self.code.resize(n, 0);
+        let mut ids = std::mem::take(&mut self.fresh);
+        ids.clear();
+        ids.extend(0..n as u32);
+        to.each(&ids, positions, |v, s| self.put(v, s));
+        self.fresh = ids;
+    }
+
+    #[inline]
+    fn put(&mut self, v: usize, (cam, xy, iz, code): Screen) {
+        (self.cam[v], self.xy[v], self.iz[v], self.code[v]) = (cam, xy, iz, code);
+    }
+
+    /// Snapped screen position of vertex `i`.
+    #[inline]
+    pub(super) fn screen(&self, i: usize) -> (i64, i64) {
+        (self.xy[i][0] as i64, self.xy[i][1] as i64)
+    }
+
+    /// Starts an instance whose vertices are filled on demand by [`Verts::ensure`].
+    pub(super) fn begin(&mut self, vertices: usize) {
+        if self.stamps.len() < vertices {
+            self.stamps.resize(vertices, 0);
+        }
+        if self.cam.len() < vertices {
+            self.cam.resize(vertices, Vec3::ZERO);
+            self.xy.resize(vertices, [0; 2]);
+            self.iz.resize(vertices, 0.0);
+            self.code.resize(vertices, 0);
+        }
+        self.current = self.current.wrapping_add(1);
+        if self.current == 0 {
+            self.stamps.fill(0);
+            self.current = 1;
+        }
+    }
+
+    /// Fills the vertices `used` that this instance has not filled yet.
+    #[inline]
+    pub(super) fn ensure(&mut self, used: &[u32], positions: &[Vec3], to: &ToScreen) {
+        let mut fresh = std::mem::take(&mut self.fresh);
+        fresh.clear();
+        for &v in used {
+            if self.stamps[v as usize] != self.current {
+                self.stamps[v as usize] = self.current;
+                fresh.push(v);
+            }
+        }
+        to.each(&fresh, positions, |v, s| self.put(v, s));
+        self.fresh = fresh;
     }
 }
 

@@ -40,84 +40,6 @@ impl Renderer {
     }
 }
 
-/// What a span's depth test does besides comparing depths.
-#[derive(Clone, Copy)]
-enum SpanTest<'a> {
-    Plain,
-    /// A mirror's pass: only pixels on the kept side of its plane count.
-    Keep(&'a PlaneTest),
-    /// Over the camera's static layer: exact ties with it go as a whole frame would draw them.
-    Ties(&'a Ties<'a>),
-}
-
-/// Depth-tests one span of a triangle (row `j`, pixels from `first`, whose depth and id slices
-/// are given) and writes where it wins; returns the won pixels' masks or-ed. Each [`SpanTest`]
-/// compiles its own loop: the plain pass's has no plane test, which would cost the innermost
-/// loop a fifth of its time.
-#[inline(always)]
-fn depth_span(depth: &mut [f32], tri_id: &mut [u32], first: u32, j: u32, plane: &Plane, test: SpanTest, id: u32) -> u32 {
-    match test {
-        SpanTest::Keep(k) => span_where::<false>(depth, tri_id, first, j, plane, id, |i, iz| k.at(i, j as f32, iz) >= 0.0).0,
-        SpanTest::Plain => span_where::<false>(depth, tri_id, first, j, plane, id, |_, _| true).0,
-        SpanTest::Ties(t) => {
-            let (won, tied) = span_where::<true>(depth, tri_id, first, j, plane, id, |_, _| true);
-            if tied == 0 {
-                return won;
-            }
-            won | t.settle(depth, tri_id, first, j, plane, id)
-        }
-    }
-}
-
-/// [`depth_span`]'s loop, counting only pixels where `kept(i, 1/z)` holds. With `TIES`, also
-/// returns whether any pixel tied (equal `1/z`) before the writes.
-#[inline(always)]
-fn span_where<const TIES: bool>(depth: &mut [f32], tri_id: &mut [u32], first: u32, j: u32, plane: &Plane, id: u32, kept: impl Fn(f32, f32) -> bool) -> (u32, u32) {
-    let row_key = plane.b * j as f32 + plane.c;
-    let (mut won, mut tied) = (0u32, 0u32);
-    // Columns as i32: the same floats as from u32, but the signed conversion vectorizes.
-    for ((d, t), i) in depth.iter_mut().zip(tri_id).zip(first as i32..) {
-        let iz = plane.a * i as f32 + row_key;
-        if TIES {
-            tied |= (iz == *d) as u32;
-        }
-        // Bit selects rather than branches: depth-test outcomes are hard to predict.
-        let mask = (((iz > *d) & kept(i as f32, iz)) as u32).wrapping_neg();
-        won |= mask;
-        *t = (*t & !mask) | (id & mask);
-        *d = f32::from_bits((d.to_bits() & !mask) | (iz.to_bits() & mask));
-    }
-    (won, tied)
-}
-
-/// How an instance drawn over the camera's static layer settles exact depth ties with it.
-struct Ties<'a> {
-    layer: &'a layer::Layer,
-    /// The layer's records are the first `records`.
-    records: u32,
-    /// The instance's key in the front-to-back order, and its index.
-    depth: f32,
-    index: u32,
-}
-
-impl Ties<'_> {
-    /// After a span's depth test: takes the pixels where it tied with a layer record that a
-    /// whole frame would have drawn after it. Returns a non-zero mask if it took any.
-    #[cold]
-    fn settle(&self, depth: &[f32], tri_id: &mut [u32], first: u32, j: u32, plane: &Plane, id: u32) -> u32 {
-        let row_key = plane.b * j as f32 + plane.c;
-        let mut won = 0u32;
-        for ((&d, t), i) in depth.iter().zip(tri_id).zip(first as i32..) {
-            let iz = plane.a * i as f32 + row_key;
-            if iz == d && *t < self.records && self.layer.wins_tie(*t, self.depth, self.index) {
-                *t = id;
-                won = u32::MAX;
-            }
-        }
-        won
-    }
-}
-
 /// The opaque pass: depth-tests triangles into the visibility buffer and records the winners.
 struct Opaque<'a> {
     depth: &'a mut [f32],
@@ -227,3 +149,81 @@ impl Opaque<'_> {
 /// Pixels in a triangle's bounding box from which the opaque pass asks the hi-z whether the
 /// triangle is hidden before testing its pixels.
 const HIZ_TRIANGLE_AREA: u32 = 128;
+
+/// What a span's depth test does besides comparing depths.
+#[derive(Clone, Copy)]
+enum SpanTest<'a> {
+    Plain,
+    /// A mirror's pass: only pixels on the kept side of its plane count.
+    Keep(&'a PlaneTest),
+    /// Over the camera's static layer: exact ties with it go as a whole frame would draw them.
+    Ties(&'a Ties<'a>),
+}
+
+/// Depth-tests one span of a triangle (row `j`, pixels from `first`, whose depth and id slices
+/// are given) and writes where it wins; returns the won pixels' masks or-ed. Each [`SpanTest`]
+/// compiles its own loop: the plain pass's has no plane test, which would cost the innermost
+/// loop a fifth of its time.
+#[inline(always)]
+fn depth_span(depth: &mut [f32], tri_id: &mut [u32], first: u32, j: u32, plane: &Plane, test: SpanTest, id: u32) -> u32 {
+    match test {
+        SpanTest::Keep(k) => span_where::<false>(depth, tri_id, first, j, plane, id, |i, iz| k.at(i, j as f32, iz) >= 0.0).0,
+        SpanTest::Plain => span_where::<false>(depth, tri_id, first, j, plane, id, |_, _| true).0,
+        SpanTest::Ties(t) => {
+            let (won, tied) = span_where::<true>(depth, tri_id, first, j, plane, id, |_, _| true);
+            if tied == 0 {
+                return won;
+            }
+            won | t.settle(depth, tri_id, first, j, plane, id)
+        }
+    }
+}
+
+/// [`depth_span`]'s loop, counting only pixels where `kept(i, 1/z)` holds. With `TIES`, also
+/// returns whether any pixel tied (equal `1/z`) before the writes.
+#[inline(always)]
+fn span_where<const TIES: bool>(depth: &mut [f32], tri_id: &mut [u32], first: u32, j: u32, plane: &Plane, id: u32, kept: impl Fn(f32, f32) -> bool) -> (u32, u32) {
+    let row_key = plane.b * j as f32 + plane.c;
+    let (mut won, mut tied) = (0u32, 0u32);
+    // Columns as i32: the same floats as from u32, but the signed conversion vectorizes.
+    for ((d, t), i) in depth.iter_mut().zip(tri_id).zip(first as i32..) {
+        let iz = plane.a * i as f32 + row_key;
+        if TIES {
+            tied |= (iz == *d) as u32;
+        }
+        // Bit selects rather than branches: depth-test outcomes are hard to predict.
+        let mask = (((iz > *d) & kept(i as f32, iz)) as u32).wrapping_neg();
+        won |= mask;
+        *t = (*t & !mask) | (id & mask);
+        *d = f32::from_bits((d.to_bits() & !mask) | (iz.to_bits() & mask));
+    }
+    (won, tied)
+}
+
+/// How an instance drawn over the camera's static layer settles exact depth ties with it.
+struct Ties<'a> {
+    layer: &'a layer::Layer,
+    /// The layer's records are the first `records`.
+    records: u32,
+    /// The instance's key in the front-to-back order, and its index.
+    depth: f32,
+    index: u32,
+}
+
+impl Ties<'_> {
+    /// After a span's depth test: takes the pixels where it tied with a layer record that a
+    /// whole frame would have drawn after it. Returns a non-zero mask if it took any.
+    #[cold]
+    fn settle(&self, depth: &[f32], tri_id: &mut [u32], first: u32, j: u32, plane: &Plane, id: u32) -> u32 {
+        let row_key = plane.b * j as f32 + plane.c;
+        let mut won = 0u32;
+        for ((&d, t), i) in depth.iter().zip(tri_id).zip(first as i32..) {
+            let iz = plane.a * i as f32 + row_key;
+            if iz == d && *t < self.records && self.layer.wins_tie(*t, self.depth, self.index) {
+                *t = id;
+                won = u32::MAX;
+            }
+        }
+        won
+    }
+}

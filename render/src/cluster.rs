@@ -29,9 +29,10 @@ pub(crate) struct Cluster {
     /// Its triangles: `first..first + count` of the mesh's triangles.
     pub first: u32,
     pub count: u32,
-    /// Its vertices: `first_vertex..first_vertex + vertex_count` of [`Clusters::vertices`].
-    pub first_vertex: u32,
-    pub vertex_count: u32,
+    /// The positions its vertices use: `first_point..first_point + point_count` of
+    /// [`Clusters::points`].
+    pub first_point: u32,
+    pub point_count: u32,
     /// Encloses its vertices (mesh frame).
     pub centre: Vec3,
     pub radius: f32,
@@ -42,11 +43,12 @@ pub(crate) struct Cluster {
     pub cone_cutoff: f32,
 }
 
-/// The patches of a mesh, in triangle order, and the vertices each uses.
+/// The patches of a mesh, in triangle order, and the positions ([`crate::mesh::Points`]) each
+/// uses.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub(crate) struct Clusters {
     pub list: Vec<Cluster>,
-    pub vertices: Vec<u32>,
+    pub points: Vec<u32>,
     /// The index each vertex had before clustering renumbered the vertices.
     pub loaded_order: Vec<u32>,
 }
@@ -66,6 +68,8 @@ impl Mesh {
         };
         let mut triangles = Vec::with_capacity(self.triangle_count());
         let mut clusters = Clusters::default();
+        // Each cluster's vertices, in `first_point..` ranges until [`Clusters::to_points`].
+        let mut vertices = Vec::new();
         for m in &meshlets.meshlets {
             let local = &meshlets.vertices[m.vertex_offset as usize..(m.vertex_offset + m.vertex_count) as usize];
             let bytes = &meshlets.triangles[m.triangle_offset as usize..(m.triangle_offset + 3 * m.triangle_count) as usize];
@@ -82,15 +86,15 @@ impl Mesh {
             clusters.list.push(Cluster {
                 first,
                 count: m.triangle_count,
-                first_vertex: clusters.vertices.len() as u32,
-                vertex_count: m.vertex_count,
+                first_point: vertices.len() as u32,
+                point_count: m.vertex_count,
                 centre: sphere.center,
                 radius: sphere.radius,
                 cone_apex: Vec3::from_array(cone.cone_apex),
                 cone_axis: Vec3::from_array(cone.cone_axis),
                 cone_cutoff: cone.cone_cutoff,
             });
-            clusters.vertices.extend_from_slice(local);
+            vertices.extend_from_slice(local);
         }
         // Every triangle must be in exactly one cluster; anything else leaves the mesh as it was.
         if triangles.len() != self.triangle_count() {
@@ -100,7 +104,7 @@ impl Mesh {
         // order): a cluster's vertices then lie close together in memory.
         let mut new_index = vec![u32::MAX; self.vertex_count()];
         let mut order = Vec::with_capacity(self.vertex_count());
-        for v in clusters.vertices.iter().copied().chain(0..self.vertex_count() as u32) {
+        for v in vertices.iter().copied().chain(0..self.vertex_count() as u32) {
             if new_index[v as usize] == u32::MAX {
                 new_index[v as usize] = order.len() as u32;
                 order.push(v);
@@ -108,7 +112,8 @@ impl Mesh {
         }
         let renumber = |v: &mut u32| *v = new_index[*v as usize];
         triangles.iter_mut().flatten().for_each(renumber);
-        clusters.vertices.iter_mut().for_each(renumber);
+        vertices.iter_mut().for_each(renumber);
+        clusters.points = vertices;
         clusters.loaded_order = order;
         self.with_clusters(triangles, clusters)
     }
@@ -129,6 +134,26 @@ impl Mesh {
         let uvs = self.uvs().map(|u| back.iter().map(|&i| u[i]).collect());
         let triangles = self.triangles().iter().map(|t| t.map(|v| order[v as usize])).collect();
         Cow::Owned(Mesh::new(pick(self.positions()), pick(self.normals()), uvs, triangles).expect("renumbering keeps a valid mesh valid"))
+    }
+}
+
+impl Clusters {
+    /// Turns each cluster's list of vertices (held in [`Clusters::points`] while the clusters
+    /// are built) into the list of the distinct positions they use.
+    pub(crate) fn to_points(&mut self, of_vertex: &[u32]) {
+        let vertices = std::mem::take(&mut self.points);
+        let mut seen = vec![u32::MAX; of_vertex.len()];
+        for (k, c) in self.list.iter_mut().enumerate() {
+            let first = self.points.len() as u32;
+            for &v in &vertices[c.first_point as usize..(c.first_point + c.point_count) as usize] {
+                let p = of_vertex[v as usize];
+                if seen[p as usize] != k as u32 {
+                    seen[p as usize] = k as u32;
+                    self.points.push(p);
+                }
+            }
+            (c.first_point, c.point_count) = (first, self.points.len() as u32 - first);
+        }
     }
 }
 
@@ -161,10 +186,14 @@ mod tests {
         for k in &clusters.list {
             assert_eq!(k.first, next);
             next += k.count;
-            let used = &clusters.vertices[k.first_vertex as usize..(k.first_vertex + k.vertex_count) as usize];
+            let used = &clusters.points[k.first_point as usize..(k.first_point + k.point_count) as usize];
+            let mut distinct = used.to_vec();
+            distinct.sort_unstable();
+            distinct.dedup();
+            assert_eq!(distinct.len(), used.len(), "a cluster lists a position twice");
             for t in &c.triangles()[k.first as usize..(k.first + k.count) as usize] {
                 for v in t {
-                    assert!(used.contains(v));
+                    assert!(used.contains(&c.points().of_vertex[*v as usize]));
                     assert!((c.positions()[*v as usize] - k.centre).length() <= k.radius * (1.0 + 1e-6));
                 }
             }
@@ -173,14 +202,22 @@ mod tests {
     }
 
     #[test]
-    fn vertices_are_numbered_in_order_of_first_use_by_the_clusters() {
+    fn positions_are_numbered_in_order_of_first_use_by_the_clusters() {
         let c = Mesh::sphere(1.0, 32).clustered();
         let mut next = 0;
-        for &v in &c.clusters().vertices {
-            assert!(v <= next);
-            next = next.max(v + 1);
+        for &p in &c.clusters().points {
+            assert!(p <= next);
+            next = next.max(p + 1);
         }
-        assert!(next > 0 && next as usize <= c.vertex_count());
+        // The sphere's seam and poles repeat positions with other UVs.
+        let points = c.points();
+        assert!(next as usize == points.list.len() && points.list.len() < c.vertex_count());
+        for (v, &p) in points.of_vertex.iter().enumerate() {
+            assert_eq!(points.list[p as usize], c.positions()[v]);
+        }
+        for (t, corners) in c.triangles().iter().zip(&points.triangles) {
+            assert_eq!(t.map(|v| points.of_vertex[v as usize]), *corners);
+        }
     }
 
     #[test]

@@ -42,6 +42,37 @@ pub struct Mesh {
     half_extent: Vec3,
     /// Groups of triangles culled as a whole; empty unless [`Mesh::clustered`] made them.
     clusters: Clusters,
+    points: Points,
+}
+
+/// A mesh's distinct positions (equal in every bit), numbered in the order its vertices first
+/// use them, and each vertex's. Vertices that share a position but not a normal or UV (a hard
+/// edge, a texture seam: robosuite's faceted Panda parts have about five per position) are then
+/// transformed to the screen once.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct Points {
+    pub list: Vec<Vec3>,
+    pub of_vertex: Vec<u32>,
+    /// Each triangle's corners as positions.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl Points {
+    fn of(positions: &[Vec3], triangles: &[[u32; 3]]) -> Points {
+        let mut first: std::collections::HashMap<[u32; 3], u32> = std::collections::HashMap::with_capacity(positions.len());
+        let mut list = Vec::new();
+        let of_vertex = positions
+            .iter()
+            .map(|p| {
+                *first.entry(p.to_array().map(f32::to_bits)).or_insert_with(|| {
+                    list.push(*p);
+                    list.len() as u32 - 1
+                })
+            })
+            .collect::<Vec<u32>>();
+        let triangles = triangles.iter().map(|t| t.map(|v| of_vertex[v as usize])).collect();
+        Points { list, of_vertex, triangles }
+    }
 }
 
 impl Mesh {
@@ -78,7 +109,8 @@ impl Mesh {
             }
         }
         let (bounds, half_extent) = bounding_sphere(&positions);
-        Ok(Mesh { positions, normals, uvs, triangles, bounds, half_extent, clusters: Clusters::default() })
+        let points = Points::of(&positions, &triangles);
+        Ok(Mesh { positions, normals, uvs, triangles, bounds, half_extent, clusters: Clusters::default(), points })
     }
 
     /// Builds a mesh whose normals are the area-weighted average of the adjacent face normals
@@ -166,12 +198,21 @@ impl Mesh {
     }
 
     /// This mesh with its vertices in `clusters.loaded_order` (the old index of each), and
-    /// `triangles` (the same ones, regrouped and renumbered) in `clusters`.
-    pub(crate) fn with_clusters(self, triangles: Vec<[u32; 3]>, clusters: Clusters) -> Mesh {
+    /// `triangles` (the same ones, regrouped and renumbered) in `clusters`, whose point lists
+    /// still hold each cluster's (renumbered) vertices.
+    pub(crate) fn with_clusters(self, triangles: Vec<[u32; 3]>, mut clusters: Clusters) -> Mesh {
         let order = &clusters.loaded_order;
         let pick = |v: &[Vec3]| order.iter().map(|&i| v[i as usize]).collect();
         let uvs = self.uvs.as_ref().map(|u| order.iter().map(|&i| u[i as usize]).collect());
-        Mesh { positions: pick(&self.positions), normals: pick(&self.normals), uvs, triangles, clusters, ..self }
+        let (positions, normals): (Vec<Vec3>, _) = (pick(&self.positions), pick(&self.normals));
+        let points = Points::of(&positions, &triangles);
+        clusters.to_points(&points.of_vertex);
+        Mesh { positions, normals, uvs, triangles, clusters, points, ..self }
+    }
+
+    /// The distinct positions and each vertex's.
+    pub(crate) fn points(&self) -> &Points {
+        &self.points
     }
 
     /// The triangle clusters (empty for meshes drawn triangle by triangle).
@@ -320,6 +361,21 @@ mod tests {
         for &p in m.positions() {
             assert!((p - b.center).length() <= b.radius + 1e-6);
         }
+    }
+
+    #[test]
+    fn vertices_at_one_position_share_a_point() {
+        // Three normals per corner of a box; -0.0 and 0.0 differ in their bits, so they stay apart.
+        let cube = Mesh::cuboid(Vec3::ONE);
+        let points = cube.points();
+        assert_eq!((cube.vertex_count(), points.list.len()), (24, 8));
+        for (v, &p) in points.of_vertex.iter().enumerate() {
+            assert_eq!(points.list[p as usize], cube.positions()[v]);
+        }
+        let corners: Vec<[u32; 3]> = cube.triangles().iter().map(|t| t.map(|v| points.of_vertex[v as usize])).collect();
+        assert_eq!(points.triangles, corners);
+        let signed = Mesh::new(vec![Vec3::ZERO, Vec3::new(-0.0, 0.0, 0.0), Vec3::X, Vec3::ZERO], vec![Vec3::Z; 4], None, vec![[0, 2, 1], [3, 2, 1]]).unwrap();
+        assert_eq!(signed.points().of_vertex, [0, 1, 2, 0]);
     }
 
     #[test]

@@ -32,7 +32,9 @@ impl Frontend<'_> {
         let trans = mul_mat3(&view.rot, t.translation - view.position);
         let to_screen = ToScreen::new(linear, trans, inside, view);
         let uvs = inst.material.texture.as_ref().and(mesh.uvs());
+        let points = mesh.points();
         let placed = Placed {
+            point_of: &points.of_vertex,
             normals: mesh.normals(),
             normal_m: mul_mat3_mat3(&view.rot, &t.normal_matrix()),
             surface: self.rig.surface(&inst.material),
@@ -52,10 +54,10 @@ impl Frontend<'_> {
         self.lit.begin(mesh.vertex_count());
         let clusters = mesh.clusters();
         if clusters.list.is_empty() {
-            self.verts.fill(mesh.positions(), &to_screen);
-            placed.draw(mesh.triangles(), &*self.verts, &mut *self.lit, &mut *self.poly, view, sink);
+            self.verts.fill(&points.list, &to_screen);
+            placed.draw(mesh.triangles(), &points.triangles, &*self.verts, &mut *self.lit, &mut *self.poly, view, sink);
         } else {
-            self.verts.begin(mesh.vertex_count());
+            self.verts.begin(points.list.len());
             let cones = !inst.material.double_sided && is_similarity(&t.linear);
             // The eye is at the origin of camera space.
             let faces_away = |c: &Cluster| dot(normalize(mul_mat3(&linear, c.cone_apex) + trans), normalize(mul_mat3(&linear, c.cone_axis))) >= c.cone_cutoff + CONE_MARGIN;
@@ -70,10 +72,10 @@ impl Frontend<'_> {
                     done.hidden += 1;
                     continue;
                 }
-                let used = &clusters.vertices[c.first_vertex as usize..(c.first_vertex + c.vertex_count) as usize];
-                self.verts.ensure(used, mesh.positions(), &to_screen);
-                let tris = &mesh.triangles()[c.first as usize..(c.first + c.count) as usize];
-                placed.draw(tris, &*self.verts, &mut *self.lit, &mut *self.poly, view, sink);
+                let used = &clusters.points[c.first_point as usize..(c.first_point + c.point_count) as usize];
+                self.verts.ensure(used, &points.list, &to_screen);
+                let range = c.first as usize..(c.first + c.count) as usize;
+                placed.draw(&mesh.triangles()[range.clone()], &points.triangles[range], &*self.verts, &mut *self.lit, &mut *self.poly, view, sink);
             }
         }
         done.lit = self.lit.count;
@@ -147,6 +149,8 @@ fn is_similarity(m: &Mat3) -> bool {
 
 /// Per-instance constants for shading its triangles.
 struct Placed<'a> {
+    /// Each vertex's position in [`Verts`].
+    point_of: &'a [u32],
     normals: &'a [Vec3],
     /// Mesh → camera for normals.
     normal_m: Mat3,
@@ -159,54 +163,56 @@ struct Placed<'a> {
 }
 
 impl Placed<'_> {
-    /// Culls, clips and emits `tris`, whose vertices are in `verts`.
-    fn draw(&self, tris: &[[u32; 3]], verts: &Verts, lit: &mut LitCache, poly: &mut Polygon, view: &View, sink: &mut impl Sink) {
+    /// Culls, clips and emits `tris`, whose positions are in `verts`.
+    fn draw(&self, tris: &[[u32; 3]], tri_points: &[[u32; 3]], verts: &Verts, lit: &mut LitCache, poly: &mut Polygon, view: &View, sink: &mut impl Sink) {
         let (w, h) = (view.width, view.height);
         let uv_of = |i: usize| self.uv(i);
+        let cam = |i: usize| verts.cam[self.point_of[i] as usize];
         let light = |i: usize, back: bool| {
             let nrm = mul_mat3(&self.normal_m, self.normals[i]);
-            self.rig.shade(&self.surface, verts.cam[i], if back { -nrm } else { nrm })
+            self.rig.shade(&self.surface, cam(i), if back { -nrm } else { nrm })
         };
-        let xy = |i: usize| verts.screen(i);
         let double_sided = self.double_sided;
 
-        for tri in tris {
+        for (tri, points) in tris.iter().zip(tri_points) {
             let [a, b, c] = tri.map(|i| i as usize);
-            let (ca, cb, cc) = (verts.code[a], verts.code[b], verts.code[c]);
+            let [pa, pb, pc] = points.map(|p| p as usize);
+            let (ca, cb, cc) = (verts.code[pa], verts.code[pb], verts.code[pc]);
             if ca & cb & cc & REJECT != 0 {
                 continue;
             }
             let clip_bits = (ca | cb | cc) & MUST_CLIP;
             if clip_bits == 0 {
-                if !box_holds_centre([verts.xy[a], verts.xy[b], verts.xy[c]]) {
+                if !box_holds_centre([verts.xy[pa], verts.xy[pb], verts.xy[pc]]) {
                     continue;
                 }
-                let o = orientation([xy(a), xy(b), xy(c)]);
+                let xy = |p: usize| verts.screen(p);
+                let o = orientation([xy(pa), xy(pb), xy(pc)]);
                 // Counter-clockwise front faces have negative orientation on screen (y down);
                 // setup wants positive, so front faces swap their last two vertices.
                 let back = o > 0;
                 if o == 0 || (back && !double_sided) {
                     continue;
                 }
-                let (b, c) = if back { (b, c) } else { (c, b) };
-                let Some(setup) = &Setup::new([xy(a), xy(b), xy(c)], w, h) else { continue };
+                let ((b, pb), (c, pc)) = if back { ((b, pb), (c, pc)) } else { ((c, pc), (b, pb)) };
+                let Some(setup) = &Setup::new([xy(pa), xy(pb), xy(pc)], w, h) else { continue };
                 let sv = |i: usize, lit: Lit| self.screen_vert(verts, i, lit);
                 let lit = &mut *lit;
                 let corners = Corners { ids: [a as u32, b as u32, c as u32], back };
-                sink.triangle(setup, [verts.iz[a], verts.iz[b], verts.iz[c]], Some(corners), &mut || {
+                sink.triangle(setup, [verts.iz[pa], verts.iz[pb], verts.iz[pc]], Some(corners), &mut || {
                     let (la, lb, lc) = (lit.get(a, back, &light), lit.get(b, back, &light), lit.get(c, back, &light));
                     [sv(a, la), sv(b, lb), sv(c, lc)]
                 });
             } else {
                 // Facing from camera space: the eye is at the origin.
-                let (pa, pb, pc) = (verts.cam[a], verts.cam[b], verts.cam[c]);
-                let facing = dot(cross(pb - pa, pc - pa), pa);
+                let [qa, qb, qc] = [a, b, c].map(cam);
+                let facing = dot(cross(qb - qa, qc - qa), qa);
                 let back = facing > 0.0;
                 if !(facing != 0.0) || (back && !double_sided) {
                     continue;
                 }
                 self.commit(verts, lit, sink);
-                let cv = |i: usize, lit: Lit| ClipVert { p: verts.cam[i], lit, uv: uv_of(i) };
+                let cv = |i: usize, lit: Lit| ClipVert { p: cam(i), lit, uv: uv_of(i) };
                 let (la, lb, lc) = (lit.get(a, back, &light), lit.get(b, back, &light), lit.get(c, back, &light));
                 let count = view.clip.clip([cv(a, la), cv(b, lb), cv(c, lc)], clip_bits, poly);
                 let on_screen = |v: &ClipVert| {
@@ -254,7 +260,7 @@ impl Placed<'_> {
                 let v = slot(l) / 2;
                 let nrm = mul_mat3(&self.normal_m, self.normals[v]);
                 let nrm = if slot(l) % 2 == 1 { -nrm } else { nrm };
-                let cam = verts.cam[v];
+                let cam = verts.cam[self.point_of[v] as usize];
                 for k in 0..3 {
                     (p[k][l], n[k][l]) = (cam[k], nrm[k]);
                 }
@@ -278,7 +284,8 @@ impl Placed<'_> {
     /// Vertex `i` on screen, lit `lit`.
     #[inline]
     fn screen_vert(&self, verts: &Verts, i: usize, lit: Lit) -> ScreenVert {
-        ScreenVert { xy: verts.screen(i), iz: verts.iz[i], lit, uv: self.uv(i) }
+        let p = self.point_of[i] as usize;
+        ScreenVert { xy: verts.screen(p), iz: verts.iz[p], lit, uv: self.uv(i) }
     }
 }
 

@@ -1,5 +1,5 @@
 //! The vertex stage: an instance's mesh positions to camera space, outcodes and snapped screen
-//! positions, eight vertices at a time, kept per vertex in [`Verts`].
+//! positions, eight at a time, kept per distinct position ([`crate::mesh::Points`]) in [`Verts`].
 //!
 //! Each lane does the IEEE operations of one vertex's transform (`mul_mat3`, then
 //! [`ClipSpace::outcode`] and [`View::project`]) in the same order, so the results are the same
@@ -97,9 +97,9 @@ impl ClipSpace {
     }
 }
 
-/// Per-vertex results of one instance, in separate arrays so that the culling loop touches
-/// only screen positions and outcodes. A clustered mesh fills only the vertices of the clusters
-/// it draws; a stamp per vertex says which are filled for the current instance.
+/// Per-position results of one instance, in separate arrays so that the culling loop touches
+/// only screen positions and outcodes. A clustered mesh fills only the positions of the clusters
+/// it draws; a stamp per position says which are filled for the current instance.
 #[derive(Default)]
 pub(super) struct Verts {
     pub(super) cam: Vec<Vec3>,
@@ -114,7 +114,7 @@ pub(super) struct Verts {
 }
 
 impl Verts {
-    /// Fills every vertex.
+    /// Fills every position.
     pub(super) fn fill(&mut self, positions: &[Vec3], to: &ToScreen) {
         let n = positions.len();
         self.cam.resize(n, Vec3::ZERO);
@@ -133,22 +133,22 @@ impl Verts {
         (self.cam[v], self.xy[v], self.iz[v], self.code[v]) = (cam, xy, iz, code);
     }
 
-    /// Snapped screen position of vertex `i`.
+    /// Snapped screen position of position `i`.
     #[inline]
     pub(super) fn screen(&self, i: usize) -> (i64, i64) {
         (self.xy[i][0] as i64, self.xy[i][1] as i64)
     }
 
-    /// Starts an instance whose vertices are filled on demand by [`Verts::ensure`].
-    pub(super) fn begin(&mut self, vertices: usize) {
-        if self.stamps.len() < vertices {
-            self.stamps.resize(vertices, 0);
+    /// Starts an instance whose positions are filled on demand by [`Verts::ensure`].
+    pub(super) fn begin(&mut self, points: usize) {
+        if self.stamps.len() < points {
+            self.stamps.resize(points, 0);
         }
-        if self.cam.len() < vertices {
-            self.cam.resize(vertices, Vec3::ZERO);
-            self.xy.resize(vertices, [0; 2]);
-            self.iz.resize(vertices, 0.0);
-            self.code.resize(vertices, 0);
+        if self.cam.len() < points {
+            self.cam.resize(points, Vec3::ZERO);
+            self.xy.resize(points, [0; 2]);
+            self.iz.resize(points, 0.0);
+            self.code.resize(points, 0);
         }
         self.current = self.current.wrapping_add(1);
         if self.current == 0 {
@@ -157,7 +157,7 @@ impl Verts {
         }
     }
 
-    /// Fills the vertices `used` that this instance has not filled yet.
+    /// Fills the positions `used` that this instance has not filled yet.
     #[inline]
     pub(super) fn ensure(&mut self, used: &[u32], positions: &[Vec3], to: &ToScreen) {
         let mut fresh = std::mem::take(&mut self.fresh);

@@ -133,7 +133,7 @@ impl Verts {
         (self.cam[v], self.xy[v], self.iz[v], self.code[v]) = (cam, xy, iz, code);
     }
 
-    /// Snapped screen position of position `i`.
+    /// Snapped screen position of point `i` (a distinct position of the mesh).
     #[inline]
     pub(super) fn screen(&self, i: usize) -> (i64, i64) {
         (self.xy[i][0] as i64, self.xy[i][1] as i64)

@@ -117,10 +117,7 @@ impl Verts {
     /// Fills every position.
     pub(super) fn fill(&mut self, positions: &[Vec3], to: &ToScreen) {
         let n = positions.len();
-        self.cam.resize(n, Vec3::ZERO);
-        self.xy.resize(n, [0; 2]);
-        self.iz.resize(n, 0.0);
-        self.code.resize(n, 0);
+        self.hold(n);
         let mut ids = std::mem::take(&mut self.fresh);
         ids.clear();
         ids.extend(0..n as u32);
@@ -144,16 +141,22 @@ impl Verts {
         if self.stamps.len() < points {
             self.stamps.resize(points, 0);
         }
+        self.hold(points);
+        self.current = self.current.wrapping_add(1);
+        if self.current == 0 {
+            self.stamps.fill(0);
+            self.current = 1;
+        }
+    }
+
+    /// Room for `points` positions. The arrays only grow: shrinking them for a small mesh
+    /// would have the next large one write its whole length again before filling it.
+    fn hold(&mut self, points: usize) {
         if self.cam.len() < points {
             self.cam.resize(points, Vec3::ZERO);
             self.xy.resize(points, [0; 2]);
             self.iz.resize(points, 0.0);
             self.code.resize(points, 0);
-        }
-        self.current = self.current.wrapping_add(1);
-        if self.current == 0 {
-            self.stamps.fill(0);
-            self.current = 1;
         }
     }
 

@@ -54,8 +54,19 @@ impl Mesh {
     /// Like [`Mesh::cuboid`] but each face is split into `n × n` quads, for smooth per-vertex
     /// lighting on large faces. MuJoCo draws boxes with `n = 4`.
     pub fn cuboid_tessellated(half_extents: Vec3, n: u32) -> Mesh {
-        let h = Vec3::new(size(half_extents.x), size(half_extents.y), size(half_extents.z));
         let n = n.clamp(1, 256);
+        Mesh::cuboid_split(half_extents, |_| n)
+    }
+
+    /// Like [`Mesh::cuboid`] but each face is split into quads at most `edge` on a side (at most
+    /// 256 along an edge), so long thin faces are not split across their width.
+    pub fn cuboid_with_quads_at_most(half_extents: Vec3, edge: f32) -> Mesh {
+        Mesh::cuboid_split(half_extents, |half| ((2.0 * half / edge).ceil() as u32).clamp(1, 256))
+    }
+
+    /// A box whose faces are grids of `quads(half-length)` quads along each of their edges.
+    fn cuboid_split(half_extents: Vec3, quads: impl Fn(f32) -> u32) -> Mesh {
+        let h = Vec3::new(size(half_extents.x), size(half_extents.y), size(half_extents.z));
         // (normal, s, t) with s × t = normal, so quads in (s, t) order are counter-clockwise
         // from outside; side faces have t = +z so textures stand upright.
         let faces = [
@@ -66,18 +77,20 @@ impl Mesh {
             (Vec3::Z, Vec3::X, Vec3::Y),
             (Vec3::NEG_Z, Vec3::X, Vec3::NEG_Y),
         ];
+        let along = |axis: Vec3| (axis.abs() * h).element_sum();
         let mut b = Builder::default();
         for (normal, s, t) in faces {
+            let (ns, nt) = (quads(along(s)), quads(along(t)));
             let base = b.positions.len() as u32;
-            for j in 0..=n {
-                for i in 0..=n {
-                    let a = 2.0 * i as f32 / n as f32 - 1.0;
-                    let c = 2.0 * j as f32 / n as f32 - 1.0;
+            for j in 0..=nt {
+                for i in 0..=ns {
+                    let a = 2.0 * i as f32 / ns as f32 - 1.0;
+                    let c = 2.0 * j as f32 / nt as f32 - 1.0;
                     let p = (normal + s * a + t * c) * h;
                     b.vertex(p, normal, Vec2::new(0.5 * (a + 1.0), 0.5 * (1.0 - c)));
                 }
             }
-            grid_triangles(&mut b.triangles, base, n, n);
+            grid_triangles(&mut b.triangles, base, ns, nt);
         }
         b.finish()
     }

@@ -107,6 +107,8 @@ pub struct SceneClass {
     pub agentview: Camera,
     pub lights: &'static [Light],
     pub wall_rgb: [f64; 3],
+    /// LIBERO's wall texture (path under its `assets/`), whose mean colour `wall_rgb` is.
+    pub wall_texture: &'static str,
 }
 
 /// The arm a scene is built with.
@@ -262,6 +264,7 @@ const TABLETOP_CLASS: SceneClass = SceneClass {
     },
     lights: &TWO_LIGHTS,
     wall_rgb: LIGHT_GRAY_PLASTER,
+    wall_texture: "textures/light-gray-plaster.png",
 };
 
 static TABLETOP: SceneClass = TABLETOP_CLASS;
@@ -284,6 +287,7 @@ static FLOOR: SceneClass = SceneClass {
     },
     lights: &TWO_LIGHTS,
     wall_rgb: LIGHT_GRAY_PLASTER,
+    wall_texture: "textures/light-gray-plaster.png",
 };
 
 static KITCHEN: SceneClass = SceneClass {
@@ -305,6 +309,7 @@ static KITCHEN: SceneClass = SceneClass {
     },
     lights: &KITCHEN_LIGHTS,
     wall_rgb: YELLOW_LINEN,
+    wall_texture: "textures/yellow_linen_wall_texture.png",
 };
 
 static LIVING_ROOM: SceneClass = SceneClass {
@@ -322,6 +327,7 @@ static LIVING_ROOM: SceneClass = SceneClass {
     agentview: Camera { pose: Pose { pos: [0.6065773716836134, 0.0, 0.96], quat_wxyz: LOW_VIEW }, fovy_deg: 45.0 },
     lights: &TWO_LIGHTS,
     wall_rgb: LIGHT_GRAY_PLASTER,
+    wall_texture: "textures/light-gray-plaster.png",
 };
 
 static STUDY: SceneClass = SceneClass {
@@ -342,6 +348,7 @@ static STUDY: SceneClass = SceneClass {
     },
     lights: &TWO_LIGHTS,
     wall_rgb: LIGHT_GRAY_PLASTER,
+    wall_texture: "textures/light-gray-plaster.png",
 };
 
 /// The §4.4 setting: the plain table, the PiPER on a 10 cm riser 0.4 m behind the table's

@@ -17,6 +17,12 @@ fn png_sha1(task: &str, camera: CameraName, look: Option<&Look>) -> (String, Vec
     (look::blob_sha1(&png), frame.color.data)
 }
 
+/// The scene view of `task`'s shipped state 0.
+fn still_view(task: &str, look: Option<&Look>) -> SceneView {
+    let sim = episode(&RenderRequest::still(task, InitSource::Shipped)).unwrap();
+    SceneView::with_look(sim.model(), look)
+}
+
 /// `sha1sum` of the PNGs `vifo render --task <task> --camera <camera> --builtin-look` writes of
 /// shipped state 0. First pinned before LIBERO's look existed (commit 5215612); pinned again
 /// when the shipped states were regenerated for the one-substep physics (commit b05cb9f), whose
@@ -74,6 +80,34 @@ fn installed_assets_draw_every_category_and_robot_body() {
     assert_ne!(frame, builtin);
 }
 
+/// With LIBERO's textures found, the floor, the walls and the box table's faces are drawn with
+/// them (the table's legs keep their mean colour); the built-in look draws all in mean colours.
+#[test]
+fn the_asset_look_textures_the_floor_the_walls_and_the_box_table() {
+    let roots = look::discover(None, None).unwrap();
+    if roots.libero.is_empty() {
+        println!("SKIPPED the_asset_look_textures_the_floor_the_walls_and_the_box_table: no LIBERO asset wheels installed ({:?})", roots.notes);
+        return;
+    }
+    let look = Look::load(roots);
+    // Per instance of `segment`: whether it is textured.
+    let textured = |task: &str, segment: &str, look: Option<&Look>| -> Vec<bool> {
+        let view = still_view(task, look);
+        let id = view.segment_of(segment).unwrap_or_else(|| panic!("{task}: no segment {segment}"));
+        view.scene().instances.iter().filter(|i| i.segment == id).map(|i| i.material.texture.is_some()).collect()
+    };
+    // The plain table scene and the kitchen.
+    for (task, table) in [("libero_spatial/0", "main_table"), ("libero_10/3", "kitchen_table")] {
+        for segment in ["floor", "walls"] {
+            assert!(textured(task, segment, Some(&look)).iter().all(|&t| t), "{task} {segment}");
+            assert!(textured(task, segment, None).iter().all(|&t| !t), "{task} {segment}");
+        }
+        let with = textured(task, table, Some(&look));
+        assert_eq!((with.iter().filter(|&&t| t).count(), with.iter().filter(|&&t| !t).count()), (1, 4), "{task}: the top, then four legs");
+        assert!(textured(task, table, None).iter().all(|&t| !t));
+    }
+}
+
 /// robosuite's Panda meshes dress the Panda only: the PiPER's links (named `link1`… like the
 /// Panda's) keep their own shapes when LIBERO's look is loaded.
 #[test]
@@ -87,8 +121,7 @@ fn the_look_dresses_only_the_panda() {
     let look = Look::load(roots);
     // (instances, triangles) of the robot's segments in a scene's view.
     let robot = |task: &str, look: Option<&Look>| {
-        let sim = episode(&RenderRequest::still(task, InitSource::Shipped)).unwrap();
-        let view = SceneView::with_look(sim.model(), look);
+        let view = still_view(task, look);
         let links: Vec<u32> = view.legend().iter().filter(|s| s.kind == SegmentKind::RobotLink).map(|s| s.id).collect();
         let parts: Vec<_> = view.scene().instances.iter().filter(|i| links.contains(&i.segment)).collect();
         (parts.len(), parts.iter().map(|i| i.mesh.triangles().len()).sum::<usize>())
@@ -98,8 +131,7 @@ fn the_look_dresses_only_the_panda() {
     // robosuite's Panda has no visual geom on `right_hand` (a frame inside the gripper's hand):
     // with the look it draws nothing there, where the built-in look has a flange.
     let hand_instances = |look: Option<&Look>| {
-        let sim = episode(&RenderRequest::still("libero_spatial/0", InitSource::Shipped)).unwrap();
-        let view = SceneView::with_look(sim.model(), look);
+        let view = still_view("libero_spatial/0", look);
         let hand = view.segment_of("robot0_right_hand").unwrap();
         view.scene().instances.iter().filter(|i| i.segment == hand).count()
     };

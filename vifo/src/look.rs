@@ -72,7 +72,7 @@ fn announce(look: &Look) {
     }
     let report = look.report();
     let real = report.iter().filter(|r| r.status == look::Status::Assets).count();
-    eprintln!("look: {} ({real} of {} categories, robot bodies, floors and table tops from asset files; `vifo assets` for details)", look.label(), report.len());
+    eprintln!("look: {} ({real} of {} categories, robot bodies, floors, walls and table tops from asset files; `vifo assets` for details)", look.label(), report.len());
     for r in report.iter().filter(|r| r.status != look::Status::Assets) {
         eprintln!("look: {} keeps the built-in look: {}", r.category, r.problem.as_deref().unwrap_or("no parts"));
     }

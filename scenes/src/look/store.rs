@@ -68,7 +68,7 @@ const LOD_CHAINS: [(&[f32], f32); 2] = [(&[0.0005, 0.001], 0.25), (&[0.002, 0.00
 
 /// How the files are turned into drawings, hashed into the look: a change that alters the asset
 /// look's pixels gets a new name here, so results drawn before and after never share a look.
-const DRAWING: &str = "quadric LODs within a pixel\ntriangle clusters\nclose-up LODs within half a pixel\nuntextured LODs across UV seams\n";
+const DRAWING: &str = "quadric LODs within a pixel\ntriangle clusters\nclose-up LODs within half a pixel\nuntextured LODs across UV seams\ntextured walls and box-table faces\n";
 
 /// A coarser copy is kept only if it has at most this fraction of the previous one's triangles.
 const LOD_KEEP: f32 = 0.75;
@@ -158,7 +158,7 @@ pub struct Look {
     hash: String,
     parts: BTreeMap<&'static str, Vec<LoadedPart>>,
     robot: BTreeMap<&'static str, Vec<LoadedPart>>,
-    /// Floor and table textures by upstream path.
+    /// Floor, table and wall textures by upstream path.
     arena_textures: BTreeMap<&'static str, Arc<Texture>>,
     /// The scene XMLs' decor meshes (body `main` = the world) by scene XML name.
     decor: BTreeMap<&'static str, Vec<LoadedPart>>,
@@ -331,6 +331,7 @@ impl Look {
         let mut arena_files: Vec<(&'static str, &'static str)> = classes()
             .map(|c| ("floor", c.floor.texture))
             .chain(classes().filter_map(|c| Some(("table", c.table?.texture?))))
+            .chain(classes().map(|c| ("walls", c.wall_texture)))
             .collect();
         arena_files.sort_unstable();
         arena_files.dedup();
@@ -416,8 +417,9 @@ impl Look {
         self.decor.get(scene).map(Vec::as_slice)
     }
 
-    /// The floor or table texture `file` (a [`crate::scene_class::Floor::texture`] or
-    /// [`crate::scene_class::Table::texture`]), when found.
+    /// The floor, table or wall texture `file` (a [`crate::scene_class::Floor::texture`],
+    /// [`crate::scene_class::Table::texture`] or [`crate::scene_class::SceneClass::wall_texture`]),
+    /// when found.
     pub fn arena_texture(&self, file: &str) -> Option<&Arc<Texture>> {
         self.arena_textures.get(file)
     }

@@ -2,18 +2,22 @@
 //!
 //! Geometry restates LIBERO's scene XMLs and arena classes (visual-only geoms: floor plane,
 //! `wall_*_visual` boxes, table legs; the living-room and study tables' collision boxes stand in
-//! for their meshes). Materials are plain colours from the scene class (the mean colours of
-//! LIBERO's style textures) with the XML materials' specular and shininess.
+//! for their meshes). Materials have the XML materials' specular and shininess; with LIBERO's
+//! texture files ([`ArenaTextures`]) the floor, the walls and a box table's top are textured as
+//! MuJoCo maps them ([`super::texgen`]), and otherwise drawn in their textures' mean colours (the
+//! scene class's). The table legs keep the mean colour in both looks: MuJoCo looks their cube
+//! texture up by direction per pixel, which no per-vertex UV can restate.
 
 use std::sync::Arc;
 
-use vifo_render::glam::{Mat3, Vec3};
-use vifo_render::{Material, Mesh, Texture, Transform};
+use vifo_render::glam::{Mat3, Vec2, Vec3};
+use vifo_render::{Material, Mesh, Texture, Transform, quat_wxyz_to_mat3};
 
 use super::material::textured;
 use super::meshes::MeshCache;
+use super::texgen::{cube_mapped_box, projected, with_uvs};
 use crate::catalog::Recipe;
-use crate::scene_class::{SceneClass, Table};
+use crate::scene_class::SceneClass;
 use crate::task::ProblemClass;
 
 /// Which segment an arena piece belongs to.
@@ -35,31 +39,51 @@ pub struct ArenaPart {
     pub material: Material,
 }
 
-/// A wall: centre of the box (x, y; all walls are 3 m high, centred at z = 1.5), the
-/// horizontal unit normal of its room-facing side, half-width.
-type Wall = ([f32; 2], [f32; 2], f32);
+/// A wall box (all are 3 m high, centred at z = 1.5).
+struct Wall {
+    /// Centre (x, y).
+    center: [f32; 2],
+    /// Horizontal unit normal of the room-facing side.
+    normal: [f32; 2],
+    half_width: f32,
+    /// MuJoCo's orientation of the box (w, x, y, z): its local x and y carry the texture.
+    quat: [f32; 4],
+}
 
 const D: f32 = std::f32::consts::FRAC_1_SQRT_2;
+const LEFT_CORNER: [f32; 4] = [0.6532815, 0.6532815, 0.2705981, 0.2705981];
+const RIGHT_CORNER: [f32; 4] = [0.6532815, 0.6532815, -0.2705981, -0.2705981];
+const LEFT: [f32; 4] = [0.7071, 0.7071, 0.0, 0.0];
+const RIGHT: [f32; 4] = [0.7071, -0.7071, 0.0, 0.0];
+const REAR: [f32; 4] = [0.5, 0.5, 0.5, 0.5];
+const FRONT: [f32; 4] = [0.5, 0.5, -0.5, -0.5];
+
+const fn wall(center: [f32; 2], normal: [f32; 2], half_width: f32, quat: [f32; 4]) -> Wall {
+    Wall { center, normal, half_width, quat }
+}
 
 /// The walls of the tabletop, floor, living-room and study scenes: two corner pieces behind the
 /// robot, the long side walls, the rear wall behind the robot and the front wall behind the
 /// camera.
 const WALLS: [Wall; 6] = [
-    ([-1.25, 2.25], [D, -D], 1.06),
-    ([-1.25, -2.25], [D, D], 1.06),
-    ([1.25, 3.0], [0.0, -1.0], 1.75),
-    ([1.25, -3.0], [0.0, 1.0], 1.75),
-    ([-2.0, 0.0], [1.0, 0.0], 1.5),
-    ([3.0, 0.0], [-1.0, 0.0], 3.0),
+    wall([-1.25, 2.25], [D, -D], 1.06, LEFT_CORNER),
+    wall([-1.25, -2.25], [D, D], 1.06, RIGHT_CORNER),
+    wall([1.25, 3.0], [0.0, -1.0], 1.75, LEFT),
+    wall([1.25, -3.0], [0.0, 1.0], 1.75, RIGHT),
+    wall([-2.0, 0.0], [1.0, 0.0], 1.5, REAR),
+    wall([3.0, 0.0], [-1.0, 0.0], 3.0, FRONT),
 ];
 
 /// The kitchen's walls: a closed rectangle without corner pieces.
 const KITCHEN_WALLS: [Wall; 4] = [
-    ([0.5, 3.0], [0.0, -1.0], 2.5),
-    ([0.5, -3.0], [0.0, 1.0], 2.5),
-    ([-2.0, 0.0], [1.0, 0.0], 3.0),
-    ([3.0, 0.0], [-1.0, 0.0], 3.0),
+    wall([0.5, 3.0], [0.0, -1.0], 2.5, LEFT),
+    wall([0.5, -3.0], [0.0, 1.0], 2.5, RIGHT),
+    wall([-2.0, 0.0], [1.0, 0.0], 3.0, REAR),
+    wall([3.0, 0.0], [-1.0, 0.0], 3.0, FRONT),
 ];
+
+/// `walls_mat` in every scene XML: `texrepeat` 3 3 with `texuniform`.
+const WALL_TEXREPEAT: [f32; 2] = [3.0, 3.0];
 
 const WALL_HALF_HEIGHT: f32 = 1.5;
 /// The PiPER's riser: dark grey aluminium.
@@ -110,20 +134,44 @@ fn at(p: [f64; 3]) -> Transform {
     Transform::from_translation(Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32))
 }
 
+/// LIBERO's texture files of the arena where they were found (the asset look); a piece whose
+/// texture is `None` is drawn in that texture's mean colour.
+#[derive(Clone, Default)]
+pub struct ArenaTextures {
+    pub floor: Option<Arc<Texture>>,
+    /// The box table's cube texture (`table_texture`).
+    pub table: Option<Arc<Texture>>,
+    /// `walls_mat`'s texture.
+    pub walls: Option<Arc<Texture>>,
+}
+
+/// Largest quad of a textured box face, in metres, for per-vertex lighting across the table top.
+const TEXTURED_QUAD: f32 = 0.05;
+
 /// Every static piece of `class`'s arena.
-pub fn arena(class: &SceneClass, meshes: &mut MeshCache) -> Vec<ArenaPart> {
+pub fn arena(class: &SceneClass, meshes: &mut MeshCache, textures: &ArenaTextures) -> Vec<ArenaPart> {
     let mut parts = Vec::new();
     // Floor: MuJoCo draws its 3 × 3 m plane as a grid; ours is split finely enough for the spot
     // lights' fall-off.
     let ((table_specular, table_shininess), (wall_specular, wall_shininess)) = finishes(class.problem);
-    let floor = surface(class.floor.rgb, 0.0, 0.0);
+    let floor = match &textures.floor {
+        Some(texture) => floor_material(texture.clone()),
+        None => surface(class.floor.rgb, 0.0, 0.0),
+    };
     parts.push(ArenaPart { piece: ArenaPiece::Floor, mesh: Arc::new(Mesh::grid(3.0, 3.0, 16, 16)), transform: Transform::IDENTITY, material: floor });
 
     if let Some(table) = &class.table {
         let top = surface(table.rgb, table_specular, table_shininess);
         for slab in table.top {
-            let mesh = meshes.get(&Recipe::Box { half: slab.half_size });
-            parts.push(ArenaPart { piece: ArenaPiece::Table, mesh, transform: at(slab.center), material: top.clone() });
+            let (mesh, material) = match &textures.table {
+                Some(texture) => {
+                    let half = Vec3::new(slab.half_size[0] as f32, slab.half_size[1] as f32, slab.half_size[2] as f32);
+                    let material = Material { specular: table_specular, shininess: table_shininess, texture: Some(texture.clone()), ..Material::default() };
+                    (Arc::new(cube_mapped_box(half, TEXTURED_QUAD)), material)
+                }
+                None => (meshes.get(&Recipe::Box { half: slab.half_size }), top.clone()),
+            };
+            parts.push(ArenaPart { piece: ArenaPiece::Table, mesh, transform: at(slab.center), material });
         }
         if matches!(class.problem, ProblemClass::Tabletop | ProblemClass::KitchenTabletop | ProblemClass::PiperTabletop) {
             let half_height = table.top_z() / 2.0 - table.top[0].half_size[2];
@@ -144,40 +192,36 @@ pub fn arena(class: &SceneClass, meshes: &mut MeshCache) -> Vec<ArenaPart> {
     }
 
     let walls: &[Wall] = if class.problem == ProblemClass::KitchenTabletop { &KITCHEN_WALLS } else { &WALLS };
-    let wall = surface(class.wall_rgb, wall_specular, wall_shininess);
-    for &([x, y], [nx, ny], half_width) in walls {
+    let plain_wall = surface(class.wall_rgb, wall_specular, wall_shininess);
+    for w in walls {
         // A grid facing local +z = the room, local y = world up.
+        let ([x, y], [nx, ny]) = (w.center, w.normal);
         let normal = Vec3::new(nx, ny, 0.0);
         let axes = Mat3::from_cols(Vec3::Z.cross(normal), Vec3::Z, normal);
         let face = Vec3::new(x, y, WALL_HALF_HEIGHT) + normal * WALL_HALF_THICKNESS;
-        let mesh = Arc::new(Mesh::grid(half_width, WALL_HALF_HEIGHT, 4, 4));
-        parts.push(ArenaPart { piece: ArenaPiece::Walls, mesh, transform: Transform::from_pos_mat3(face, axes), material: wall.clone() });
+        let transform = Transform::from_pos_mat3(face, axes);
+        let grid = Mesh::grid(w.half_width, WALL_HALF_HEIGHT, 4, 4);
+        let (mesh, material) = match &textures.walls {
+            Some(texture) => {
+                // The texture follows MuJoCo's box frame, whose axes need not be the grid's.
+                let to_box = quat_wxyz_to_mat3(w.quat).transpose();
+                let center = Vec3::new(x, y, WALL_HALF_HEIGHT);
+                let half = Vec3::new(w.half_width, WALL_HALF_HEIGHT, WALL_HALF_THICKNESS);
+                let mesh = with_uvs(&grid, |p, _| projected(to_box * (transform.transform_point(p) - center), half, WALL_TEXREPEAT, true));
+                let material = Material { specular: wall_specular, shininess: wall_shininess, texture: Some(texture.clone()), ..Material::default() };
+                (mesh, material)
+            }
+            None => (grid, plain_wall.clone()),
+        };
+        parts.push(ArenaPart { piece: ArenaPiece::Walls, mesh: Arc::new(mesh), transform, material });
     }
     parts
 }
 
-/// Height of the textured cover above the table top: far below a pixel, far above depth noise.
-const COVER_LIFT: f64 = 5e-4;
-/// Quads per metre of the cover, for per-vertex lighting as on the box faces.
-const COVER_QUADS_PER_M: f64 = 20.0;
-
-/// The top faces of a box table drawn with its texture (LIBERO's `table_texture`: a cube
-/// texture, `texrepeat` 1 without `texuniform`, specular 0.2, shininess 0). MuJoCo generates
-/// cube-map coordinates from the unit box, so the top face shows the whole image once, stretched
-/// over the top; the grain (the image's rows) runs along world x, as in MuJoCo's frames.
-pub fn table_cover(table: &Table, texture: Arc<Texture>) -> Vec<ArenaPart> {
-    let material = Material { specular: 0.2, shininess: 0.0, texture: Some(texture), ..Material::default() };
-    table
-        .top
-        .iter()
-        .map(|slab| {
-            let [hx, hy, hz] = slab.half_size;
-            let quads = |h: f64| ((2.0 * h * COVER_QUADS_PER_M).ceil() as u32).max(1);
-            let mesh = Arc::new(Mesh::grid(hx as f32, hy as f32, quads(hx), quads(hy)));
-            let [x, y, z] = slab.center;
-            ArenaPart { piece: ArenaPiece::Table, mesh, transform: at([x, y, z + hz + COVER_LIFT]), material: material.clone() }
-        })
-        .collect()
+/// LIBERO's `floorplane` material with its texture: specular and shininess 0, `texrepeat` 3 with
+/// `texuniform`, which MuJoCo draws as 9 repeats across the 6 m floor (the render crate's README).
+fn floor_material(texture: Arc<Texture>) -> Material {
+    Material { specular: 0.0, shininess: 0.0, texture: Some(texture), uv_scale: Vec2::splat(9.0), ..Material::default() }
 }
 
 #[cfg(test)]
@@ -185,10 +229,19 @@ mod tests {
     use super::*;
     use crate::scene_class::scene_class;
 
+    fn solid() -> Option<Arc<Texture>> {
+        Some(Arc::new(Texture::solid([200, 180, 150, 255])))
+    }
+
+    /// Both looks: mean colours, and every texture found.
+    fn looks() -> [ArenaTextures; 2] {
+        [ArenaTextures::default(), ArenaTextures { floor: solid(), table: solid(), walls: solid() }]
+    }
+
     #[test]
     fn walls_face_the_room() {
-        for class in ProblemClass::ALL.iter().filter_map(|&p| scene_class(p)) {
-            let parts = arena(class, &mut MeshCache::default());
+        for (class, textures) in ProblemClass::ALL.iter().filter_map(|&p| scene_class(p)).flat_map(|c| looks().map(|t| (c, t))) {
+            let parts = arena(class, &mut MeshCache::default(), &textures);
             let walls: Vec<_> = parts.iter().filter(|p| p.piece == ArenaPiece::Walls).collect();
             assert!(walls.len() >= 4, "{:?}", class.problem);
             for w in walls {
@@ -196,15 +249,16 @@ mod tests {
                 let normal = w.transform.transform_vector(Vec3::Z);
                 let to_centre = Vec3::new(0.0, 0.0, 1.5) - w.transform.translation;
                 assert!(normal.dot(to_centre) > 0.0, "{:?}: wall at {}", class.problem, w.transform.translation);
+                assert_eq!(w.material.texture.is_some(), textures.walls.is_some());
             }
         }
     }
 
     #[test]
     fn table_pieces_stay_below_the_work_surface() {
-        for class in ProblemClass::ALL.iter().filter_map(|&p| scene_class(p)) {
+        for (class, textures) in ProblemClass::ALL.iter().filter_map(|&p| scene_class(p)).flat_map(|c| looks().map(|t| (c, t))) {
             let Some(table) = class.table else { continue };
-            for p in arena(class, &mut MeshCache::default()).iter().filter(|p| p.piece == ArenaPiece::Table) {
+            for p in arena(class, &mut MeshCache::default(), &textures).iter().filter(|p| p.piece == ArenaPiece::Table) {
                 let top = p.mesh.positions().iter().map(|&v| p.transform.transform_point(v).z).fold(f32::MIN, f32::max);
                 assert!(top <= table.top_z() as f32 + 1e-4, "{:?}: {top}", class.problem);
             }
@@ -212,24 +266,33 @@ mod tests {
     }
 
     #[test]
-    fn the_table_cover_spans_the_top_once_just_above_it() {
+    fn the_textured_table_is_the_same_box_with_the_image_on_each_face() {
         let class = scene_class(ProblemClass::Tabletop).unwrap();
-        let table = class.table.unwrap();
-        let cover = table_cover(&table, Arc::new(Texture::solid([200, 180, 150, 255])));
-        assert_eq!(cover.len(), table.top.len());
-        let part = &cover[0];
-        assert!(part.material.texture.is_some() && part.material.uv_scale == vifo_render::glam::Vec2::ONE);
-        let world: Vec<Vec3> = part.mesh.positions().iter().map(|&v| part.transform.transform_point(v)).collect();
-        let (lo, hi) = world.iter().fold((Vec3::MAX, Vec3::MIN), |(lo, hi), &p| (lo.min(p), hi.max(p)));
-        let [cx, cy, _] = table.top[0].center;
-        let [hx, hy, _] = table.top[0].half_size;
-        assert!((lo.x as f64 - (cx - hx)).abs() < 1e-6 && (hi.y as f64 - (cy + hy)).abs() < 1e-6, "{lo} {hi}");
-        let lift = lo.z as f64 - table.top_z();
-        assert!(lo.z == hi.z && lift > 0.0 && lift < 1e-3, "{lift}");
-        let uvs = part.mesh.uvs().unwrap();
-        let (umin, umax) = uvs.iter().fold((f32::MAX, f32::MIN), |(a, b), t| (a.min(t.x), b.max(t.x)));
-        assert!(umin == 0.0 && umax == 1.0);
+        let [plain, textured] = looks().map(|t| arena(class, &mut MeshCache::default(), &t));
+        let slab = |parts: &[ArenaPart]| parts.iter().find(|p| p.piece == ArenaPiece::Table).map(|p| (p.mesh.half_extent(), p.transform.translation, p.material.texture.is_some())).unwrap();
+        let ((h0, c0, t0), (h1, c1, t1)) = (slab(&plain), slab(&textured));
+        assert!(h0 == h1 && c0 == c1 && !t0 && t1, "{h0} {h1} {c0} {c1}");
+        // The legs keep their mean colour in both looks.
+        let legs = textured.iter().filter(|p| p.piece == ArenaPiece::Table && p.material.texture.is_none()).count();
+        assert_eq!(legs, TABLE_LEGS.len());
         // The living room's and the study's tables are meshes: no box texture.
         assert!(scene_class(ProblemClass::LivingRoomTabletop).unwrap().table.unwrap().texture.is_none());
+    }
+
+    #[test]
+    fn wall_textures_follow_mujocos_box_axes_at_one_and_a_half_repeats_per_metre() {
+        let class = scene_class(ProblemClass::Tabletop).unwrap();
+        let parts = arena(class, &mut MeshCache::default(), &looks()[1]);
+        // The side walls at y = +3 and y = -3: MuJoCo turns the first's box y up and the
+        // second's down, and both boxes' x along world +x (their XML quats).
+        for (y, up) in [(3.0f32, -1.5f32), (-3.0, 1.5)] {
+            let wall = parts.iter().find(|p| p.piece == ArenaPiece::Walls && (p.transform.translation.y.abs() - 2.99).abs() < 0.02 && p.transform.translation.y.signum() == y.signum()).unwrap();
+            let uvs = wall.mesh.uvs().unwrap();
+            let world: Vec<Vec3> = wall.mesh.positions().iter().map(|&p| wall.transform.transform_point(p)).collect();
+            for i in 1..world.len() {
+                let (dp, duv) = (world[i] - world[0], uvs[i] - uvs[0]);
+                assert!((duv.x - 1.5 * dp.x).abs() < 1e-4 && (duv.y - up * dp.z).abs() < 1e-4, "y {y}: {dp} {duv}");
+            }
+        }
     }
 }

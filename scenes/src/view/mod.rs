@@ -14,6 +14,7 @@ mod cameras;
 pub(crate) mod material;
 mod meshes;
 mod scene_view;
+mod texgen;
 
 pub use arena::ArenaPiece;
 pub use cameras::{CameraName, Cameras, EYE_IN_HAND_FOVY_DEG, ImageOrder, UnknownCamera, camera_at};

@@ -1,14 +1,14 @@
 //! [`SceneView`]: a task's render scene, built once per [`SceneModel`] and posed per frame.
 
-use vifo_render::glam::{Mat3, Vec2, Vec3};
+use vifo_render::glam::{Mat3, Vec3};
 use std::sync::Arc;
 
-use vifo_render::{Frame, Instance, Material, Mesh, RenderError, Renderer, Scene, Texture, Transform};
+use vifo_render::{Frame, Instance, Material, Mesh, RenderError, Renderer, Scene, Transform};
 use vifo_render::{Background, Camera, Headlight, Light, Mirror};
 use vifo_robots::model::Shape;
 use vifo_robots::spatial::Pose;
 
-use super::arena::{ArenaPiece, arena, table_cover};
+use super::arena::{ArenaPiece, ArenaTextures, arena};
 use super::cameras::ImageOrder;
 use super::material::textured;
 use super::meshes::MeshCache;
@@ -89,12 +89,6 @@ fn object_material(rgba: [f32; 4]) -> Material {
 /// Surface finish of the robot (robosuite's Panda materials are glossy).
 fn robot_material(rgba: [f32; 4]) -> Material {
     Material { rgba, specular: 0.5, shininess: 0.3, ..Material::default() }
-}
-
-/// LIBERO's `floorplane` material with its texture: specular and shininess 0, `texrepeat` 3 with
-/// `texuniform`, which MuJoCo draws as 9 repeats across the 6 m floor (the render crate's README).
-fn floor_material(texture: Arc<Texture>) -> Material {
-    Material { specular: 0.0, shininess: 0.0, texture: Some(texture), uv_scale: Vec2::splat(9.0), ..Material::default() }
 }
 
 fn recipe_of(shape: &Shape) -> Recipe {
@@ -217,15 +211,18 @@ impl SceneView {
         }
         let class = model.class;
         let mut arena_segments: Vec<(ArenaPiece, u32)> = Vec::new();
-        let mut parts = arena(class, &mut b.meshes);
+        let texture = |file: Option<&str>| look.and_then(|l| l.arena_texture(file?)).cloned();
+        let textures = ArenaTextures {
+            floor: texture(Some(class.floor.texture)),
+            table: texture(class.table.and_then(|t| t.texture)),
+            walls: texture(Some(class.wall_texture)),
+        };
+        let mut parts = arena(class, &mut b.meshes, &textures);
         let decor = look.and_then(|l| l.decor(class.problem));
         if decor.is_some() && matches!(class.problem, ProblemClass::LivingRoomTabletop | ProblemClass::StudyTabletop) {
             // The decor holds these tables' own meshes; the boxes standing in for them would
             // cover their textured tops.
             parts.retain(|p| p.piece != ArenaPiece::Table);
-        }
-        if let Some((table, texture)) = class.table.and_then(|t| Some((t, look?.arena_texture(t.texture?)?.clone()))) {
-            parts.extend(table_cover(&table, texture));
         }
         for part in parts {
             let segment = match arena_segments.iter().find(|(p, _)| *p == part.piece) {
@@ -242,11 +239,7 @@ impl SceneView {
                     id
                 }
             };
-            let material = match look.and_then(|l| l.arena_texture(class.floor.texture)) {
-                Some(texture) if part.piece == ArenaPiece::Floor => floor_material(texture.clone()),
-                _ => part.material,
-            };
-            b.instances.push(Instance { mesh: part.mesh, material, transform: part.transform, segment });
+            b.instances.push(Instance { mesh: part.mesh, material: part.material, transform: part.transform, segment });
             b.anchors.push(Anchor::Static);
             b.lods.push(Lods::from([]));
         }

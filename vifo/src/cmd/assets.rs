@@ -46,7 +46,7 @@ pub fn run(args: &AssetsArgs) -> Result<()> {
         Some(r) => println!("robot meshes: {}  ({})", r.path.display(), origin(&r.origin)),
         None => println!("robot meshes: not found (the robot keeps the built-in look)"),
     }
-    println!("arena: floors and the box table's top from their textures, each scene's decor (with the living-room and study tables) from its meshes (below); walls and the box table's sides and legs keep the built-in look");
+    println!("arena: floors, walls and the box table's top and sides from their textures, each scene's decor (with the living-room and study tables) from its meshes (below); the box table's legs keep their texture's mean colour (on a cylinder MuJoCo picks the cube face per pixel)");
     for n in &roots.notes {
         println!("note: {n}");
     }

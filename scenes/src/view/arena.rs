@@ -3,7 +3,7 @@
 //! Geometry restates LIBERO's scene XMLs and arena classes (visual-only geoms: floor plane,
 //! `wall_*_visual` boxes, table legs; the living-room and study tables' collision boxes stand in
 //! for their meshes). Materials have the XML materials' specular and shininess; with LIBERO's
-//! texture files ([`ArenaTextures`]) the floor, the walls and a box table's top are textured as
+//! texture files ([`ArenaTextures`]) the floor, the walls and a box table's faces are textured as
 //! MuJoCo maps them ([`super::texgen`]), and otherwise drawn in their textures' mean colours (the
 //! scene class's). The table legs keep the mean colour in both looks: MuJoCo looks their cube
 //! texture up by direction per pixel, which no per-vertex UV can restate.

@@ -207,7 +207,7 @@ pub fn arena(class: &SceneClass, meshes: &mut MeshCache, textures: &ArenaTexture
                 let to_box = quat_wxyz_to_mat3(w.quat).transpose();
                 let center = Vec3::new(x, y, WALL_HALF_HEIGHT);
                 let half = Vec3::new(w.half_width, WALL_HALF_HEIGHT, WALL_HALF_THICKNESS);
-                let mesh = with_uvs(&grid, |p, _| projected(to_box * (transform.transform_point(p) - center), half, WALL_TEXREPEAT, true));
+                let mesh = with_uvs(&grid, |p, _| projected(to_box * (transform.transform_point(p) - center), half, WALL_TEXREPEAT));
                 let material = Material { specular: wall_specular, shininess: wall_shininess, texture: Some(texture.clone()), ..Material::default() };
                 (mesh, material)
             }

@@ -4,7 +4,8 @@
 //! texture coordinates from those unit coordinates (`settexture` in `render_gl3.c`,
 //! `GL_OBJECT_LINEAR`):
 //! - a 2D texture is projected along the box's z: `s = ½·k₀·x − ½`, `t = −½·k₁·y − ½`, with
-//!   `k = texrepeat`, times the box's half-size under `texuniform` (so it repeats per metre);
+//!   `k = texrepeat`, times the box's half-size under `texuniform` (so it repeats per metre; the
+//!   only form LIBERO uses);
 //! - a cube texture is looked up by the direction `(x, y, z)`. Without `texuniform` the major
 //!   axis on each face of the unit box is that face's own, so every face shows the whole image
 //!   once, turned as OpenGL's cube-map faces are.
@@ -15,15 +16,16 @@ use vifo_render::Mesh;
 use vifo_render::glam::{Vec2, Vec3};
 
 /// The UV of a 2D texture at `local` (metres, in the box's own frame) on a box of half-size
-/// `half`, repeated `repeat` times (per unit length when `uniform`).
-pub fn projected(local: Vec3, half: Vec3, repeat: [f32; 2], uniform: bool) -> Vec2 {
-    let k = if uniform { Vec2::new(repeat[0] * half.x, repeat[1] * half.y) } else { Vec2::from(repeat) };
+/// `half`, repeated `repeat` times per unit length (`texuniform`, as on every 2D-textured box
+/// LIBERO has: its walls).
+pub fn projected(local: Vec3, half: Vec3, repeat: [f32; 2]) -> Vec2 {
+    let k = Vec2::new(repeat[0] * half.x, repeat[1] * half.y);
     Vec2::new(0.5 * k.x * (local.x / half.x) - 0.5, -0.5 * k.y * (local.y / half.y) - 0.5)
 }
 
 /// The UV of a cube texture at `unit` (a point of the unit box) on the face whose outward normal
 /// is `normal`: OpenGL's cube-map face table, `(sc / |ma| + 1) / 2` and `(tc / |ma| + 1) / 2`.
-pub fn cube_face(unit: Vec3, normal: Vec3) -> Vec2 {
+fn cube_face(unit: Vec3, normal: Vec3) -> Vec2 {
     let a = normal.abs();
     let (sc, tc, ma) = if a.x >= a.y && a.x >= a.z {
         if normal.x > 0.0 { (-unit.z, -unit.y, unit.x) } else { (unit.z, -unit.y, unit.x) }
@@ -61,14 +63,10 @@ mod tests {
     fn a_2d_texture_repeats_per_metre_under_texuniform() {
         let half = Vec3::new(1.75, 1.5, 0.01);
         // texrepeat 3 with texuniform: 1.5 repeats per metre of the box's own x and y.
-        let a = projected(Vec3::new(0.0, 0.0, 0.01), half, [3.0, 3.0], true);
-        let b = projected(Vec3::new(1.0, -2.0, 0.01), half, [3.0, 3.0], true);
+        let a = projected(Vec3::new(0.0, 0.0, 0.01), half, [3.0, 3.0]);
+        let b = projected(Vec3::new(1.0, -2.0, 0.01), half, [3.0, 3.0]);
         assert_eq!(a, Vec2::new(-0.5, -0.5));
         assert!((b - a - Vec2::new(1.5, 3.0)).length() < 1e-5, "{b}");
-        // Without texuniform the repeats span the box: x from -1.75 to 1.75 covers 3.
-        let l = projected(Vec3::new(-1.75, 0.0, 0.0), half, [3.0, 3.0], false);
-        let r = projected(Vec3::new(1.75, 0.0, 0.0), half, [3.0, 3.0], false);
-        assert!((r.x - l.x - 3.0).abs() < 1e-5);
     }
 
     #[test]

@@ -58,7 +58,7 @@ fn main() {
         Command::Web(args) => cmd::web::run(args),
     };
     if let Err(err) = result {
-        eprintln!("error: {err:#}");
+        eprintln!("error: {}", vifo::error_message(&err));
         std::process::exit(1);
     }
 }

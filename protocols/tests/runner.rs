@@ -178,6 +178,9 @@ fn panics_and_foreign_records_become_errors() {
     assert_eq!(messages.iter().filter(|m| m.contains("simulated crash")).count(), 4);
     assert_eq!(messages.iter().filter(|m| m.contains("instead")).count(), 3);
     assert!(records.iter().all(|r| r.policy == "scripted"));
+    // The summary gathers the distinct messages, most frequent first.
+    let instead = format!("episode function returned a record for {} instead", all[7].key());
+    assert_eq!(s.error_messages, vec![(4, "episode panicked: simulated crash".to_string()), (3, instead)]);
 }
 
 #[test]

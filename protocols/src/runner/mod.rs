@@ -11,7 +11,7 @@
 pub mod results;
 pub mod seed;
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 use std::sync::Mutex;
@@ -136,6 +136,9 @@ pub struct RunSummary {
     pub ran: usize,
     /// Of those, the ones that ended in an error record.
     pub errors: usize,
+    /// The distinct messages of those errors with their counts, most frequent first (ties in
+    /// the messages' order): what a user must fix before `resume` retries them.
+    pub error_messages: Vec<(usize, String)>,
     /// Bytes of a cut-off last line found (and removed) when resuming.
     pub truncated_tail: usize,
 }
@@ -168,7 +171,7 @@ where
     let writer = Mutex::new(writer);
     let failure: Mutex<Option<RunError>> = Mutex::new(None);
     let progress = progress_bar(todo.len() as u64, options.quiet);
-    let errors = AtomicUsize::new(0);
+    let errors: Mutex<BTreeMap<String, usize>> = Mutex::new(BTreeMap::new());
     let next = AtomicUsize::new(0);
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.threads)
@@ -180,9 +183,10 @@ where
                 return;
             }
             let record = EpisodeRecord { set: options.set, ..run_one(spec, &episode, &options.policy) };
-            if !results::is_completed(&record) {
-                let n = errors.fetch_add(1, Ordering::Relaxed) + 1;
-                progress.set_message(format!("errors: {n}"));
+            if let Outcome::Error { message } = &record.outcome {
+                let mut errors = lock(&errors);
+                *errors.entry(message.clone()).or_default() += 1;
+                progress.set_message(format!("errors: {}", errors.values().sum::<usize>()));
             }
             if let Err(e) = lock(&writer).write(&record) {
                 lock(&failure).get_or_insert(e);
@@ -195,7 +199,11 @@ where
         return Err(e);
     }
     summary.ran = todo.len();
-    summary.errors = errors.into_inner();
+    let mut messages: Vec<(usize, String)> =
+        errors.into_inner().unwrap_or_else(|p| p.into_inner()).into_iter().map(|(m, n)| (n, m)).collect();
+    messages.sort_by_key(|&(n, _)| std::cmp::Reverse(n));
+    summary.errors = messages.iter().map(|(n, _)| n).sum();
+    summary.error_messages = messages;
     Ok(summary)
 }
 

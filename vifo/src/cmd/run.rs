@@ -169,10 +169,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
     }
     anyhow::ensure!((16..=4096).contains(&args.size), "--size must be between 16 and 4096 pixels");
-    // The look matters only where cameras draw (and is recorded only where the policy's do).
-    if args.render_always || args.clips != Clips::None || policies.iter().any(|p| builtin(p).is_none_or(|b| b.uses_images())) {
-        vifo_protocols::env::scenes::use_look(args.look.look()?)?;
-    }
     let default_out = match (quick, studies.is_empty()) {
         (true, _) => "vifo-run-quick",
         (false, false) => "vifo-run-study",
@@ -211,6 +207,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Some(n) => specs::sample(&all_specs, n),
         None => all_specs.clone(),
     };
+    // The look matters only where cameras draw (and is recorded only where the policy's do).
+    // Loading it takes seconds, so the selection is checked first.
+    if args.render_always || args.clips != Clips::None || policies.iter().any(|p| builtin(p).is_none_or(|b| b.uses_images())) {
+        vifo_protocols::env::scenes::use_look(args.look.look()?)?;
+    }
     println!(
         "{} episodes per policy ({}, {} set), {} polic{} -> {}",
         specs.len(),
@@ -358,7 +359,26 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&P
         secs / summary.ran.max(1) as f64,
         path.display()
     );
+    print_errors(&summary.error_messages);
     Ok(())
+}
+
+/// Messages of a policy's error records shown on the console; the results file holds them all.
+const ERRORS_SHOWN: usize = 3;
+
+/// Why episodes ended in errors, so that a user sees the cause (a server that is not up, a
+/// malformed reply) without opening the results file.
+fn print_errors(messages: &[(usize, String)]) {
+    if messages.is_empty() {
+        return;
+    }
+    for (count, message) in messages.iter().take(ERRORS_SHOWN) {
+        println!("  {count} × {message}");
+    }
+    if messages.len() > ERRORS_SHOWN {
+        println!("  … and {} other error messages (each episode's is in the results file)", messages.len() - ERRORS_SHOWN);
+    }
+    println!("  errors are not failures: fix their cause and run again with --resume to retry just those episodes");
 }
 
 /// How to serve `url`: `None` for a plain ws:// openpi server without profile or format

@@ -70,6 +70,15 @@ impl RenderRequest {
             look: None,
         }
     }
+
+    /// Whether the request names a task and something to write: checked before the look's
+    /// files are loaded (seconds), so that a typo is reported at once.
+    pub fn check(&self) -> Result<()> {
+        if self.png.is_none() && self.gif.is_none() && self.frames.is_none() {
+            bail!("nothing to write: give -o FILE.png, --gif FILE.gif or --frames DIR");
+        }
+        parse_task(&self.task).map(|_| ())
+    }
 }
 
 /// Parses `suite/index`.
@@ -89,9 +98,7 @@ pub fn episode(request: &RenderRequest) -> Result<Sim> {
 
 /// Renders what the request asks for; returns the number of frames rendered.
 pub fn run(request: &RenderRequest) -> Result<usize> {
-    if request.png.is_none() && request.gif.is_none() && request.frames.is_none() {
-        bail!("nothing to write: give -o FILE.png, --gif FILE.gif or --frames DIR");
-    }
+    request.check()?;
     let mut sim = episode(request)?;
     let mut view = SceneView::with_look(sim.model(), request.look.as_deref());
     let mut renderer = Renderer::default();

@@ -70,8 +70,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     if let Some(id) = &args.cue {
         return if args.as_object { render_cue_object(id, &args) } else { render_cue(id, &args) };
     }
-    let look = args.look.look()?;
-    let request = RenderRequest {
+    let mut request = RenderRequest {
         task: args.task.unwrap_or_default(),
         init: args.init,
         source: InitSource::from_libero_dir(args.libero_init),
@@ -84,8 +83,10 @@ pub fn run(args: RenderArgs) -> Result<()> {
         frames: args.frames,
         steps: args.steps,
         expert: args.expert,
-        look,
+        look: None,
     };
+    request.check()?;
+    request.look = args.look.look()?;
     let frames = render::run(&request)?;
     let look = label(request.look.as_deref());
     println!("rendered {frames} frame(s) of {} (init {}) with {}, look {look}", request.task, request.init, request.camera);

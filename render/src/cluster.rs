@@ -68,7 +68,7 @@ impl Mesh {
         };
         let mut triangles = Vec::with_capacity(self.triangle_count());
         let mut clusters = Clusters::default();
-        // Each cluster's vertices, in `first_point..` ranges until [`Clusters::to_points`].
+        // Each cluster's vertices, in `first_point..` ranges until [`Clusters::vertices_to_points`].
         let mut vertices = Vec::new();
         for m in &meshlets.meshlets {
             let local = &meshlets.vertices[m.vertex_offset as usize..(m.vertex_offset + m.vertex_count) as usize];
@@ -140,7 +140,7 @@ impl Mesh {
 impl Clusters {
     /// Turns each cluster's list of vertices (held in [`Clusters::points`] while the clusters
     /// are built) into the list of the distinct positions they use.
-    pub(crate) fn to_points(&mut self, of_vertex: &[u32]) {
+    pub(crate) fn vertices_to_points(&mut self, of_vertex: &[u32]) {
         let vertices = std::mem::take(&mut self.points);
         let mut seen = vec![u32::MAX; of_vertex.len()];
         for (k, c) in self.list.iter_mut().enumerate() {

@@ -206,7 +206,7 @@ impl Mesh {
         let uvs = self.uvs.as_ref().map(|u| order.iter().map(|&i| u[i as usize]).collect());
         let (positions, normals): (Vec<Vec3>, _) = (pick(&self.positions), pick(&self.normals));
         let points = Points::of(&positions, &triangles);
-        clusters.to_points(&points.of_vertex);
+        clusters.vertices_to_points(&points.of_vertex);
         Mesh { positions, normals, uvs, triangles, clusters, points, ..self }
     }
 

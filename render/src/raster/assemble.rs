@@ -164,6 +164,8 @@ struct Placed<'a> {
 
 impl Placed<'_> {
     /// Culls, clips and emits `tris`, whose positions are in `verts`.
+    // The per-frame buffers are borrowed separately, as the callers hold them.
+    #[allow(clippy::too_many_arguments)]
     fn draw(&self, tris: &[[u32; 3]], tri_points: &[[u32; 3]], verts: &Verts, lit: &mut LitCache, poly: &mut Polygon, view: &View, sink: &mut impl Sink) {
         let (w, h) = (view.width, view.height);
         let uv_of = |i: usize| self.uv(i);

@@ -53,7 +53,11 @@ struct Wall {
 const D: f32 = std::f32::consts::FRAC_1_SQRT_2;
 const LEFT_CORNER: [f32; 4] = [0.6532815, 0.6532815, 0.2705981, 0.2705981];
 const RIGHT_CORNER: [f32; 4] = [0.6532815, 0.6532815, -0.2705981, -0.2705981];
+// LIBERO's XML writes 0.7071, and the walls' texture coordinates follow these numbers as the
+// pinned asset look draws them.
+#[allow(clippy::approx_constant)]
 const LEFT: [f32; 4] = [0.7071, 0.7071, 0.0, 0.0];
+#[allow(clippy::approx_constant)]
 const RIGHT: [f32; 4] = [0.7071, -0.7071, 0.0, 0.0];
 const REAR: [f32; 4] = [0.5, 0.5, 0.5, 0.5];
 const FRONT: [f32; 4] = [0.5, 0.5, -0.5, -0.5];

@@ -54,6 +54,9 @@ where
 /// Reads `questions.jsonl` (a folder is taken to hold one) and checks each question's shape.
 pub fn read_questions(path: &Path) -> Result<Vec<Question>, VqaError> {
     let path = if path.is_dir() { path.join(QUESTIONS_FILE) } else { path.to_path_buf() };
+    if !path.exists() {
+        return Err(VqaError::NoQuestions(path));
+    }
     let (questions, _): (Vec<Question>, _) = read_jsonl(&path, "a question object", false)?;
     for (i, q) in questions.iter().enumerate() {
         let bad = |message: String| VqaError::BadLine { path: path.clone(), line: i + 1, message };
@@ -135,6 +138,15 @@ mod tests {
             .unwrap();
         let err = read_predictions(&path).unwrap_err().to_string();
         assert!(err.contains("p.jsonl:2:") && err.contains("\"prediction\""), "{err}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn a_folder_without_questions_says_which_command_writes_them() {
+        let dir = std::env::temp_dir().join(format!("vifo-vqa-noquestions-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let err = read_questions(&dir).unwrap_err().to_string();
+        assert!(err.contains("questions.jsonl: no such file") && err.contains("vifo vqa export"), "{err}");
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

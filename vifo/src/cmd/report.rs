@@ -14,7 +14,8 @@ use vifo_protocols::CueForm;
 
 #[derive(ClapArgs)]
 pub struct Args {
-    /// Results files written by the runner (any number of policies).
+    /// Results files written by the runner (any number of policies), or a run's output folder
+    /// (its `results-*.jsonl`).
     results: Vec<PathBuf>,
     /// VQA scores of a policy, from `vifo vqa score --out`: POLICY=FILE; repeatable.
     #[arg(long = "vqa")]
@@ -34,7 +35,7 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let mut records = Vec::new();
-    for path in &args.results {
+    for path in &results_files(&args.results)? {
         anyhow::ensure!(path.is_file(), "{}: no such results file", path.display());
         let loaded = read_records(path)?;
         if loaded.truncated_tail > 0 {
@@ -67,6 +68,27 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The files named, with each folder replaced by the `results-*.jsonl` that `vifo run` wrote
+/// there, in name order.
+fn results_files(given: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    for path in given {
+        if !path.is_dir() {
+            files.push(path.clone());
+            continue;
+        }
+        let entries = std::fs::read_dir(path).with_context(|| format!("reading {}", path.display()))?;
+        let mut found: Vec<PathBuf> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with("results-") && n.ends_with(".jsonl")))
+            .collect();
+        anyhow::ensure!(!found.is_empty(), "{}: a folder without results-*.jsonl files (vifo run --out writes them)", path.display());
+        found.sort();
+        files.extend(found);
+    }
+    Ok(files)
+}
+
 /// `POLICY=FILE` items of VQA scores (`vifo vqa score --out`).
 fn read_scores(items: &[String], option: &str) -> anyhow::Result<BTreeMap<String, VqaScores>> {
     let mut out = BTreeMap::new();
@@ -78,4 +100,26 @@ fn read_scores(items: &[String], option: &str) -> anyhow::Result<BTreeMap<String
         out.insert(policy.to_string(), scores);
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_folder_stands_for_its_results_files_in_name_order() {
+        let dir = std::env::temp_dir().join(format!("vifo-report-folder-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for name in ["results-zero.jsonl", "results-expert-cue.jsonl", "results-zero.jsonl.lock", "notes.jsonl"] {
+            std::fs::write(dir.join(name), "").unwrap();
+        }
+        let other = PathBuf::from("elsewhere.jsonl");
+        let files = results_files(&[dir.clone(), other.clone()]).unwrap();
+        assert_eq!(files, vec![dir.join("results-expert-cue.jsonl"), dir.join("results-zero.jsonl"), other]);
+        let empty = dir.join("empty");
+        std::fs::create_dir_all(&empty).unwrap();
+        let err = results_files(&[empty]).unwrap_err().to_string();
+        assert!(err.contains("without results-*.jsonl"), "{err}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

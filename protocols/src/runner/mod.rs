@@ -35,7 +35,7 @@ pub enum RunError {
     Io { path: PathBuf, source: std::io::Error },
     #[error("{path}:{line}: {message}")]
     BadLine { path: PathBuf, line: usize, message: String },
-    #[error("{0} already holds results; pass resume to continue it, or choose another file")]
+    #[error("{0} already holds results; continue it with `--resume` (`resume=True` from Python), or choose another output")]
     Exists(PathBuf),
     #[error("another run is writing {results} (it holds {lock}); wait for it to finish or choose another output")]
     Locked { results: PathBuf, lock: PathBuf },

@@ -58,6 +58,15 @@ def test_a_ray_run_gives_vifo_runs_table_and_file(cluster, tmp_path):
         run_benchmark(SELECTION, "nope", output=tmp_path / "x.jsonl")
 
 
+def test_a_server_that_is_not_up_gives_error_records_and_says_why(cluster, tmp_path):
+    # Port 1 on this machine refuses connections: every episode is an error record, and the
+    # summary names the cause once with its count.
+    s = run_benchmark(SELECTION, "ws://127.0.0.1:1", output=tmp_path / "down.jsonl", batch_size=4, quiet=True)
+    assert s["ran"] == s["errors"] == 8 and s["missing"] == 0
+    [(count, message)] = s["error_messages"]
+    assert count == 8 and "ws://127.0.0.1:1" in message and "connect" in message, message
+
+
 def test_a_sigkilled_worker_is_recovered_without_missing_or_duplicate_episodes(tmp_path):
     """The example script on its own local cluster; `random` runs every episode to its budget,
     so the kill lands while a batch is running."""

@@ -65,7 +65,8 @@ def run_benchmark(
       continues it. ``batch_size``: episodes per task (default: about 4 tasks per worker).
     - ``report_dir``: also write ``vifo report``'s tables there.
 
-    Returns a summary dict: ``episodes``, ``already_done``, ``ran``, ``errors``, ``missing``,
+    Returns a summary dict: ``episodes``, ``already_done``, ``ran``, ``errors`` (and
+    ``error_messages``: ``(count, message)`` pairs, most frequent first), ``missing``,
     ``duplicates``, ``failed_batches`` (tasks that failed even after their retries; their
     episodes are missing and a resumed run retries them), ``seconds``, ``output``.
     """
@@ -105,7 +106,7 @@ def run_benchmark(
             task.remote([s for _, s in batch], servers[j % len(servers)], set_name, size): batch
             for j, batch in enumerate(batches)
         }
-        written, errors, failed, run_name = set(), 0, 0, None
+        written, messages, failed, run_name = set(), collections.Counter(), 0, None
         while pending:
             ready, _ = ray.wait(list(pending), num_returns=1)
             for ref in ready:
@@ -127,7 +128,8 @@ def run_benchmark(
                         line = json.dumps({**record, "policy": run_name})
                     results.write(line)
                     written.add(key)
-                    errors += record["outcome"]["status"] == "error"
+                    if record["outcome"]["status"] == "error":
+                        messages[record["outcome"]["message"]] += 1
                 if not quiet:
                     print(f"libero_vifo.ray: {len(written)}/{len(todo)} episodes written", flush=True)
     finally:
@@ -138,7 +140,9 @@ def run_benchmark(
         "episodes": len(expected),
         "already_done": len(expected & done),
         "ran": len(written),
-        "errors": errors,
+        "errors": sum(messages.values()),
+        # Why: the distinct messages, most frequent first (ties in message order), as `vifo run` prints them.
+        "error_messages": sorted(((n, m) for m, n in messages.items()), key=lambda e: (-e[0], e[1])),
         # Episodes of the selection without any record, and second completed records of one
         # episode (an error record followed by its retry is how `--resume` works, not a duplicate).
         "missing": len(expected - {key for key, _ in records}),
@@ -148,6 +152,9 @@ def run_benchmark(
         "output": str(output),
         "policy": name,
     }
+    if not quiet:
+        for n, message in summary["error_messages"][:3]:
+            print(f"libero_vifo.ray: {n} x {message}")
     if report_dir is not None:
         summary["report"] = _native.write_report([str(output)], str(report_dir))
     return summary

@@ -80,7 +80,7 @@ fn results_files(given: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
         let entries = std::fs::read_dir(path).with_context(|| format!("reading {}", path.display()))?;
         let mut found: Vec<PathBuf> = entries
             .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with("results-") && n.ends_with(".jsonl")))
+            .filter(|p| p.file_name().and_then(|n| n.to_str()).is_some_and(super::run::is_results_name))
             .collect();
         anyhow::ensure!(!found.is_empty(), "{}: a folder without results-*.jsonl files (vifo run --out writes them)", path.display());
         found.sort();

@@ -235,7 +235,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Clips::None => Vec::new(),
     };
     for policy in &policies {
-        let path = out.join(format!("results-{}.jsonl", file_safe(policy)));
+        let path = out.join(results_name(policy));
         let clips = filmed.contains(&policy).then(|| out.join("report"));
         run_policy(policy, &specs, &path, clips.as_deref(), &args)?;
         if args.sample.is_some() {
@@ -437,6 +437,19 @@ fn print_conflicts() -> anyhow::Result<()> {
 }
 
 /// A policy name or address as part of a file name (`ws://h:8000` → `ws___h_8000`).
+/// Prefix and suffix of a policy's results file name in a run's folder.
+const RESULTS_NAME: (&str, &str) = ("results-", ".jsonl");
+
+/// The results file of `policy` in a run's folder; `vifo report FOLDER` reads these back.
+fn results_name(policy: &str) -> String {
+    format!("{}{}{}", RESULTS_NAME.0, file_safe(policy), RESULTS_NAME.1)
+}
+
+/// Whether a file name is one that [`results_name`] gives.
+pub(crate) fn is_results_name(name: &str) -> bool {
+    name.starts_with(RESULTS_NAME.0) && name.ends_with(RESULTS_NAME.1)
+}
+
 fn file_safe(s: &str) -> String {
     s.chars().map(|c| if c.is_ascii_alphanumeric() || "-_.".contains(c) { c } else { '_' }).collect()
 }

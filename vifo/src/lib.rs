@@ -24,6 +24,28 @@ pub fn error_message(err: &anyhow::Error) -> String {
     message
 }
 
+/// The exit status of a program that a closed pipe ended (128 + SIGPIPE), as the shell shows it.
+pub const CLOSED_OUTPUT_STATUS: i32 = 141;
+
+/// Makes a closed standard output or error end the program quietly, as it ends C tools:
+/// `vifo cues list --ids | head` must not print a panic. Rust ignores SIGPIPE, so `println!`
+/// panics on the broken pipe; that panic alone exits with [`CLOSED_OUTPUT_STATUS`] (results
+/// already written are kept, as after any interruption), and every other panic goes to the
+/// default hook. SIGPIPE stays ignored, so a policy server's closed socket is still an error of
+/// its episode, not the end of the run.
+pub fn exit_quietly_when_output_closes() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let payload = info.payload();
+        let message = payload.downcast_ref::<String>().map(String::as_str).or_else(|| payload.downcast_ref::<&str>().copied()).unwrap_or("");
+        let printing = message.starts_with("failed printing to stdout") || message.starts_with("failed printing to stderr");
+        if printing && message.to_ascii_lowercase().contains("broken pipe") {
+            std::process::exit(CLOSED_OUTPUT_STATUS);
+        }
+        default(info);
+    }));
+}
+
 #[cfg(test)]
 mod tests {
     use super::error_message;

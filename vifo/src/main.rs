@@ -42,6 +42,7 @@ enum Command {
 }
 
 fn main() {
+    vifo::exit_quietly_when_output_closes();
     let cli = Cli::parse();
     let result: anyhow::Result<()> = match cli.command {
         Command::Assets(args) => cmd::assets::run(&args),

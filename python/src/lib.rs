@@ -15,7 +15,7 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use vifo_cues::SetName;
-use vifo_protocols::benchmark::{instances, specs};
+use vifo_protocols::benchmark::{BenchmarkError, instances, specs};
 use vifo_protocols::env::{Env, EnvConfig, EnvError, scenes};
 use vifo_protocols::spec::{EpisodeSpec, Protocol, TaskRef};
 use vifo_protocols::Observation;
@@ -55,7 +55,10 @@ fn episode_spec(suite: &str, index: usize, condition: &str, cue: Option<&str>, i
             "cue {id:?} with language_condition original: the original protocol shows no cue (use authorized, conflict or no_language)"
         )));
     }
-    let spec = specs::spec(&task, protocol, cue, init, 0).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let spec = specs::spec(&task, protocol, cue, init, 0).map_err(|e| match e {
+        BenchmarkError::UnknownInstance { .. } => PyValueError::new_err(format!("{e}; from Python, libero_vifo.cue_instances() lists the ids")),
+        e => PyValueError::new_err(e.to_string()),
+    })?;
     if init != spec.init {
         return Err(PyValueError::new_err(format!("initial state {init}: task {task} has 50 (0 to 49)")));
     }

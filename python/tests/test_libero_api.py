@@ -111,7 +111,7 @@ def test_an_openpi_style_episode_equals_the_rust_env_bit_for_bit(condition, cue)
 
 
 def test_cue_arguments_are_checked():
-    with pytest.raises(ValueError, match="unknown cue instance"):
+    with pytest.raises(ValueError, match=r"unknown cue instance .*no variant .no_such_arrow.*libero_vifo\.cue_instances\(\)"):
         make_env(cue="libero_goal/0/F2/no_such_arrow")
     with pytest.raises(ValueError, match="belongs to task libero_goal/4"):
         make_env(cue="libero_goal/4/F2/straight_arrow_red", language_condition="conflict")

@@ -19,3 +19,21 @@ fn a_closed_output_pipe_ends_vifo_quietly() {
     assert_eq!(out.status.code(), Some(vifo::CLOSED_OUTPUT_STATUS), "stderr: {stderr}");
     assert!(stderr.is_empty(), "vifo printed on a closed pipe: {stderr}");
 }
+
+/// The ids `vifo cues list --ids` prints are the ones `vifo render --cue` takes, and a
+/// mistyped one names what the task has.
+#[test]
+fn listed_ids_are_accepted_and_a_mistyped_one_names_the_tasks_ids() {
+    let vifo = |args: &[&str]| Command::new(env!("CARGO_BIN_EXE_vifo")).args(args).output().expect("run vifo");
+    let out = vifo(&["cues", "list", "--ids", "--task", "libero_goal/3", "--family", "F2"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let ids: Vec<String> = String::from_utf8_lossy(&out.stdout).lines().map(str::to_string).collect();
+    assert!(ids.len() >= 2 && ids.iter().all(|id| id.starts_with("libero_goal/3/F2/")), "{ids:?}");
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("cue.png");
+    let out = vifo(&["render", "--builtin-look", "--size", "64", "--cue", &ids[0], "-o", png.to_str().unwrap()]);
+    assert!(out.status.success() && png.is_file(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = vifo(&["render", "--builtin-look", "--size", "64", "--cue", "libero_goal/3/F2/straight_arow_red", "-o", png.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains(&ids[0]["libero_goal/3/F2/".len()..]) && stderr.contains("vifo cues list --ids --task libero_goal/3"), "{stderr}");
+}

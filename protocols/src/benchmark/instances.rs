@@ -29,7 +29,10 @@ pub fn find(id: &str) -> Result<&'static CueSpec, BenchmarkError> {
     if let Some(&i) = index.get(id) {
         return Ok(&full[i]);
     }
-    study().iter().find(|s| s.id() == id).ok_or_else(|| BenchmarkError::UnknownInstance(id.to_string()))
+    study()
+        .iter()
+        .find(|s| s.id() == id)
+        .ok_or_else(|| BenchmarkError::UnknownInstance { id: id.to_string(), hint: scene_cues::unknown_instance_hint(id) })
 }
 
 /// Every cue instance of the study suites' tasks (`vifo_safety/1/F1/caption_bar`, ...).

@@ -16,8 +16,8 @@ use thiserror::Error;
 /// Why a benchmark item could not be found or built.
 #[derive(Debug, Error, PartialEq)]
 pub enum BenchmarkError {
-    #[error("unknown cue instance {0:?} (ids look like libero_goal/3/F2/curved_arrow_yellow; `vifo cues instances` lists them)")]
-    UnknownInstance(String),
+    #[error("unknown cue instance '{id}': {hint}")]
+    UnknownInstance { id: String, hint: String },
     #[error("unknown task {0} (built-in tasks: libero_spatial, libero_object, libero_goal, libero_10, indices 0-9)")]
     UnknownTask(String),
     #[error("{0}")]

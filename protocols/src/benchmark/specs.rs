@@ -248,6 +248,9 @@ mod tests {
         assert!(matches!(spec(&task, Protocol::Authorized, None, 0, 0), Err(BenchmarkError::MissingInstance { .. })));
         let other = "libero_goal/4/F2/straight_arrow_red";
         assert!(matches!(spec(&task, Protocol::Authorized, Some(other), 0, 0), Err(BenchmarkError::InstanceOfOtherTask { .. })));
-        assert!(matches!(spec(&task, Protocol::Authorized, Some("nope"), 0, 0), Err(BenchmarkError::UnknownInstance(_))));
+        assert!(matches!(spec(&task, Protocol::Authorized, Some("nope"), 0, 0), Err(BenchmarkError::UnknownInstance { .. })));
+        // A mistyped variant names the variants of its family that the task carries.
+        let typo = spec(&task, Protocol::Authorized, Some("libero_goal/3/F2/straight_arow_red"), 0, 0).unwrap_err().to_string();
+        assert!(typo.contains("straight_arrow_red") && typo.contains("vifo cues list --ids --task libero_goal/3"), "{typo}");
     }
 }

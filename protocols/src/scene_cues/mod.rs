@@ -27,4 +27,4 @@ pub use demo::DemoOutcome;
 pub use episode::{DEFAULT_GHOSTS, EpisodeCue};
 pub use error::SceneCueError;
 pub use projector::CameraProjector;
-pub use tasks::{builtin_instances, builtin_set, describe, instance, study_instances, task_of};
+pub use tasks::{builtin_instances, builtin_set, describe, instance, study_instances, task_of, unknown_instance_hint};

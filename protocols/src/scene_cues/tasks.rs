@@ -67,33 +67,54 @@ pub fn builtin_set(set: SetName) -> Result<&'static InstanceSet, SceneCueError> 
 /// The built-in instance with this id (`libero_goal/3/F2/curved_arrow_yellow`, or a study
 /// task's `vifo_safety/1/F1/caption_bar`).
 pub fn instance(id: &str) -> Result<&'static CueSpec, SceneCueError> {
-    let set = if id.starts_with("vifo_") { study_instances()? } else { builtin_instances()? };
-    if let Some(spec) = set.instances.iter().find(|s| s.id() == id) {
-        return Ok(spec);
-    }
-    let unknown = |hint: String| SceneCueError::UnknownInstance { id: id.to_string(), hint };
+    let set = set_of(id)?;
+    set.instances
+        .iter()
+        .find(|s| s.id() == id)
+        .ok_or_else(|| SceneCueError::UnknownInstance { id: id.to_string(), hint: hint_in(set, id) })
+}
+
+/// Why `id` names no built-in instance, and what comes close: the id's expected form, the
+/// task's variants of the family it names, or the variant's instances on the task.
+pub fn unknown_instance_hint(id: &str) -> String {
+    set_of(id).map_or_else(|e| e.to_string(), |set| hint_in(set, id))
+}
+
+/// The set an id is looked up in: the study tasks' (`vifo_...`) or the 40 tasks' full set.
+fn set_of(id: &str) -> Result<&'static InstanceSet, SceneCueError> {
+    if id.starts_with("vifo_") { study_instances() } else { builtin_instances() }
+}
+
+fn hint_in(set: &InstanceSet, id: &str) -> String {
     let parts: Vec<&str> = id.split('/').collect();
     let [suite, index, family, shown] = parts[..] else {
-        return Err(unknown("expected <suite>/<index>/<family>/<variant>, e.g. libero_goal/3/F2/curved_arrow_yellow".into()));
+        return "expected <suite>/<index>/<family>/<variant>, e.g. libero_goal/3/F2/curved_arrow_yellow".into();
     };
     let key = format!("{suite}/{index}");
     // `variant@n` is the instance showing step n.
     let variant = shown.split_once('@').map_or(shown, |(v, _)| v);
     let of_task: Vec<&str> = set.instances.iter().filter(|s| s.task == key).map(|s| s.variant.as_str()).collect();
     if of_task.is_empty() {
-        return Err(unknown(format!("no built-in task {key} (suites: {}; indices 0-9)", vifo_scenes::suite_names().join(", "))));
+        return format!("no built-in task {key} (suites: {}; indices 0-9)", vifo_scenes::suite_names().join(", "));
     }
-    let hint = match vifo_cues::variants::find(variant) {
-        None => format!("no variant '{variant}' (`vifo cues variants` lists them)"),
-        Some(v) if !of_task.contains(&variant) => format!("task {key} cannot carry {variant} (needs: {:?})", v.needs),
+    let listed = format!("`vifo cues list --ids --task {key}` lists its ids");
+    match vifo_cues::variants::find(variant) {
+        None => {
+            let mut of_family: Vec<&str> = set.instances.iter().filter(|s| s.task == key && s.family.to_string() == family).map(|s| s.variant.as_str()).collect();
+            of_family.dedup();
+            if of_family.is_empty() {
+                format!("no variant '{variant}' ({listed})")
+            } else {
+                format!("no variant '{variant}'; task {key} carries these of {family}: {} ({listed})", of_family.join(", "))
+            }
+        }
+        Some(v) if !of_task.contains(&variant) => format!("task {key} cannot carry {variant} (needs: {:?}; {listed})", v.needs),
         Some(v) if v.family.to_string() != family => format!("{variant} belongs to family {}", v.family),
         Some(_) => {
-            let ids: Vec<String> =
-                set.instances.iter().filter(|s| s.task == key && s.variant == variant).map(|s| s.id()).collect();
+            let ids: Vec<String> = set.instances.iter().filter(|s| s.task == key && s.variant == variant).map(|s| s.id()).collect();
             format!("task {key} has these {variant} instances: {}", ids.join(", "))
         }
-    };
-    Err(unknown(hint))
+    }
 }
 
 /// The built-in task a spec's `task` key (`suite/index`) names.

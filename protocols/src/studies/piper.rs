@@ -78,7 +78,10 @@ impl Note {
 
     /// The note of an instance id.
     pub fn of_instance(id: &str) -> Result<Note, BenchmarkError> {
-        [Note::Stack, Note::Stop].into_iter().find(|n| n.instance() == id).ok_or_else(|| BenchmarkError::UnknownInstance(id.to_string()))
+        [Note::Stack, Note::Stop].into_iter().find(|n| n.instance() == id).ok_or_else(|| BenchmarkError::UnknownInstance {
+            id: id.to_string(),
+            hint: format!("the PiPER study's notes are {} and {}", Note::Stack.instance(), Note::Stop.instance()),
+        })
     }
 
     /// The note each condition shows.

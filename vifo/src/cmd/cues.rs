@@ -45,14 +45,26 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// An instance set of the 40 built-in tasks: counts per family and per task, the variants.
+    /// An instance set of the 40 built-in tasks: counts per family and per task, the variants;
+    /// with --ids, the instance ids that `vifo render --cue`, `vifo run --instance` and
+    /// Python's `cue=` take.
     List {
         /// paper (the paper's 1,347 instances) or full (every instance the library makes).
         #[arg(long, default_value = "paper", value_parser = super::run::parse_set)]
         set: SetName,
-        /// Print JSON (keys set, total, per_family, tasks_per_family, per_task, variants).
+        /// Print JSON (keys set, total, per_family, tasks_per_family, per_task, variants; with
+        /// --ids a list of ids).
         #[arg(long)]
         json: bool,
+        /// Print the instance ids, one per line, instead of the counts.
+        #[arg(long)]
+        ids: bool,
+        /// With --ids: only this task's instances (<suite>/<index>, e.g. libero_goal/3); repeatable.
+        #[arg(long, requires = "ids")]
+        task: Vec<String>,
+        /// With --ids: only this family's instances (F1..F8); repeatable.
+        #[arg(long, requires = "ids", value_parser = super::run::parse_family)]
+        family: Vec<Family>,
     },
     /// Composition statistics of an instance set beside the paper's (appendix A): family shares
     /// and what the instances encode; draws both panels of the paper's figure as a PNG.
@@ -112,7 +124,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Instances { tasks, json } => instances_cmd(&tasks, json),
-        Command::List { set, json } => list_cmd(set, json),
+        Command::List { set, json, ids: true, task, family } => ids_cmd(set, &task, &family, json),
+        Command::List { set, json, .. } => list_cmd(set, json),
         Command::Stats { set, out } => stats_cmd(set, &out),
         Command::Gallery { output, task, family, init, size } => gallery_cmd(&output, &task, family.as_deref(), init, size),
         Command::Render { variant, instruction, out, size, source, target } => {
@@ -249,6 +262,34 @@ fn list_cmd(set: SetName, json: bool) -> anyhow::Result<()> {
         l.total,
         l.tasks_per_family[&Family::F3]
     );
+    Ok(())
+}
+
+/// `vifo cues list --ids`: the ids of a set's instances, of the given tasks and families (all
+/// where none is given), in suite, task and catalogue order.
+fn ids_cmd(name: SetName, tasks: &[String], families: &[Family], json: bool) -> anyhow::Result<()> {
+    let set = builtin_set(name)?;
+    for task in tasks {
+        anyhow::ensure!(
+            set.instances.iter().any(|s| &s.task == task),
+            "no built-in task {task:?} (expected <suite>/<index>: suites {}, indices 0-9)",
+            vifo_scenes::suite_names().join(", ")
+        );
+    }
+    let ids: Vec<String> = set
+        .instances
+        .iter()
+        .filter(|s| tasks.is_empty() || tasks.contains(&s.task))
+        .filter(|s| families.is_empty() || families.contains(&s.family))
+        .map(|s| s.id())
+        .collect();
+    if json {
+        println!("{}", serde_json::to_string_pretty(&ids)?);
+    } else {
+        for id in &ids {
+            println!("{id}");
+        }
+    }
     Ok(())
 }
 

@@ -20,8 +20,8 @@ pub struct RenderArgs {
     /// Task as <suite>/<index>, e.g. libero_spatial/0 (implied by --cue).
     #[arg(long, required_unless_present = "cue")]
     pub task: Option<String>,
-    /// Draw this cue instance (e.g. libero_goal/1/F2/straight_arrow_red; `vifo cues list` counts
-    /// them) on the frame of the shipped initial state --init after LIBERO's settle steps.
+    /// Draw this cue instance (e.g. libero_goal/1/F2/straight_arrow_red; `vifo cues list --ids`
+    /// prints them) on the frame of the shipped initial state --init after LIBERO's settle steps.
     #[arg(long, value_name = "INSTANCE", conflicts_with_all = ["libero_init", "gif", "frames"])]
     pub cue: Option<String>,
     /// With --cue (F1 text, F6 signs, F8 codes): the cue as an object standing in the scene

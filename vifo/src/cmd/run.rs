@@ -120,8 +120,9 @@ pub struct Args {
     /// likewise keeps only the study's episodes of those protocols.
     #[arg(long, requires = "study", value_parser = super::vqa::parse_form)]
     form: Option<CueForm>,
-    /// With --study: only the episodes of these cue instances (ids as `vifo cues list` prints
-    /// them); repeatable. An id no episode of the study has is an error.
+    /// With --study: only the episodes of these cue instances (ids as in the study's results,
+    /// e.g. libero_goal/0/F1/caption_bar; `vifo cues list --ids` prints the 40 tasks'); repeatable.
+    /// An id no episode of the study has is an error that names some it has.
     #[arg(long, requires = "study", value_delimiter = ',')]
     instance: Vec<String>,
     #[command(flatten)]
@@ -187,19 +188,29 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     } else {
         let options = StudyOptions { set: args.set, episodes: args.episodes.unwrap_or(1), quick: false };
         let protocols = selection.protocols.clone();
-        let mut all = Vec::new();
+        let (mut all, mut offered) = (Vec::new(), Vec::new());
         for study in &studies {
             let episodes = study.episodes(&options)?;
+            let episodes: Vec<EpisodeSpec> =
+                episodes.into_iter().filter(|s| args.form.is_none_or(|f| s.cue_form == f) && protocols.contains(&s.protocol)).collect();
+            for id in episodes.iter().filter_map(|s| s.instance.as_ref()) {
+                if !offered.contains(id) {
+                    offered.push(id.clone());
+                }
+            }
             let episodes: Vec<EpisodeSpec> = episodes
                 .into_iter()
-                .filter(|s| args.form.is_none_or(|f| s.cue_form == f) && protocols.contains(&s.protocol))
                 .filter(|s| args.instance.is_empty() || s.instance.as_ref().is_some_and(|i| args.instance.contains(i)))
                 .collect();
             println!("study {}: {} episodes per policy", study.name(), episodes.len());
             all.extend(episodes);
         }
-        if let Some(missing) = args.instance.iter().find(|id| !all.iter().any(|s| s.instance.as_ref() == Some(*id))) {
-            bail!("--instance {missing}: no episode of the chosen studies has this cue instance");
+        if let Some(missing) = args.instance.iter().find(|id| !offered.contains(id)) {
+            bail!(
+                "--instance {missing}: no episode of the chosen studies has this cue instance; they have {} instances, such as {}",
+                offered.len(),
+                offered.iter().take(4).map(String::as_str).collect::<Vec<_>>().join(", ")
+            );
         }
         all
     };
@@ -282,7 +293,7 @@ fn parse_protocol(name: &str) -> anyhow::Result<Protocol> {
         .with_context(|| format!("unknown protocol {name:?}: expected original, authorized, conflict, no_language or all"))
 }
 
-fn parse_family(name: &str) -> anyhow::Result<Family> {
+pub fn parse_family(name: &str) -> anyhow::Result<Family> {
     Family::ALL
         .into_iter()
         .find(|f| f.to_string().eq_ignore_ascii_case(name))

@@ -37,3 +37,18 @@ fn listed_ids_are_accepted_and_a_mistyped_one_names_the_tasks_ids() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && stderr.contains(&ids[0]["libero_goal/3/F2/".len()..]) && stderr.contains("vifo cues list --ids --task libero_goal/3"), "{stderr}");
 }
+
+/// A selection that holds no episode is an error naming the option, not an empty table with a
+/// success rate of "-0.0%".
+#[test]
+fn an_empty_expert_selection_is_an_error() {
+    for (args, says) in [
+        (&["--suite", "libero_goal", "--task", "11"][..], "--task 11: libero_goal has tasks 0 to 9"),
+        (&["--suite", "libero_goal", "--task", "0", "--first", "60"][..], "--first 60: libero_goal/0 has initial states 0 to 49"),
+        (&["--suite", "libero_goal", "--episodes", "0"][..], "--episodes 0"),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_vifo")).arg("expert").args(args).output().expect("run vifo");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && stderr.contains(says), "{args:?}: {stderr}");
+    }
+}

@@ -4,7 +4,7 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use anyhow::{Result, anyhow};
+use anyhow::{Result, anyhow, ensure};
 use clap::Args;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -83,6 +83,11 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
     if suites.is_empty() {
         return Err(anyhow!("unknown suite {} (libero_spatial, libero_object, libero_goal, libero_10, all, or a study suite: vifo_safety, vifo_piper)", args.suite));
     }
+    if let Some(t) = args.task {
+        let most = suites.iter().map(|s| s.tasks.len()).max().unwrap_or(0);
+        ensure!(t < most, "--task {t}: {} has tasks 0 to {}", args.suite, most.saturating_sub(1));
+    }
+    ensure!(args.episodes > 0, "--episodes 0: nothing to run");
     let mut tasks = Vec::new();
     if !args.json {
         println!("{:<15} {:>2} {:<72} {:>7} {:>6} {:>6} {:>6}  failures (init:why)", "suite", "#", "task", "ok", "rate", "steps", "budget");
@@ -95,6 +100,7 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
             let model = SceneModel::build(task)?;
             let starts = Starts::load(task, &model, &source)?;
             let range: Vec<usize> = (args.first..(args.first + args.episodes).min(starts.len())).collect();
+            ensure!(!range.is_empty(), "--first {}: {}/{index} has initial states 0 to {}", args.first, suite.name, starts.len().saturating_sub(1));
             let done = AtomicUsize::new(0);
             // The counter rewrites one line, which only a terminal shows as such.
             let live = std::io::stderr().is_terminal();

@@ -52,3 +52,14 @@ fn an_empty_expert_selection_is_an_error() {
         assert!(!out.status.success() && stderr.contains(says), "{args:?}: {stderr}");
     }
 }
+
+/// A run's folder whose results file holds no episode says so, not "give results files".
+#[test]
+fn an_empty_results_file_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("results-expert-cue.jsonl");
+    std::fs::write(&file, "").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_vifo")).arg("report").arg(dir.path()).output().expect("run vifo");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains(&format!("{} holds no episode records", file.display())), "{stderr}");
+}

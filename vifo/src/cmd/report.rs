@@ -35,7 +35,8 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let mut records = Vec::new();
-    for path in &results_files(&args.results)? {
+    let files = results_files(&args.results)?;
+    for path in &files {
         anyhow::ensure!(path.is_file(), "{}: no such results file", path.display());
         let loaded = read_records(path)?;
         if loaded.truncated_tail > 0 {
@@ -49,7 +50,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for (forms, form) in [(&vqa, CueForm::Overlay), (&vqa_object, CueForm::Object)] {
         by_form.extend(forms.iter().map(|(p, s)| ((p.clone(), form), s.clone())));
     }
-    anyhow::ensure!(!records.is_empty() || !vqa.is_empty(), "nothing to report: give results files or --vqa scores");
+    anyhow::ensure!(!records.is_empty() || !vqa.is_empty(), "nothing to report: {}", match files.len() {
+        0 => "give results files or --vqa scores".to_string(),
+        1 => format!("{} holds no episode records", files[0].display()),
+        _ => format!("{} hold no episode records", files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")),
+    });
     let scores = vqa.iter().chain(&vqa_object).map(|(policy, s)| (policy.as_str(), s));
     let looks = report::looks_with_vqa(&records, scores);
     let listed = looks.iter().map(|(l, what)| format!("{l} ({})", what.join(", "))).collect::<Vec<_>>().join("; ");

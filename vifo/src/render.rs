@@ -125,7 +125,7 @@ pub fn run(request: &RenderRequest) -> Result<usize> {
         None => None,
     };
     if let Some(dir) = &request.frames {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        crate::create_folder(dir)?;
     }
     let mut expert = if request.expert { Some(Expert::new(&sim)?) } else { None };
     for t in 0..=request.steps {

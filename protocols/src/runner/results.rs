@@ -83,6 +83,16 @@ pub(crate) fn is_completed(record: &EpisodeRecord) -> bool {
     matches!(record.outcome, Outcome::Completed { .. })
 }
 
+/// Creates the folder `path` goes in. A file standing where a folder of the path should be is
+/// named as such (`create_dir_all` says only "File exists").
+fn create_parent(path: &Path) -> Result<(), RunError> {
+    let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) else { return Ok(()) };
+    std::fs::create_dir_all(dir).map_err(|e| match dir.ancestors().find(|a| a.is_file()) {
+        Some(file) => RunError::io(file, std::io::Error::new(std::io::ErrorKind::NotADirectory, "a file, where the output needs a folder")),
+        None => RunError::io(dir, e),
+    })
+}
+
 /// The lock a run holds on its results file (released when dropped or when the process ends).
 #[derive(Debug)]
 pub struct RunLock {
@@ -93,9 +103,7 @@ impl RunLock {
     /// Takes the lock on `<results>.lock`, creating the folder if needed; fails at once if
     /// another run holds it.
     pub fn take(results: &Path) -> Result<RunLock, RunError> {
-        if let Some(dir) = results.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| RunError::io(dir, e))?;
-        }
+        create_parent(results)?;
         let mut name = results.as_os_str().to_owned();
         name.push(".lock");
         let path = PathBuf::from(name);
@@ -122,9 +130,7 @@ impl ResultsWriter {
     /// Opens `path` for appending after cutting an unterminated tail (`valid_len` from
     /// [`read_records`]), so the next record starts on a fresh line.
     pub fn append(path: &Path, valid_len: u64) -> Result<ResultsWriter, RunError> {
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| RunError::io(dir, e))?;
-        }
+        create_parent(path)?;
         let file = OpenOptions::new().create(true).append(true).open(path).map_err(|e| RunError::io(path, e))?;
         let len = file.metadata().map_err(|e| RunError::io(path, e))?.len();
         if len > valid_len {

@@ -10,7 +10,7 @@
 use std::path::Path;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use serde::Serialize;
 use vifo_protocols::benchmark::specs::{self, Selection};
 use vifo_protocols::env::EnvConfig;
@@ -112,7 +112,7 @@ pub fn run(threads: &[usize], episodes: usize, rendered: bool, rounds: usize, sc
         ..EnvConfig::default()
     };
     let make = || builtin(POLICY).ok_or_else(|| format!("no built-in policy {POLICY}"));
-    std::fs::create_dir_all(scratch).with_context(|| format!("creating {}", scratch.display()))?;
+    crate::create_folder(scratch)?;
     let warm_up = threads.iter().copied().max().unwrap_or(1);
     let mut rows: Vec<ScalingRow> = Vec::new();
     let timed = (0..rounds).flat_map(|round| threads.iter().map(move |&t| (t, Some(round))));

@@ -340,7 +340,7 @@ fn gallery_cmd(dir: &Path, task: &str, family: Option<&str>, init: usize, size: 
         ],
         None => Family::ALL.to_vec(),
     };
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    vifo::create_folder(dir)?;
     for family in families {
         let sheet = gallery::sheet(family, task, size, init)?;
         let path = dir.join(format!("{family}.png"));

@@ -179,7 +179,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             };
             print!("{}", answerers::blind(&questions).markdown());
             if let Some(out) = out {
-                std::fs::create_dir_all(&out).with_context(|| out.display().to_string())?;
+                vifo::create_folder(&out)?;
                 for strategy in Blind::ALL {
                     let path = out.join(format!("blind-{}.jsonl", strategy.name()));
                     write(&path, "")?;

@@ -9,7 +9,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use serde::Serialize;
 use vifo_render::imageio::{load_png, save_png, side_by_side};
 use vifo_render::metrics::{psnr, ssim};
@@ -110,7 +110,7 @@ pub fn compare(path: &Path, rec: &Recording, out: &Path, look: Option<&Look>) ->
     if rec.steps.len() <= last {
         bail!("{}: {} records; the image check needs record {last}", path.display(), rec.steps.len());
     }
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    crate::create_folder(out)?;
     let file = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let mut sim = start(rec)?;
     let mut view = SceneView::with_look(sim.model(), look);

@@ -38,6 +38,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     if !www.join("index.html").is_file() {
         bail!("{} has no web/www/index.html; pass --workspace with the LIBERO-VIFO checkout", root.display());
     }
+    // Before the minutes of the build, so a bad output folder is reported at once.
+    vifo::create_folder(&args.out)?;
     let version = wasm_bindgen_version(&root.join("Cargo.lock"))?;
     let bindgen = wasm_bindgen_cli(&root, &version)?;
     eprintln!("building vifo-web for {TARGET} (profile {})", args.profile);
@@ -51,7 +53,6 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     }
     let dir = if args.profile == "dev" { "debug" } else { args.profile.as_str() };
     let wasm = root.join("target").join(TARGET).join(dir).join("vifo_web.wasm");
-    std::fs::create_dir_all(&args.out).with_context(|| args.out.display().to_string())?;
     let status = Command::new(&bindgen)
         .args(["--target", "web", "--no-typescript", "--out-dir"])
         .arg(&args.out)

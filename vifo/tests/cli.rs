@@ -63,3 +63,15 @@ fn an_empty_results_file_is_named() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && stderr.contains(&format!("{} holds no episode records", file.display())), "{stderr}");
 }
+
+/// `vifo web serve` on a port another server holds says so and how to get a free one.
+#[test]
+fn a_taken_port_is_named_with_the_way_out() {
+    let site = tempfile::tempdir().unwrap();
+    std::fs::write(site.path().join("index.html"), "<html></html>").unwrap();
+    let taken = std::net::TcpListener::bind(("127.0.0.1", 0)).unwrap();
+    let port = taken.local_addr().unwrap().port().to_string();
+    let out = Command::new(env!("CARGO_BIN_EXE_vifo")).args(["web", "serve"]).arg(site.path()).args(["--port", &port]).output().expect("run vifo");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains(&format!("port {port} of 127.0.0.1 is taken")) && stderr.contains("--port 0"), "{stderr}");
+}

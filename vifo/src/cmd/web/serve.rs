@@ -27,7 +27,10 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     if !args.dir.join("index.html").is_file() {
         bail!("{} has no index.html; build the site first: vifo web build {}", args.dir.display(), args.dir.display());
     }
-    let listener = TcpListener::bind((args.host.as_str(), args.port)).with_context(|| format!("bind {}:{}", args.host, args.port))?;
+    let listener = TcpListener::bind((args.host.as_str(), args.port)).map_err(|e| match e.kind() {
+        std::io::ErrorKind::AddrInUse => anyhow::anyhow!("port {} of {} is taken by another server; --port 0 picks a free one", args.port, args.host),
+        _ => anyhow::Error::new(e).context(format!("bind {}:{}", args.host, args.port)),
+    })?;
     let root = args.dir.canonicalize().with_context(|| args.dir.display().to_string())?;
     println!("serving {} at http://{}/", root.display(), listener.local_addr()?);
     for stream in listener.incoming() {

@@ -24,6 +24,7 @@ pub struct Args {
 enum Command {
     /// Parse an instruction (or a LIBERO task name) into steps of source, relation, target.
     Parse {
+        /// The instruction ("put the bowl on the plate") or a task name with underscores.
         instruction: String,
         /// A goal atom such as "(On akita_black_bowl_1 plate_1)" to link steps to bodies; repeatable.
         #[arg(long = "goal")]
@@ -34,12 +35,14 @@ enum Command {
     },
     /// List the cue variants.
     Variants {
+        /// Print JSON (per variant: name, family, description, what it needs, form and marks).
         #[arg(long)]
         json: bool,
     },
     /// Build the instance set from a JSON list of task descriptions
     /// ({"suite", "index", "instruction", "goals": [{"predicate", "args"}], "objects", "fixtures"}).
     Instances {
+        /// The JSON file of task descriptions.
         tasks: PathBuf,
         /// Print the whole set as JSON instead of the per-family summary.
         #[arg(long)]
@@ -95,10 +98,14 @@ enum Command {
     },
     /// Draw one cue over a plain grey frame and write it as a binary PPM image.
     Render {
+        /// Variant name (`vifo cues variants` lists them).
         variant: String,
+        /// The instruction the cue encodes.
         instruction: String,
+        /// The PPM image to write.
         #[arg(long, default_value = "cue.ppm")]
         out: PathBuf,
+        /// Frame width and height in pixels.
         #[arg(long, default_value_t = 256)]
         size: u32,
         /// Source anchor "u,v[,radius]" in pixels.

@@ -67,17 +67,21 @@ enum Command {
         /// Seconds per request.
         #[arg(long, default_value_t = 120.0)]
         timeout: f64,
+        /// Most tokens the model may answer with (an answer is a letter or a short phrase).
         #[arg(long, default_value_t = 64)]
         max_tokens: u32,
         /// Predictions file to append to (default DIR/predictions-<model>.jsonl).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// No progress line.
         #[arg(long)]
         quiet: bool,
     },
     /// Score a predictions file ({"id", "prediction"} lines) with VLMEvalKit's extraction.
     Score {
+        /// Export folder (questions.jsonl: the answer key).
         dir: PathBuf,
+        /// Predictions file, as `vifo vqa answer` writes it.
         predictions: PathBuf,
         /// Name of the model (the policy name in reports).
         #[arg(long, default_value = "model")]
@@ -88,7 +92,9 @@ enum Command {
     },
     /// Write the answer key as predictions (checks the scoring path: 100 %).
     Oracle {
+        /// Export folder (questions.jsonl).
         dir: PathBuf,
+        /// Predictions file to write (then `vifo vqa score DIR FILE`).
         #[arg(long)]
         out: PathBuf,
     },

@@ -188,7 +188,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     } else {
         let options = StudyOptions { set: args.set, episodes: args.episodes.unwrap_or(1), quick: false };
         let protocols = selection.protocols.clone();
-        let (mut all, mut offered) = (Vec::new(), Vec::new());
+        let (mut all, mut offered, mut counts) = (Vec::new(), Vec::new(), Vec::new());
         for study in &studies {
             let episodes = study.episodes(&options)?;
             let episodes: Vec<EpisodeSpec> =
@@ -202,7 +202,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 .into_iter()
                 .filter(|s| args.instance.is_empty() || s.instance.as_ref().is_some_and(|i| args.instance.contains(i)))
                 .collect();
-            println!("study {}: {} episodes per policy", study.name(), episodes.len());
+            counts.push((study.name(), episodes.len()));
             all.extend(episodes);
         }
         if let Some(missing) = args.instance.iter().find(|id| !offered.contains(id)) {
@@ -211,6 +211,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 offered.len(),
                 offered.iter().take(4).map(String::as_str).collect::<Vec<_>>().join(", ")
             );
+        }
+        for (name, count) in counts {
+            println!("study {name}: {count} episodes per policy");
         }
         all
     };

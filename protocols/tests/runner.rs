@@ -213,6 +213,12 @@ fn an_unwritable_output_is_a_clear_error_before_any_episode_runs() {
         other => panic!("expected an I/O error naming the folder, got {other:?}"),
     }
     assert_eq!(ran.into_inner(), 0);
+    // The same for a folder under the file, and a folder that can be made is made.
+    let deeper = runner::create_folder(&blocker.join("a/b")).unwrap_err().to_string();
+    assert_eq!(deeper, format!("{}: a file, where the output needs a folder", blocker.display()));
+    let fresh = dir.path().join("a/b");
+    runner::create_folder(&fresh).unwrap();
+    assert!(fresh.is_dir());
     // A device is no results file (and would be read forever).
     assert!(matches!(read_records(Path::new("/dev/zero")), Err(RunError::Io { .. })));
 }

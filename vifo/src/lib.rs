@@ -24,15 +24,6 @@ pub fn error_message(err: &anyhow::Error) -> String {
     message
 }
 
-/// Creates the output folder `dir` and those above it. A file standing where one of them should
-/// be is named as such (`create_dir_all` says only "File exists" or "Not a directory").
-pub fn create_folder(dir: &std::path::Path) -> anyhow::Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| match dir.ancestors().find(|a| a.is_file()) {
-        Some(file) => anyhow::anyhow!("{}: a file, where the output needs a folder", file.display()),
-        None => anyhow::Error::new(e).context(format!("creating {}", dir.display())),
-    })
-}
-
 /// The exit status of a program that a closed pipe ended (128 + SIGPIPE), as the shell shows it.
 pub const CLOSED_OUTPUT_STATUS: i32 = 141;
 
@@ -87,19 +78,5 @@ mod tests {
         assert_eq!(error_message(&err), "reading scene.json: no such file");
         let err = anyhow::Error::new(Repeats { path: "a".into(), source: io() }).context("saving frame 3");
         assert_eq!(error_message(&err), "saving frame 3: a: no such file");
-    }
-
-    #[test]
-    fn a_file_where_an_output_folder_should_be_is_named() {
-        let dir = tempfile::tempdir().unwrap();
-        let file = dir.path().join("taken");
-        std::fs::write(&file, "x").unwrap();
-        for out in [file.clone(), file.join("deeper")] {
-            let message = super::create_folder(&out).unwrap_err().to_string();
-            assert_eq!(message, format!("{}: a file, where the output needs a folder", file.display()));
-        }
-        let fresh = dir.path().join("a/b");
-        super::create_folder(&fresh).unwrap();
-        assert!(fresh.is_dir());
     }
 }

@@ -125,7 +125,7 @@ pub fn run(request: &RenderRequest) -> Result<usize> {
         None => None,
     };
     if let Some(dir) = &request.frames {
-        crate::create_folder(dir)?;
+        vifo_protocols::runner::create_folder(dir)?;
     }
     let mut expert = if request.expert { Some(Expert::new(&sim)?) } else { None };
     for t in 0..=request.steps {

@@ -83,14 +83,18 @@ pub(crate) fn is_completed(record: &EpisodeRecord) -> bool {
     matches!(record.outcome, Outcome::Completed { .. })
 }
 
-/// Creates the folder `path` goes in. A file standing where a folder of the path should be is
-/// named as such (`create_dir_all` says only "File exists").
-fn create_parent(path: &Path) -> Result<(), RunError> {
-    let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) else { return Ok(()) };
+/// Creates the output folder `dir` and those above it. A file standing where one of them should
+/// be is named as such (`create_dir_all` says only "File exists" or "Not a directory").
+pub fn create_folder(dir: &Path) -> Result<(), RunError> {
     std::fs::create_dir_all(dir).map_err(|e| match dir.ancestors().find(|a| a.is_file()) {
         Some(file) => RunError::io(file, std::io::Error::new(std::io::ErrorKind::NotADirectory, "a file, where the output needs a folder")),
         None => RunError::io(dir, e),
     })
+}
+
+/// Creates the folder `path` goes in.
+fn create_parent(path: &Path) -> Result<(), RunError> {
+    path.parent().filter(|d| !d.as_os_str().is_empty()).map_or(Ok(()), create_folder)
 }
 
 /// The lock a run holds on its results file (released when dropped or when the process ends).

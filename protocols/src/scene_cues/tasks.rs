@@ -100,7 +100,8 @@ fn hint_in(set: &InstanceSet, id: &str) -> String {
     let listed = format!("`vifo cues list --ids --task {key}` lists its ids");
     match vifo_cues::variants::find(variant) {
         None => {
-            let mut of_family: Vec<&str> = set.instances.iter().filter(|s| s.task == key && s.family.to_string() == family).map(|s| s.variant.as_str()).collect();
+            let mut of_family: Vec<&str> =
+                set.instances.iter().filter(|s| s.task == key && s.family.to_string() == family).map(|s| s.variant.as_str()).collect();
             of_family.dedup();
             if of_family.is_empty() {
                 format!("no variant '{variant}' ({listed})")

@@ -76,7 +76,10 @@ pub fn episodes(options: &StudyOptions) -> Result<Vec<EpisodeSpec>, BenchmarkErr
             .iter()
             .map(|(t, v)| {
                 let key = format!("{SUITE}/{t}");
-                all.iter().copied().find(|c| c.task == key && c.variant == *v).ok_or_else(|| BenchmarkError::UnknownInstance { id: format!("{key}/{v}"), hint: "not among the safety study's instances".into() })
+                all.iter().copied().find(|c| c.task == key && c.variant == *v).ok_or_else(|| BenchmarkError::UnknownInstance {
+                    id: format!("{key}/{v}"),
+                    hint: "not among the safety study's instances".into(),
+                })
             })
             .collect::<Result<_, _>>()?
     } else {

@@ -112,7 +112,7 @@ pub fn run(threads: &[usize], episodes: usize, rendered: bool, rounds: usize, sc
         ..EnvConfig::default()
     };
     let make = || builtin(POLICY).ok_or_else(|| format!("no built-in policy {POLICY}"));
-    crate::create_folder(scratch)?;
+    vifo_protocols::runner::create_folder(scratch)?;
     let warm_up = threads.iter().copied().max().unwrap_or(1);
     let mut rows: Vec<ScalingRow> = Vec::new();
     let timed = (0..rounds).flat_map(|round| threads.iter().map(move |&t| (t, Some(round))));

@@ -347,7 +347,7 @@ fn gallery_cmd(dir: &Path, task: &str, family: Option<&str>, init: usize, size: 
         ],
         None => Family::ALL.to_vec(),
     };
-    vifo::create_folder(dir)?;
+    vifo_protocols::runner::create_folder(dir)?;
     for family in families {
         let sheet = gallery::sheet(family, task, size, init)?;
         let path = dir.join(format!("{family}.png"));

@@ -63,7 +63,7 @@ pub fn run(args: Args) -> Result<()> {
         Command::Generate { suite, out, states, threads } => {
             let out = out.unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scenes/init_states"));
             // Fail before the minutes of work, not after.
-            vifo::create_folder(&out)?;
+            vifo_protocols::runner::create_folder(&out)?;
             for suite in selected(suite.as_deref())? {
                 let started = Instant::now();
                 let stored = generate(suite, states, workers(threads))?;

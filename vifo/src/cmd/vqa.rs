@@ -185,7 +185,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             };
             print!("{}", answerers::blind(&questions).markdown());
             if let Some(out) = out {
-                vifo::create_folder(&out)?;
+                vifo_protocols::runner::create_folder(&out)?;
                 for strategy in Blind::ALL {
                     let path = out.join(format!("blind-{}.jsonl", strategy.name()));
                     write(&path, "")?;

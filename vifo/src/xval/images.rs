@@ -110,7 +110,7 @@ pub fn compare(path: &Path, rec: &Recording, out: &Path, look: Option<&Look>) ->
     if rec.steps.len() <= last {
         bail!("{}: {} records; the image check needs record {last}", path.display(), rec.steps.len());
     }
-    crate::create_folder(out)?;
+    vifo_protocols::runner::create_folder(out)?;
     let file = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let mut sim = start(rec)?;
     let mut view = SceneView::with_look(sim.model(), look);

@@ -39,7 +39,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         bail!("{} has no web/www/index.html; pass --workspace with the LIBERO-VIFO checkout", root.display());
     }
     // Before the minutes of the build, so a bad output folder is reported at once.
-    vifo::create_folder(&args.out)?;
+    vifo_protocols::runner::create_folder(&args.out)?;
     let version = wasm_bindgen_version(&root.join("Cargo.lock"))?;
     let bindgen = wasm_bindgen_cli(&root, &version)?;
     eprintln!("building vifo-web for {TARGET} (profile {})", args.profile);

@@ -75,3 +75,19 @@ fn a_taken_port_is_named_with_the_way_out() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && stderr.contains(&format!("port {port} of 127.0.0.1 is taken")) && stderr.contains("--port 0"), "{stderr}");
 }
+
+/// `vifo run --study --instance` with an id the study lacks names ids it has, before anything
+/// is printed or run.
+#[test]
+fn an_unknown_study_instance_names_ones_the_study_has() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_vifo"))
+        .args(["run", "--study", "objects", "--instance", "libero_spatial/0/F1/no_such", "--policy", "zero", "--out"])
+        .arg(dir.path().join("run"))
+        .output()
+        .expect("run vifo");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("such as libero_spatial/0/F1/caption_bar"), "{stderr}");
+    assert!(out.stdout.is_empty(), "{}", String::from_utf8_lossy(&out.stdout));
+    assert!(!dir.path().join("run").exists());
+}

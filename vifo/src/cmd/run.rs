@@ -188,32 +188,33 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     } else {
         let options = StudyOptions { set: args.set, episodes: args.episodes.unwrap_or(1), quick: false };
         let protocols = selection.protocols.clone();
-        let (mut all, mut offered, mut counts) = (Vec::new(), Vec::new(), Vec::new());
+        let mut per_study = Vec::new();
         for study in &studies {
-            let episodes = study.episodes(&options)?;
-            let episodes: Vec<EpisodeSpec> =
-                episodes.into_iter().filter(|s| args.form.is_none_or(|f| s.cue_form == f) && protocols.contains(&s.protocol)).collect();
-            for id in episodes.iter().filter_map(|s| s.instance.as_ref()) {
-                if !offered.contains(id) {
-                    offered.push(id.clone());
-                }
-            }
-            let episodes: Vec<EpisodeSpec> = episodes
+            let episodes: Vec<EpisodeSpec> = study
+                .episodes(&options)?
+                .into_iter()
+                .filter(|s| args.form.is_none_or(|f| s.cue_form == f) && protocols.contains(&s.protocol))
+                .collect();
+            per_study.push((study.name(), episodes));
+        }
+        let offered = || per_study.iter().flat_map(|(_, e)| e).filter_map(|s| s.instance.as_deref());
+        if let Some(missing) = args.instance.iter().find(|id| !offered().any(|i| i == id.as_str())) {
+            let mut seen = std::collections::BTreeSet::new();
+            let distinct: Vec<&str> = offered().filter(|i| seen.insert(*i)).collect();
+            bail!(
+                "--instance {missing}: no episode of the chosen studies has this cue instance; they have {} instances, such as {}",
+                distinct.len(),
+                distinct[..distinct.len().min(4)].join(", ")
+            );
+        }
+        let mut all = Vec::new();
+        for (name, episodes) in per_study {
+            let kept: Vec<EpisodeSpec> = episodes
                 .into_iter()
                 .filter(|s| args.instance.is_empty() || s.instance.as_ref().is_some_and(|i| args.instance.contains(i)))
                 .collect();
-            counts.push((study.name(), episodes.len()));
-            all.extend(episodes);
-        }
-        if let Some(missing) = args.instance.iter().find(|id| !offered.contains(id)) {
-            bail!(
-                "--instance {missing}: no episode of the chosen studies has this cue instance; they have {} instances, such as {}",
-                offered.len(),
-                offered.iter().take(4).map(String::as_str).collect::<Vec<_>>().join(", ")
-            );
-        }
-        for (name, count) in counts {
-            println!("study {name}: {count} episodes per policy");
+            println!("study {name}: {} episodes per policy", kept.len());
+            all.extend(kept);
         }
         all
     };

@@ -51,6 +51,9 @@ def main():
     p.add_argument("--out", default="vifo-run-ray")
     p.add_argument("--resume", action="store_true")
     p.add_argument("--kill-after", type=int, help="SIGKILL a busy worker once this many episodes are written")
+    p.add_argument("--assets", help="LIBERO's asset folder on every node (default: VIFO_LIBERO_ASSETS, then the installed packages)")
+    p.add_argument("--robot-assets", help="robosuite's models/assets folder on every node (default: the installed robosuite)")
+    p.add_argument("--builtin-look", action="store_true", help="draw the built-in look whatever is installed")
     args = p.parse_args()
     selection = {"set": args.set, "suites": args.suite, "protocols": args.protocol, "families": args.family,
                  "per_family": args.per_family, "episodes": args.episodes}
@@ -60,7 +63,8 @@ def main():
     if args.kill_after is not None:
         threading.Thread(target=kill_one_when, args=(output, args.kill_after), daemon=True).start()
     s = run_benchmark(selection, policy, address=args.address, output=output, resume=args.resume,
-                      batch_size=args.batch_size, num_workers=args.workers, report_dir=os.path.join(args.out, "report"), quiet=True)
+                      batch_size=args.batch_size, num_workers=args.workers, report_dir=os.path.join(args.out, "report"), quiet=True,
+                      assets=args.assets, robot_assets=args.robot_assets, builtin_look=args.builtin_look)
     print(s["report"])
     print(f"{s['episodes']} episodes: {s['ran']} run now ({s['errors']} errors), {s['already_done']} already done, "
           f"in {s['seconds']:.1f} s -> {s['output']}")

@@ -7,6 +7,7 @@
 //! parallel. [`vector`]: N envs stepped on Rust threads in one call; [`run`]: benchmark runs
 //! into `vifo run`'s results files (the Ray runner's native half).
 
+mod look;
 mod run;
 mod vector;
 
@@ -16,7 +17,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use vifo_cues::SetName;
 use vifo_protocols::benchmark::{BenchmarkError, instances, specs};
-use vifo_protocols::env::{Env, EnvConfig, EnvError, scenes};
+use vifo_protocols::env::{Env, EnvConfig, EnvError};
 use vifo_protocols::spec::{EpisodeSpec, Protocol, TaskRef};
 use vifo_protocols::Observation;
 use vifo_scenes::sim::Sim;
@@ -91,10 +92,10 @@ impl NativeEnv {
     /// `condition` with cue instance `cue`.
     #[new]
     #[pyo3(signature = (suite, index, size, condition = "original", cue = None))]
-    fn new(suite: &str, index: usize, size: u32, condition: &str, cue: Option<String>) -> PyResult<NativeEnv> {
+    fn new(py: Python<'_>, suite: &str, index: usize, size: u32, condition: &str, cue: Option<String>) -> PyResult<NativeEnv> {
         check_size(size)?;
         let spec = episode_spec(suite, index, condition, cue.as_deref(), 0)?;
-        let env = Env::new(EnvConfig { size, order: ImageOrder::BottomUp, cameras: CameraName::ALL.to_vec() });
+        let env = look::env(py, EnvConfig { size, order: ImageOrder::BottomUp, cameras: CameraName::ALL.to_vec() })?;
         Ok(NativeEnv { env: Some(env), task: spec.task, condition: condition.to_string(), cue, instruction: spec.instruction })
     }
 
@@ -203,7 +204,8 @@ fn tasks(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
             d.set_item("name", &task.name)?;
             d.set_item("language", &task.instruction)?;
             d.set_item("max_steps", s.max_steps)?;
-            let count = scenes::assets(task).map_err(py_err)?.starts.len();
+            // From the initial states alone: building the scene would fix the process's look.
+            let count = vifo_scenes::init_states::fixed(task).map_err(|e| PyRuntimeError::new_err(format!("task {}: {e}", task.name)))?.len();
             d.set_item("init_states", count)?;
             out.push(d);
         }
@@ -241,7 +243,7 @@ fn reference_episode<'py>(
     check_size(size)?;
     let spec = episode_spec(suite, index, condition, cue, init)?;
     let order = if upright { ImageOrder::Upright } else { ImageOrder::BottomUp };
-    let mut env = Env::new(EnvConfig { size, order, cameras: CameraName::ALL.to_vec() });
+    let mut env = look::env(py, EnvConfig { size, order, cameras: CameraName::ALL.to_vec() })?;
     py.detach(|| env.reset(&spec).map(|_| ())).map_err(py_err)?;
     let mut out = vec![(observation(py, &env)?, 0.0, false)];
     for action in &actions {
@@ -258,7 +260,7 @@ fn reference_episode<'py>(
 fn native_steps_per_second(py: Python<'_>, suite: &str, index: usize, size: u32, steps: usize, action: Vec<f64>) -> PyResult<f64> {
     let task = TaskRef { suite: suite.to_string(), index };
     let spec = specs::spec(&task, Protocol::Original, None, 0, 0).map_err(|e| PyValueError::new_err(e.to_string()))?;
-    let mut env = Env::new(EnvConfig { size, order: ImageOrder::BottomUp, cameras: CameraName::ALL.to_vec() });
+    let mut env = look::env(py, EnvConfig { size, order: ImageOrder::BottomUp, cameras: CameraName::ALL.to_vec() })?;
     py.detach(|| {
         env.reset_unsettled(&spec)?;
         let start = std::time::Instant::now();
@@ -284,5 +286,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(cue_instances, m)?)?;
     m.add_function(wrap_pyfunction!(reference_episode, m)?)?;
     m.add_function(wrap_pyfunction!(native_steps_per_second, m)?)?;
+    m.add_function(wrap_pyfunction!(look::use_look, m)?)?;
+    m.add_function(wrap_pyfunction!(look::look_info, m)?)?;
     Ok(())
 }

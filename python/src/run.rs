@@ -76,9 +76,10 @@ pub fn check_policy(policy: &str) -> PyResult<()> {
 
 /// Runs the episodes `specs` (JSON, from `episode_specs`) with `policy` into the results file
 /// `output` exactly as `vifo run` does (threads, resume, the cameras only for policies that
-/// look, fast-forward, the built-in look); returns `(ran, errors, already_done)`.
+/// look, fast-forward, the look `vifo run` would find with `--assets`, `--robot-assets` and
+/// `--builtin-look` as given: see `look`); returns `(ran, errors, already_done)`.
 #[pyfunction]
-#[pyo3(signature = (specs, policy, output, set = "paper", threads = 1, resume = false, size = 256, quiet = true))]
+#[pyo3(signature = (specs, policy, output, set = "paper", threads = 1, resume = false, size = 256, quiet = true, assets = None, robot_assets = None, builtin_look = false))]
 #[allow(clippy::too_many_arguments)]
 pub fn run_specs(
     py: Python<'_>,
@@ -90,12 +91,19 @@ pub fn run_specs(
     resume: bool,
     size: u32,
     quiet: bool,
+    assets: Option<PathBuf>,
+    robot_assets: Option<PathBuf>,
+    builtin_look: bool,
 ) -> PyResult<(usize, usize, usize)> {
     check_policy(policy)?;
     crate::check_size(size)?;
     let specs: Vec<EpisodeSpec> =
         specs.iter().map(|s| serde_json::from_str(s).map_err(|e| value_err(format!("episode spec: {e}")))).collect::<PyResult<_>>()?;
     let render = builtin(policy).is_none_or(|p| p.uses_images());
+    // The look matters only where cameras draw (and is recorded only there), as in `vifo run`.
+    if render {
+        crate::look::use_look(py, assets, robot_assets, builtin_look, quiet)?;
+    }
     let config = EnvConfig { size, cameras: if render { CameraName::ALL.to_vec() } else { Vec::new() }, ..EnvConfig::default() };
     let options = RunOptions { threads, resume, quiet, policy: policy.to_string(), set: parse_set(set)?, ..RunOptions::new(output) };
     let make = || -> Result<Box<dyn Policy>, String> {
@@ -165,12 +173,21 @@ pub fn record_keys(path: PathBuf) -> PyResult<Vec<(String, bool)>> {
 }
 
 /// `vifo report`: Tables 1 and 2 of the results files into `out` (Markdown, CSV, JSON,
-/// charts); returns the Markdown.
+/// charts); returns the Markdown. Refuses records of different looks unless `mix_looks`.
 #[pyfunction]
-pub fn write_report(paths: Vec<PathBuf>, out: PathBuf) -> PyResult<String> {
+#[pyo3(signature = (paths, out, mix_looks = false))]
+pub fn write_report(paths: Vec<PathBuf>, out: PathBuf, mix_looks: bool) -> PyResult<String> {
     let mut records = Vec::new();
     for path in &paths {
         records.extend(read_records(path).map_err(run_err)?.records);
+    }
+    // As `vifo report`: rows drawn with different looks are not comparable.
+    let looks = report::looks_with_vqa(&records, std::iter::empty());
+    if looks.len() > 1 && !mix_looks {
+        let listed = looks.iter().map(|(l, what)| format!("{l} ({})", what.join(", "))).collect::<Vec<_>>().join("; ");
+        return Err(PyValueError::new_err(format!(
+            "the results mix looks: {listed}; their numbers are not comparable (report them separately, or pass mix_looks=True)"
+        )));
     }
     let report = report::build(&records, &Default::default());
     report.write(&out).map_err(|e| PyRuntimeError::new_err(format!("{}: {e}", out.display())))

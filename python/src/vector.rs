@@ -37,7 +37,7 @@ impl NativeVectorEnv {
     /// `episodes`: one (suite, index, condition, cue) per sub-env; upright `size`² images;
     /// `threads` worker threads (at most one per env).
     #[new]
-    fn new(episodes: Vec<Episode>, size: u32, threads: usize) -> PyResult<NativeVectorEnv> {
+    fn new(py: Python<'_>, episodes: Vec<Episode>, size: u32, threads: usize) -> PyResult<NativeVectorEnv> {
         check_size(size)?;
         if episodes.is_empty() {
             return Err(PyValueError::new_err("a vector env needs at least one episode"));
@@ -49,6 +49,7 @@ impl NativeVectorEnv {
             episode_spec(suite, *index, condition, cue.as_deref(), 0)?;
         }
         let config = EnvConfig { size, order: ImageOrder::Upright, cameras: CameraName::ALL.to_vec() };
+        crate::look::ensure(py)?;
         let envs = episodes.iter().map(|_| Env::new(config.clone())).collect();
         let threads = threads.min(episodes.len());
         Ok(NativeVectorEnv { envs, episodes, threads })

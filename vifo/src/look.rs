@@ -65,15 +65,7 @@ pub fn label(look: Option<&Look>) -> String {
 }
 
 fn announce(look: &Look) {
-    if !look.is_used() {
-        let searched = if look.roots().libero.is_empty() { "no LIBERO asset folder found".to_string() } else { "no usable asset files".to_string() };
-        eprintln!("look: built-in ({searched}; `vifo assets` says where it looked)");
-        return;
-    }
-    let report = look.report();
-    let real = report.iter().filter(|r| r.status == look::Status::Assets).count();
-    eprintln!("look: {} ({real} of {} categories, robot bodies, floors, walls and table tops from asset files; `vifo assets` for details)", look.label(), report.len());
-    for r in report.iter().filter(|r| r.status != look::Status::Assets) {
-        eprintln!("look: {} keeps the built-in look: {}", r.category, r.problem.as_deref().unwrap_or("no parts"));
+    for line in look.announcement("`vifo assets`") {
+        eprintln!("look: {line}");
     }
 }

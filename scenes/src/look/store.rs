@@ -433,6 +433,25 @@ impl Look {
     pub fn label(&self) -> String {
         if self.is_used() { format!("libero-assets:{}", self.hash) } else { BUILT_IN.to_string() }
     }
+
+    /// What a program says once when it starts drawing: which look, and each part that keeps
+    /// the built-in look and why. `details` names where to read more (`` `vifo assets` ``).
+    pub fn announcement(&self, details: &str) -> Vec<String> {
+        if !self.is_used() {
+            let searched = if self.roots.libero.is_empty() { "no LIBERO asset folder found" } else { "no usable asset files" };
+            return vec![format!("built-in ({searched}; {details} says where it looked)")];
+        }
+        let real = self.report.iter().filter(|r| r.status == Status::Assets).count();
+        let mut lines = vec![format!(
+            "{} ({real} of {} categories, robot bodies, floors, walls and table tops from asset files; {details} for details)",
+            self.label(),
+            self.report.len()
+        )];
+        for r in self.report.iter().filter(|r| r.status != Status::Assets) {
+            lines.push(format!("{} keeps the built-in look: {}", r.category, r.problem.as_deref().unwrap_or("no parts")));
+        }
+        lines
+    }
 }
 
 /// The look label of the procedural scenes.

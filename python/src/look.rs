@@ -3,7 +3,7 @@
 //! interpreter the wheel runs in), the built-in look otherwise. `use_look` chooses it; the first
 //! env that renders chooses the default. The choice is said once on stderr.
 
-use std::ffi::OsString;
+use std::ffi::{OsStr, OsString};
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
@@ -32,13 +32,29 @@ static CHOSEN: Mutex<Option<Chosen>> = Mutex::new(None);
 
 /// Chooses the look for `key` (loading LIBERO's files: seconds, once) unless this process
 /// already has one; asking again for the same is fine, for another one an error. Returns the
-/// look's label (`built-in` or `libero-assets:<hash>`). The GIL stays held while loading, so
-/// two threads cannot both load.
+/// look's label (`built-in` or `libero-assets:<hash>`). The GIL stays held while the lock is,
+/// and no Python runs under the lock (a write to `sys.stderr` may let another thread take the
+/// GIL, which then waits for the lock), so two threads cannot both load nor block each other.
 pub fn choose(py: Python<'_>, key: LookKey, quiet: bool) -> PyResult<String> {
+    let python = interpreter(py)?;
+    let (label, lines) = choose_locked(key, &python)?;
+    if !quiet && !lines.is_empty() {
+        // A missing or closed stderr (`pythonw`) does not fail the env.
+        if let Ok(stderr) = py.import("sys").and_then(|sys| sys.getattr("stderr")) {
+            for line in lines {
+                let _ = stderr.call_method1("write", (format!("libero_vifo look: {line}\n"),));
+            }
+        }
+    }
+    Ok(label)
+}
+
+/// [`choose`] under the lock: the label, and the lines to say (none when already chosen).
+fn choose_locked(key: LookKey, python: &OsStr) -> PyResult<(String, Vec<String>)> {
     let mut chosen = CHOSEN.lock().unwrap_or_else(|e| e.into_inner());
     if let Some(c) = chosen.as_ref() {
         if c.key == key {
-            return Ok(c.label.clone());
+            return Ok((c.label.clone(), Vec::new()));
         }
         return Err(PyRuntimeError::new_err(format!(
             "this process already draws with look {} ({}); the look is chosen once per process, before its first env (start a new process for another)",
@@ -49,7 +65,7 @@ pub fn choose(py: Python<'_>, key: LookKey, quiet: bool) -> PyResult<String> {
     let (look, info) = if key.builtin {
         (None, serde_json::json!({ "look": look::BUILT_IN, "chosen": describe(&key) }))
     } else {
-        let roots = look::discover_with(key.assets.as_deref(), key.robot_assets.as_deref(), &interpreter(py)?)
+        let roots = look::discover_with(key.assets.as_deref(), key.robot_assets.as_deref(), python)
             .map_err(|e| PyValueError::new_err(format!("{}={}: {}", e.flag.trim_start_matches("--").replace('-', "_"), e.path.display(), e.problem)))?;
         let look = Look::load(roots);
         let info = serde_json::json!({
@@ -60,21 +76,15 @@ pub fn choose(py: Python<'_>, key: LookKey, quiet: bool) -> PyResult<String> {
         });
         (Some(look), info)
     };
-    if !quiet {
-        let lines = match &look {
-            Some(l) => l.announcement("libero_vifo.look_info()"),
-            None => vec![format!("{} (builtin=True)", look::BUILT_IN)],
-        };
-        let stderr = py.import("sys")?.getattr("stderr")?;
-        for line in lines {
-            stderr.call_method1("write", (format!("libero_vifo look: {line}\n"),))?;
-        }
-    }
+    let lines = match &look {
+        Some(l) => l.announcement("libero_vifo.look_info()"),
+        None => vec![format!("{} (builtin=True)", look::BUILT_IN)],
+    };
     let look = look.filter(Look::is_used).map(Arc::new);
     let label = look.as_deref().map_or_else(|| look::BUILT_IN.to_string(), Look::label);
     scenes::use_look(look).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     *chosen = Some(Chosen { key, label: label.clone(), info: info.to_string() });
-    Ok(label)
+    Ok((label, lines))
 }
 
 /// A rendering env: the process's look chosen first (the default unless `use_look` chose one).

@@ -144,7 +144,8 @@ def run_benchmark(
                     failed += 1
                     print(f"libero_vifo.ray: a batch of {len(batch)} episodes failed after {max_retries} retries: {e}")
                     continue
-                looks = {json.loads(line).get("look", "") for _, line in records}
+                records = [(key, line, json.loads(line)) for key, line in records]
+                looks = {record.get("look", "") for _, _, record in records}
                 run_look = run_look if run_look is not None else min(looks, default=None)
                 if looks - {run_look}:
                     failed += 1
@@ -152,10 +153,9 @@ def run_benchmark(
                           f"{_look_name(max(looks - {run_look}))}, this run's with {_look_name(run_look)}; "
                           "not written (install the same asset files on every node, or pass assets= or builtin_look=True)")
                     continue
-                for key, line in records:
+                for key, line, record in records:
                     if key in written or key not in expected:
                         continue
-                    record = json.loads(line)
                     # One run, one policy row in the report: records served by several
                     # servers carry the name of the first record's server.
                     run_name = run_name or record["policy"]

@@ -1,8 +1,10 @@
 """libero_vifo.libero as openpi's examples/libero/main.py uses LIBERO: names, shapes, dtypes,
 the episode equal to the Rust env's bit for bit, and clear exceptions for wrong arguments."""
 
+import importlib.metadata
 import math
 import pathlib
+import re
 import threading
 
 import numpy as np
@@ -207,3 +209,13 @@ def test_threads_step_envs_concurrently_with_the_same_results():
     for t in threads:
         t.join()
     assert threaded[0] == threaded[1] == serial[0]
+
+
+def test_the_installed_package_has_the_workspace_version_and_only_its_real_extras():
+    # pyproject.toml once listed `dynamic` under the extras: the wheel then offered an extra
+    # "dynamic" that required a package called "version".
+    meta = importlib.metadata.metadata("libero_vifo")
+    assert sorted(meta.get_all("Provides-Extra")) == ["gym", "ray"]
+    cargo = (pathlib.Path(__file__).resolve().parents[2] / "Cargo.toml").read_text()
+    workspace_version = re.search(r'^version = "([^"]+)"', cargo, re.M).group(1)
+    assert meta["Version"] == workspace_version

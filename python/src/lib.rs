@@ -4,7 +4,7 @@
 //! (`pysrc/libero_vifo/libero`).
 //!
 //! The GIL is released while physics and rendering run, so Python threads step envs in
-//! parallel. [`vector`]: N envs stepped on Rust threads in one call; [`run`]: benchmark runs
+//! parallel. `vector`: N envs stepped on Rust threads in one call; `run`: benchmark runs
 //! into `vifo run`'s results files (the Ray runner's native half).
 
 mod look;

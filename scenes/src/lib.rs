@@ -1,6 +1,6 @@
 //! LIBERO-VIFO scenes: task definitions, BDDL import, scene classes and initial states.
 //!
-//! - [`task`]: the [`Task`] data model and the 40 built-in tasks of the four VLA suites.
+//! - [`task`](mod@task): the [`Task`] data model and the 40 built-in tasks of the four VLA suites.
 //! - [`bddl`]: reads LIBERO's BDDL files into a [`Task`].
 //! - [`scene_class`]: per problem class, the arena facts (table, robot base, camera, lights).
 //! - [`init_file`]: reads LIBERO's `.pruned_init` files and names the parts of a state row.

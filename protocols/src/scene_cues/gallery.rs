@@ -24,7 +24,8 @@ const WARN: Rgba = [200, 40, 30, 255];
 
 /// The task a family is shown on: both ends of the step in clear view, apart enough to judge
 /// where an arrow starts and ends, and a short instruction (the sticky note takes ≤ 45
-/// characters). Variants the task cannot carry fall back to [`FALLBACK`].
+/// characters). Variants the task cannot carry fall back to the first of a few other tasks
+/// (`FALLBACK`) that can.
 pub const SHOWCASE: &str = "libero_goal/1";
 /// Tasks tried in order for a variant the showcase cannot carry (the last two for the signs
 /// of state changes: "open the middle drawer of the cabinet", "turn on the stove").

@@ -8,7 +8,7 @@
 //!   fork of the episode ([`demo`]).
 //! - [`EpisodeCue::apply`] per camera frame: scene-anchored cues are projected from the current
 //!   state through the frame's camera ([`CameraProjector`]), ghosts are rendered from that
-//!   camera ([`ghost`]), fixed-region cues keep their place.
+//!   camera (`ghost`), fixed-region cues keep their place.
 //! - [`tasks`]: the instance set of the 40 built-in tasks and lookup by instance id.
 //! - [`gallery`]: contact sheets of every variant on real scene frames.
 

@@ -1,11 +1,11 @@
 //! Part I-A: image-based visual cue understanding as multiple-choice questions.
 //!
-//! - [`generate`]: four questions per cue instance (detection, semantic, grounding,
-//!   decision), family-specific wording ([`wording`]), distractors from the scene's objects
+//! - [`generate`](mod@generate): four questions per cue instance (detection, semantic, grounding,
+//!   decision), family-specific wording (`wording`), distractors from the scene's objects
 //!   and fixtures, the answer letter balanced over A–D.
 //! - [`files`]: `questions.jsonl` + PNG images for a VLM, and prediction files back.
 //! - [`extract`]: VLMEvalKit's answer extraction (letter, then option text; refusals are Z).
-//! - [`score`]: accuracy per stage, per family, and full-chain accuracy (FCA).
+//! - [`score`](mod@score): accuracy per stage, per family, and full-chain accuracy (FCA).
 //! - [`answerers`]: the oracle and the text-only (blind) baselines.
 //! - `client` (feature `net`): an OpenAI-compatible chat client (vLLM, SGLang) answering the questions.
 

@@ -74,7 +74,7 @@ pub struct RenderOptions {
     /// pixel centre for odd `k`.
     pub supersample: u32,
     /// Keep what a camera saw of the instances that did not move, and draw only the others in
-    /// its next frame ([`layer`]). Changes no pixel; off, every frame is drawn whole.
+    /// its next frame (the static layer). Changes no pixel; off, every frame is drawn whole.
     pub static_layer: bool,
 }
 

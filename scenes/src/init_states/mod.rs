@@ -13,7 +13,7 @@
 //!   [`apply`] puts one into a [`Sim`].
 //! - [`check`]: what the shipped states are judged by (init atoms after LIBERO's 10 wait steps,
 //!   support, drift under a zero action).
-//! - [`parse`] / [`write`]: the JSON format.
+//! - [`parse`] / [`write`](fn@write): the JSON format.
 
 mod articulation;
 mod check;

@@ -177,7 +177,7 @@ if s is not None and s.origin:
 print(json.dumps(out))
 "#;
 
-/// Runs [`PROBE`] with the interpreter `python`.
+/// Runs the discovery's Python probe (`PROBE`) with the interpreter `python`.
 pub fn ask_interpreter(python: &OsStr) -> PythonFound {
     let problem = |p: String| PythonFound { problems: vec![p], ..PythonFound::default() };
     let name = python.to_string_lossy();

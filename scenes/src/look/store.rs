@@ -379,8 +379,9 @@ impl Look {
         &self.report
     }
 
-    /// Content hash of the files read (16 hex digits over [`DRAWING`] and the upstream path and
-    /// blob hash of each), empty when nothing was read.
+    /// Content hash of the files read (16 hex digits over `DRAWING`, the list of drawing
+    /// changes that alter pixels, and the upstream path and blob hash of each file), empty when
+    /// nothing was read.
     pub fn hash(&self) -> &str {
         &self.hash
     }

@@ -44,10 +44,10 @@ pub struct ScalingRow {
     /// `ms_per_episode` over the one-thread row's: how much slower each episode ran beside the
     /// others (shared caches, memory, the clock of a fully loaded CPU).
     pub slowdown: f64,
-    /// Wall time of `threads` copies of [`spin`] run together just before the episodes.
+    /// Wall time of `threads` copies of `spin` (a register-only loop) run together just before the episodes.
     pub spin_seconds: f64,
     /// The machine's own speedup at this count: `threads` × the one-thread row's `spin_seconds`
-    /// over this row's. [`spin`] touches nothing but registers, so it is below `threads` only
+    /// over this row's. `spin` touches nothing but registers, so it is below `threads` only
     /// where the CPU runs each core slower with more of them busy (a lower all-core clock,
     /// cores that share hardware under a VM); `speedup / ceiling` is what the runner keeps.
     pub ceiling: f64,

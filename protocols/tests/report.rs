@@ -183,8 +183,14 @@ fn vqa_scores_carry_their_look_and_count_beside_the_episodes() {
     // One look for episodes and scores alike, or two that the report must not mix.
     let plain = record("pi", Protocol::Original, "F1", 0, Outcome::Error { message: String::new() });
     let same = report::looks_with_vqa(std::slice::from_ref(&plain), [("pi", &built_in)]);
-    assert_eq!(same.into_iter().collect::<Vec<_>>(), vec![("built-in".to_string(), vec!["1 episode".to_string(), "VQA scores of pi".to_string()])]);
+    assert_eq!(same.clone().into_iter().collect::<Vec<_>>(), vec![("built-in".to_string(), vec!["1 episode".to_string(), "VQA scores of pi".to_string()])]);
     let mixed = report::looks_with_vqa(&[plain], [("pi", &assets)]);
     assert_eq!(mixed.keys().collect::<Vec<_>>(), ["built-in", "libero-assets:0123"]);
     assert_eq!(mixed["libero-assets:0123"], ["VQA scores of pi"]);
+    // The report refuses them unless the option that allows it is given, and names both.
+    assert_eq!(report::check_looks(&same, false, "--mix-looks"), Ok("built-in (1 episode, VQA scores of pi)".to_string()));
+    let refused = report::check_looks(&mixed, false, "--mix-looks").unwrap_err();
+    assert!(refused.starts_with("the results mix looks: built-in (1 episode); libero-assets:0123 (VQA scores of pi);"), "{refused}");
+    assert!(refused.ends_with("pass --mix-looks)"), "{refused}");
+    assert_eq!(report::check_looks(&mixed, true, "--mix-looks"), Ok("built-in (1 episode); libero-assets:0123 (VQA scores of pi)".to_string()));
 }

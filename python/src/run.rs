@@ -182,13 +182,7 @@ pub fn write_report(paths: Vec<PathBuf>, out: PathBuf, mix_looks: bool) -> PyRes
         records.extend(read_records(path).map_err(run_err)?.records);
     }
     // As `vifo report`: rows drawn with different looks are not comparable.
-    let looks = report::looks_with_vqa(&records, std::iter::empty());
-    if looks.len() > 1 && !mix_looks {
-        let listed = looks.iter().map(|(l, what)| format!("{l} ({})", what.join(", "))).collect::<Vec<_>>().join("; ");
-        return Err(PyValueError::new_err(format!(
-            "the results mix looks: {listed}; their numbers are not comparable (report them separately, or pass mix_looks=True)"
-        )));
-    }
+    report::check_looks(&report::looks_with_vqa(&records, std::iter::empty()), mix_looks, "mix_looks=True").map_err(PyValueError::new_err)?;
     let report = report::build(&records, &Default::default());
     report.write(&out).map_err(|e| PyRuntimeError::new_err(format!("{}: {e}", out.display())))
 }

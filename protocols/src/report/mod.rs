@@ -146,6 +146,17 @@ pub fn looks_with_vqa<'a>(records: &[EpisodeRecord], vqa: impl IntoIterator<Item
     out
 }
 
+/// The looks of [`looks_with_vqa`] as one line (`label (what, ...); ...`), and an error when
+/// there are several and `mix` is not set: rows drawn with different looks are not comparable.
+/// `allow` names the option that allows it (`--mix-looks`, `mix_looks=True`).
+pub fn check_looks(looks: &BTreeMap<String, Vec<String>>, mix: bool, allow: &str) -> Result<String, String> {
+    let listed = looks.iter().map(|(l, what)| format!("{l} ({})", what.join(", "))).collect::<Vec<_>>().join("; ");
+    if looks.len() > 1 && !mix {
+        return Err(format!("the results mix looks: {listed}; their numbers are not comparable (report them separately, or pass {allow})"));
+    }
+    Ok(listed)
+}
+
 /// A stored look's name: the built-in look's ([`vifo_scenes::look::BUILT_IN`]) for the empty
 /// label.
 pub fn look_name(look: &str) -> &str {

@@ -57,11 +57,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     });
     let scores = vqa.iter().chain(&vqa_object).map(|(policy, s)| (policy.as_str(), s));
     let looks = report::looks_with_vqa(&records, scores);
-    let listed = looks.iter().map(|(l, what)| format!("{l} ({})", what.join(", "))).collect::<Vec<_>>().join("; ");
-    anyhow::ensure!(
-        looks.len() <= 1 || args.mix_looks,
-        "the results mix looks: {listed}; their numbers are not comparable (report them separately, or pass --mix-looks)"
-    );
+    let listed = report::check_looks(&looks, args.mix_looks, "--mix-looks").map_err(anyhow::Error::msg)?;
     if !looks.is_empty() {
         eprintln!("look: {listed}");
     }

@@ -6,15 +6,16 @@ use std::process::{Command, Stdio};
 /// quietly with the status a closed pipe gives C tools, not with a panic on standard error.
 #[test]
 fn a_closed_output_pipe_ends_vifo_quietly() {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_vifo"))
+    // The reading end is closed before vifo starts, so its first line meets a closed pipe
+    // however the machine schedules the two (its whole listing would fit in a pipe's buffer).
+    let (reader, writer) = std::io::pipe().expect("make a pipe");
+    drop(reader);
+    let out = Command::new(env!("CARGO_BIN_EXE_vifo"))
         .args(["cues", "list", "--ids", "--set", "full"])
-        .stdout(Stdio::piped())
+        .stdout(writer)
         .stderr(Stdio::piped())
-        .spawn()
-        .expect("start vifo");
-    // Closed before vifo has built its instance set, so its first line meets a closed pipe.
-    drop(child.stdout.take());
-    let out = child.wait_with_output().expect("wait for vifo");
+        .output()
+        .expect("run vifo");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(vifo::CLOSED_OUTPUT_STATUS), "stderr: {stderr}");
     assert!(stderr.is_empty(), "vifo printed on a closed pipe: {stderr}");
@@ -90,4 +91,26 @@ fn an_unknown_study_instance_names_ones_the_study_has() {
     assert!(!out.status.success() && stderr.contains("such as libero_spatial/0/F1/caption_bar"), "{stderr}");
     assert!(out.stdout.is_empty(), "{}", String::from_utf8_lossy(&out.stdout));
     assert!(!dir.path().join("run").exists());
+}
+
+/// A run whose policy server is not up keeps its error records and writes its report, but
+/// exits with an error, so that a script does not take it for a result.
+#[test]
+fn a_run_whose_episodes_ended_in_errors_exits_with_an_error_after_its_report() {
+    let dir = tempfile::tempdir().unwrap();
+    // A port that was free a moment ago: nothing listens there.
+    let port = std::net::TcpListener::bind(("127.0.0.1", 0)).unwrap().local_addr().unwrap().port();
+    let url = format!("ws://127.0.0.1:{port}");
+    let out = Command::new(env!("CARGO_BIN_EXE_vifo"))
+        .args(["run", "--builtin-look", "--quiet", "--suite", "libero_goal", "--protocol", "original", "--episodes", "1"])
+        .args(["--policy", &url, "--out"])
+        .arg(dir.path())
+        .output()
+        .expect("run vifo");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("10 episodes ended in errors") && stderr.contains("--resume"), "{stderr}");
+    let results = std::fs::read_to_string(dir.path().join(format!("results-ws___127.0.0.1_{port}.jsonl"))).unwrap();
+    assert_eq!(results.lines().count(), 10, "{results}");
+    let table = std::fs::read_to_string(dir.path().join("report").join("table1.md")).unwrap();
+    assert!(table.contains(&format!("| {url} |")), "{table}");
 }

@@ -7,7 +7,8 @@
 //! they finish (stopping at any time leaves a valid file; `--resume` continues it), and the
 //! tables and charts of all policies in the folder to `OUT/report/`, with a clip of the first
 //! episode of each cue family (`--clips`: of the first policy, all, or none) shown by
-//! `OUT/report/clips.md`.
+//! `OUT/report/clips.md`. When episodes ended in errors (a server down, a malformed reply), the
+//! results and the report are still written and `vifo` then exits with an error that counts them.
 //!
 //! `--study objects|safety|piper|all` runs the paper's extended studies instead (every built-in policy
 //! unless `--policy` names some) into `vifo-run-study/`, with the same results files, resume,
@@ -243,6 +244,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     );
     eprintln!("(stop at any time: the results files stay valid; run again with --resume to continue)");
     let mut results = Vec::new();
+    let mut errors = 0;
     let start = Instant::now();
     let filmed: Vec<&String> = match args.clips {
         Clips::First => policies.iter().take(1).collect(),
@@ -252,7 +254,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for policy in &policies {
         let path = out.join(results_name(policy));
         let clips = filmed.contains(&policy).then(|| out.join("report"));
-        run_policy(policy, &specs, &path, clips.as_deref(), &args)?;
+        errors += run_policy(policy, &specs, &path, clips.as_deref(), &args)?;
         if args.sample.is_some() {
             let filmed_keys = match clips {
                 Some(_) => report::clips::first_episodes(&specs).values().map(|s| s.key()).collect(),
@@ -270,7 +272,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         start.elapsed().as_secs_f64()
     );
     let filmed: Vec<(String, String)> = filmed.into_iter().map(|p| (p.clone(), file_safe(p))).collect();
-    write_report(&out, &results, &specs, &filmed)
+    write_report(&out, &results, &specs, &filmed)?;
+    // A script that runs `vifo run` must not take a run whose server was down for a result.
+    anyhow::ensure!(
+        errors == 0,
+        "{errors} episode{} ended in errors (kept in the results files and counted in the report's errors column): \
+         fix their cause and run again with --resume to retry just those",
+        if errors == 1 { "" } else { "s" }
+    );
+    Ok(())
 }
 
 /// The selection the options describe (defaults: every suite, protocol and family, one episode).
@@ -310,8 +320,8 @@ const CLIP_SIZE: u32 = 128;
 const CLIP_EVERY: usize = 2;
 
 /// Runs every spec with one policy into `path`, filming its first episode of each cue family
-/// into `clips`' report folder, if given.
-fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&Path>, args: &Args) -> anyhow::Result<()> {
+/// into `clips`' report folder, if given. Returns how many episodes ended in errors.
+fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&Path>, args: &Args) -> anyhow::Result<usize> {
     let uses_images = builtin(policy).is_none_or(|p| p.uses_images());
     let render = uses_images || args.render_always;
     let config = EnvConfig {
@@ -375,7 +385,7 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&P
         path.display()
     );
     print_errors(&summary.error_messages);
-    Ok(())
+    Ok(summary.errors)
 }
 
 /// Messages of a policy's error records shown on the console; the results file holds them all.

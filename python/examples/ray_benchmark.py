@@ -5,13 +5,15 @@ then the tables. Without --address it starts a local cluster of --workers CPUs.
     python python/examples/ray_benchmark.py --address auto --policy ws://gpu1:8000 --policy ws://gpu2:8000 --suite all
 
 With --kill-after N it SIGKILLs one busy Ray worker once N episodes are written (the recovery
-check), and prints the missing and duplicate counts either way.
+check), and prints the missing and duplicate counts either way. Like `vifo run`, it exits with an
+error status when episodes ended in errors or are missing (the file and the tables are kept).
 """
 
 import argparse
 import os
 import signal
 import subprocess
+import sys
 import threading
 import time
 
@@ -69,6 +71,8 @@ def main():
     print(f"{s['episodes']} episodes: {s['ran']} run now ({s['errors']} errors), {s['already_done']} already done, "
           f"in {s['seconds']:.1f} s -> {s['output']}")
     print(f"missing: {s['missing']}  duplicates: {s['duplicates']}  failed batches: {s['failed_batches']}")
+    if s["errors"] or s["missing"]:
+        sys.exit(f"{s['errors']} episodes ended in errors and {s['missing']} are missing: fix the cause and run again with --resume")
 
 
 if __name__ == "__main__":

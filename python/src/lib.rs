@@ -37,12 +37,11 @@ fn py_err(e: EnvError) -> PyErr {
     }
 }
 
-/// The protocol called `condition` (`original`, `authorized`, `conflict`, `no_language`).
-fn protocol(condition: &str) -> PyResult<Protocol> {
+/// The protocol called `condition` (`original`, `authorized`, `conflict`, `no_language`),
+/// given as the argument called `arg`.
+fn protocol(condition: &str, arg: &str) -> PyResult<Protocol> {
     Protocol::ALL.into_iter().find(|p| p.name() == condition).ok_or_else(|| {
-        PyValueError::new_err(format!(
-            "language_condition {condition:?}: expected one of original, authorized, conflict, no_language"
-        ))
+        PyValueError::new_err(format!("{arg} {condition:?}: expected one of original, authorized, conflict, no_language"))
     })
 }
 
@@ -50,7 +49,7 @@ fn protocol(condition: &str) -> PyResult<Protocol> {
 /// instance `cue` (required by every condition but `original`, refused by it).
 fn episode_spec(suite: &str, index: usize, condition: &str, cue: Option<&str>, init: usize) -> PyResult<EpisodeSpec> {
     let task = TaskRef { suite: suite.to_string(), index };
-    let protocol = protocol(condition)?;
+    let protocol = protocol(condition, "language_condition")?;
     if let (Protocol::Original, Some(id)) = (protocol, cue) {
         return Err(PyValueError::new_err(format!(
             "cue {id:?} with language_condition original: the original protocol shows no cue (use authorized, conflict or no_language)"
@@ -92,8 +91,8 @@ impl NativeEnv {
     /// `condition` with cue instance `cue`.
     #[new]
     #[pyo3(signature = (suite, index, size, condition = "original", cue = None))]
-    fn new(py: Python<'_>, suite: &str, index: usize, size: u32, condition: &str, cue: Option<String>) -> PyResult<NativeEnv> {
-        check_size(size)?;
+    fn new(py: Python<'_>, suite: &str, index: usize, size: i64, condition: &str, cue: Option<String>) -> PyResult<NativeEnv> {
+        let size = check_size(size)?;
         let spec = episode_spec(suite, index, condition, cue.as_deref(), 0)?;
         let env = look::env(py, EnvConfig { size, order: ImageOrder::BottomUp, cameras: CameraName::ALL.to_vec() })?;
         Ok(NativeEnv { env: Some(env), task: spec.task, condition: condition.to_string(), cue, instruction: spec.instruction })
@@ -144,11 +143,12 @@ impl NativeEnv {
     }
 }
 
-fn check_size(size: u32) -> PyResult<()> {
-    if size == 0 || size > MAX_SIZE {
-        return Err(PyValueError::new_err(format!("camera size {size}: expected 1 to {MAX_SIZE} pixels")));
-    }
-    Ok(())
+/// The camera side `size` (taken signed, so that a negative one is this `ValueError` too).
+#[pyfunction]
+fn check_size(size: i64) -> PyResult<u32> {
+    u32::try_from(size).ok().filter(|s| (1..=MAX_SIZE).contains(s)).ok_or_else(|| {
+        PyValueError::new_err(format!("camera size {size}: expected 1 to {MAX_SIZE} pixels"))
+    })
 }
 
 /// Movable objects: name, position, quaternion (x, y, z, w).
@@ -234,13 +234,13 @@ fn reference_episode<'py>(
     suite: &str,
     index: usize,
     init: usize,
-    size: u32,
+    size: i64,
     actions: Vec<Vec<f64>>,
     upright: bool,
     condition: &str,
     cue: Option<&str>,
 ) -> PyResult<Vec<(Bound<'py, PyDict>, f64, bool)>> {
-    check_size(size)?;
+    let size = check_size(size)?;
     let spec = episode_spec(suite, index, condition, cue, init)?;
     let order = if upright { ImageOrder::Upright } else { ImageOrder::BottomUp };
     let mut env = look::env(py, EnvConfig { size, order, cameras: CameraName::ALL.to_vec() })?;
@@ -257,7 +257,8 @@ fn reference_episode<'py>(
 /// Native steps per second of `steps` steps of `action` with two `size`² cameras, the GIL
 /// released (the Python-overhead baseline of `bench.py`).
 #[pyfunction]
-fn native_steps_per_second(py: Python<'_>, suite: &str, index: usize, size: u32, steps: usize, action: Vec<f64>) -> PyResult<f64> {
+fn native_steps_per_second(py: Python<'_>, suite: &str, index: usize, size: i64, steps: usize, action: Vec<f64>) -> PyResult<f64> {
+    let size = check_size(size)?;
     let task = TaskRef { suite: suite.to_string(), index };
     let spec = specs::spec(&task, Protocol::Original, None, 0, 0).map_err(|e| PyValueError::new_err(e.to_string()))?;
     let mut env = look::env(py, EnvConfig { size, order: ImageOrder::BottomUp, cameras: CameraName::ALL.to_vec() })?;
@@ -283,6 +284,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::record_keys, m)?)?;
     m.add_function(wrap_pyfunction!(run::write_report, m)?)?;
     m.add_function(wrap_pyfunction!(tasks, m)?)?;
+    m.add_function(wrap_pyfunction!(check_size, m)?)?;
     m.add_function(wrap_pyfunction!(cue_instances, m)?)?;
     m.add_function(wrap_pyfunction!(reference_episode, m)?)?;
     m.add_function(wrap_pyfunction!(native_steps_per_second, m)?)?;

@@ -31,7 +31,7 @@ struct Chosen {
 static CHOSEN: Mutex<Option<Chosen>> = Mutex::new(None);
 
 /// Chooses the look for `key` (loading LIBERO's files: seconds, once) unless this process
-/// already has one; asking again for the same is fine, for another one an error. Returns the
+/// already has one; asking again for the same look is fine, for another one an error. Returns the
 /// look's label (`built-in` or `libero-assets:<hash>`). The GIL stays held while the lock is,
 /// and no Python runs under the lock (a write to `sys.stderr` may let another thread take the
 /// GIL, which then waits for the lock), so two threads cannot both load nor block each other.
@@ -53,7 +53,8 @@ pub fn choose(py: Python<'_>, key: LookKey, quiet: bool) -> PyResult<String> {
 fn choose_locked(key: LookKey, python: &OsStr) -> PyResult<(String, Vec<String>)> {
     let mut chosen = CHOSEN.lock().unwrap_or_else(|e| e.into_inner());
     if let Some(c) = chosen.as_ref() {
-        if c.key == key {
+        // The same request, or builtin=True where the default search found no asset files.
+        if c.key == key || (key.builtin && c.label == look::BUILT_IN) {
             return Ok((c.label.clone(), Vec::new()));
         }
         return Err(PyRuntimeError::new_err(format!(

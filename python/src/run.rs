@@ -46,7 +46,7 @@ pub fn episode_specs(
     selection.set = parse_set(set)?;
     selection.suites = suites;
     if !protocols.is_empty() && !protocols.iter().any(|p| p == "all") {
-        selection.protocols = protocols.iter().map(|p| crate::protocol(p)).collect::<PyResult<_>>()?;
+        selection.protocols = protocols.iter().map(|p| crate::protocol(p, "protocol")).collect::<PyResult<_>>()?;
     }
     selection.families = families
         .iter()
@@ -89,14 +89,14 @@ pub fn run_specs(
     set: &str,
     threads: usize,
     resume: bool,
-    size: u32,
+    size: i64,
     quiet: bool,
     assets: Option<PathBuf>,
     robot_assets: Option<PathBuf>,
     builtin_look: bool,
 ) -> PyResult<(usize, usize, usize)> {
     check_policy(policy)?;
-    crate::check_size(size)?;
+    let size = crate::check_size(size)?;
     let specs: Vec<EpisodeSpec> =
         specs.iter().map(|s| serde_json::from_str(s).map_err(|e| value_err(format!("episode spec: {e}")))).collect::<PyResult<_>>()?;
     let render = builtin(policy).is_none_or(|p| p.uses_images());

@@ -37,8 +37,8 @@ impl NativeVectorEnv {
     /// `episodes`: one (suite, index, condition, cue) per sub-env; upright `size`² images;
     /// `threads` worker threads (at most one per env).
     #[new]
-    fn new(py: Python<'_>, episodes: Vec<Episode>, size: u32, threads: usize) -> PyResult<NativeVectorEnv> {
-        check_size(size)?;
+    fn new(py: Python<'_>, episodes: Vec<Episode>, size: i64, threads: usize) -> PyResult<NativeVectorEnv> {
+        let size = check_size(size)?;
         if episodes.is_empty() {
             return Err(PyValueError::new_err("a vector env needs at least one episode"));
         }

@@ -118,10 +118,20 @@ def test_wrong_arguments_raise_clear_exceptions():
         LiberoVifoEnv("libero_goal", 0, size=16, cue="libero_goal/0/F9/nothing")
     with pytest.raises(ValueError, match="needs cue="):
         LiberoVifoVectorEnv(suite="libero_goal", task=0, size=16, language_condition="conflict")
+    with pytest.raises(ValueError, match="threads -1: expected 0 or more"):
+        LiberoVifoVectorEnv(suite="libero_goal", task=0, size=16, threads=-1)
+    with pytest.raises(ValueError, match="camera size -16"):
+        LiberoVifoEnv("libero_goal", 0, size=-16)
     env = LiberoVifoEnv("libero_goal", 0, size=16)
     env.reset(options={"init_state": 0})
     with pytest.raises(ValueError, match="not finite|NaN"):
         env.step(np.array([0, 0, 0, 0, 0, 0, np.nan]))
+    with pytest.raises(ValueError, match="init_state -1: expected 0 or more"):
+        env.reset(options={"init_state": -1})
+    for silently_converted_before in ("3", 3.9):
+        with pytest.raises(TypeError, match="init_state: expected an integer"):
+            env.reset(options={"init_state": silently_converted_before})
+    assert env.reset(options={"init_state": np.int64(3)})[1]["init_state"] == 3
     env.close()
     with pytest.raises(RuntimeError, match="closed"):
         env.step(np.zeros(7))
@@ -129,6 +139,10 @@ def test_wrong_arguments_raise_clear_exceptions():
     vec.reset(options={"init_state": 0})
     with pytest.raises(ValueError, match="initial state 50"):
         vec.reset(options={"init_state": [0, 50]})
+    with pytest.raises(ValueError, match="init_state -1: expected 0 or more"):
+        vec.reset(options={"init_state": [0, -1]})
+    with pytest.raises(ValueError, match=r"actions of shape \(3, 7\): expected \(2, 7\)"):
+        vec.step(np.zeros((3, 7)))
     vec.close()
     with pytest.raises(RuntimeError, match="closed"):
         vec.step(np.zeros((2, 7)))

@@ -3,7 +3,9 @@ the episode equal to the Rust env's bit for bit, and clear exceptions for wrong 
 
 import importlib.metadata
 import math
+import os
 import pathlib
+import pickle
 import re
 import threading
 
@@ -41,6 +43,28 @@ def test_the_four_suites_and_their_tasks():
         d["libero_goal"]().get_task(10)
     with pytest.raises(KeyError, match="unknown LIBERO path"):
         get_libero_path("nope")
+
+
+def test_the_rest_of_libero_s_benchmark_api_and_its_index_types():
+    suite = benchmark.get_benchmark_dict()["libero_goal"]()
+    # Task ids sharded with numpy (np.array_split) are numpy integers, which LIBERO's lists take.
+    assert suite.get_task(np.int64(3)) == suite.get_task(3)
+    assert suite.get_task_init_states(np.int32(3)) == suite.get_task_init_states(3)
+    for bad in ("3", 3.0, True):
+        with pytest.raises(TypeError, match="task: expected an integer"):
+            suite.get_task(bad)
+    with pytest.raises(ValueError, match="task -1: expected 0 or more"):
+        suite.get_task(-1)
+    assert suite.get_task_bddl_file_path(0) == os.path.join(get_libero_path("bddl_files"), "libero_goal", suite.get_task(0).bddl_file)
+    assert make_env(size=16).language_instruction == suite.get_task(0).language
+    assert suite.get_task_bddl_files() == [suite.get_task(i).bddl_file for i in range(10)]
+    assert len(suite.get_task_problems()) == 10
+    assert suite.get_task_demonstration(2) == f"libero_goal/{suite.get_task(2).name}_demo.hdf5"
+    suite.set_task_embs(["e0", "e1"])
+    assert suite.get_task_emb(1) == "e1"
+    # Suites pickle with the standard pickle (multiprocessing), as LIBERO's module-level classes do.
+    again = pickle.loads(pickle.dumps(suite))
+    assert type(again) is type(suite) and again.get_task(0) == suite.get_task(0)
 
 
 def test_observation_keys_dtypes_shapes():
@@ -143,6 +167,21 @@ def test_images_are_bottom_up_as_robosuite_returns_them():
         assert np.array_equal(upright[key][::-1], obs[key]), key
 
 
+def test_done_is_success_only_as_in_libero():
+    """openpi's and OpenVLA's loops take the budget's last step and count a ``done`` as a
+    success: the end of the budget must not read as ``done``."""
+    suite = benchmark.get_benchmark_dict()["libero_goal"]()
+    env = make_env(size=16)
+    env.reset()
+    env.set_init_state(suite.get_task_init_states(0)[0])
+    steps = suite.get_max_steps() + 10
+    for t in range(steps):
+        _, reward, done, _ = env.step(DUMMY)
+        assert (reward, done, env.check_success()) == (0.0, False, False), t
+    with pytest.raises(RuntimeError, match=f"episode is over \\({steps} steps\\)"):
+        env.step(DUMMY)
+
+
 @pytest.mark.parametrize(
     "action, match",
     [
@@ -150,6 +189,8 @@ def test_images_are_bottom_up_as_robosuite_returns_them():
         ([0.0] * 8, "length|7"),
         ([0.0] * 6 + [math.nan], "gripper|NaN|finite"),
         ([math.inf] + [0.0] * 6, "finite|inf"),
+        (np.zeros((1, 7)), r"shape \(1, 7\): expected \(7,\)"),
+        (np.zeros((7, 1)), r"shape \(7, 1\): expected \(7,\)"),
     ],
 )
 def test_bad_actions_raise_value_error_and_change_nothing(action, match):
@@ -172,6 +213,10 @@ def test_wrong_arguments_raise_clear_exceptions():
         make_env().__class__(bddl_file_name="x.bddl", camera_heights=64, camera_widths=32)
     with pytest.raises(ValueError, match="camera size"):
         _native.NativeEnv("libero_goal", 0, 0)
+    with pytest.raises(ValueError, match="camera_heights -5: expected 0 or more"):
+        make_env(size=-5)
+    with pytest.raises(TypeError, match="real numbers"):
+        make_env(size=16).step(np.zeros(7, dtype=complex))
     with pytest.raises(ValueError, match="unknown task"):
         _native.NativeEnv("libero_goal", 42, 64)
     env = make_env()
@@ -184,6 +229,8 @@ def test_wrong_arguments_raise_clear_exceptions():
         env.set_init_state(np.zeros(10))
     with pytest.raises(ValueError, match="initial state 50"):
         _native.NativeEnv("libero_goal", 0, 16).reset(50)
+    with pytest.raises(ValueError, match="init_state.index -1: expected 0 or more"):
+        env.set_init_state(benchmark.InitState("libero_goal", 0, -1))
     env.reset()
     env.close()
     for call in (env.reset, lambda: env.step(DUMMY), env.check_success, env.get_sim_state):

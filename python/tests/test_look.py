@@ -82,6 +82,22 @@ def installed_assets():
     return (pro[0], robot) if pro and robot else None
 
 
+def test_builtin_true_is_accepted_after_the_default_search_chose_the_builtin_look():
+    code = ENV + """
+first = libero_vifo.look_info()
+try:
+    again = libero_vifo.use_look(builtin=True)
+except RuntimeError as e:
+    again = str(e)
+print(json.dumps(dict(first=first["look"], again=again)))
+"""
+    out, _ = run(code)
+    if out["first"] != "built-in":
+        print(f"SKIPPED: this interpreter's packages hold LIBERO's asset files ({out['first']})")
+        pytest.skip("the default search found asset files here")
+    assert out["again"] == "built-in"
+
+
 def test_libero_assets_found_through_the_environment_variable_change_the_images_and_their_label(tmp_path):
     found = installed_assets()
     if found is None:

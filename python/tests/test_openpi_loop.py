@@ -47,5 +47,11 @@ def test_openpi_main_runs_a_suite_against_the_scripted_server(tmp_path):
     assert first["observation/image"] == {"shape": [224, 224, 3], "dtype": "|u1"}
     assert first["observation/wrist_image"] == {"shape": [224, 224, 3], "dtype": "|u1"}
     assert first["observation/state"] == {"shape": [8], "dtype": "<f8"}
+    # The scripted actions (the state plus small offsets) finish no task: every episode runs
+    # its whole budget (220 steps, a request per 5) and the loop, which counts a `done` as a
+    # success, must count none (the end of the budget is not `done`, as in LIBERO).
+    assert len(requests) == 10 * 220 // 5
+    assert "# successes: 0 (0.0%)" in run.stderr and "Total success rate: 0.0" in run.stderr, run.stderr[-3000:]
+    assert len(list(videos.glob("rollout_*_failure.mp4"))) == 10
     print(f"openpi loop: {len(requests)} requests over 10 tasks; "
           f"{run.stderr.count('Caught exception')} episodes ended by an exception")

@@ -56,6 +56,14 @@ def test_a_ray_run_gives_vifo_runs_table_and_file(cluster, tmp_path):
         run_benchmark(SELECTION, "expert-cue", output=out)
     with pytest.raises(ValueError, match="unknown policy"):
         run_benchmark(SELECTION, "nope", output=tmp_path / "x.jsonl")
+    # Checked before any batch starts, each naming its argument.
+    with pytest.raises(ValueError, match="camera size 0"):
+        run_benchmark(SELECTION, "zero", output=tmp_path / "y.jsonl", size=0)
+    with pytest.raises(ValueError, match=r"selection\['episodes'\] -1: expected 0 or more"):
+        run_benchmark({**SELECTION, "episodes": -1}, "zero", output=tmp_path / "y.jsonl")
+    with pytest.raises(ValueError, match='protocol "foo"'):
+        run_benchmark({**SELECTION, "protocols": ["foo"]}, "zero", output=tmp_path / "y.jsonl")
+    assert not (tmp_path / "y.jsonl").exists()
 
 
 def test_a_server_that_is_not_up_gives_error_records_and_says_why(cluster, tmp_path):

@@ -25,6 +25,8 @@ from gymnasium import spaces
 from gymnasium.vector.utils import batch_space
 
 from . import _native
+from ._args import action as _action
+from ._args import index
 from .libero.benchmark import _TASKS
 
 __all__ = ["LiberoVifoEnv", "LiberoVifoVectorEnv"]
@@ -91,17 +93,14 @@ class LiberoVifoEnv(gymnasium.Env):
     def reset(self, *, seed=None, options=None):
         super().reset(seed=seed)
         options = options or {}
-        init = int(options.get("init_state", self.np_random.integers(self._info["init_states"])))
+        init = index(options.get("init_state", self.np_random.integers(self._info["init_states"])), "init_state")
         obs = self._env.reset(init)
         for _ in range(_SETTLE_STEPS):
             obs, _, _ = self._env.step(_DUMMY)
         return self._observe(obs), {"init_state": init, "language": self.language_instruction}
 
     def step(self, action):
-        action = np.asarray(action, dtype=np.float64)
-        if action.shape != (7,):
-            raise ValueError(f"action of shape {action.shape}: expected (7,)")
-        obs, reward, done = self._env.step(action.tolist())
+        obs, reward, done = self._env.step(_action(action, (7,)).tolist())
         success = self._env.check_success()
         return self._observe(obs), reward, success, done and not success, {"success": success}
 
@@ -137,10 +136,11 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
         for e in episodes:
             s, t, condition, c = (tuple(e) + (None, None))[:4]
             _task_info(s, t)
-            rows.append((s, int(t), _resolve_condition(c, condition), c))
+            rows.append((s, index(t, "task"), _resolve_condition(c, condition), c))
         self.num_envs = len(rows)
         self._counts = [_task_info(s, t)["init_states"] for s, t, _, _ in rows]
-        self._env = _native.NativeVectorEnv(rows, size, threads or self.num_envs)
+        threads = self.num_envs if threads is None else index(threads, "threads")
+        self._env = _native.NativeVectorEnv(rows, size, threads)
         self.language_instructions = self._env.instructions()
         self.single_observation_space = _observation_space(size)
         self.single_action_space = spaces.Box(-1.0, 1.0, (7,), np.float32)
@@ -157,9 +157,9 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
         if init is None:
             inits = [self._draw(k) for k in range(self.num_envs)]
         elif np.ndim(init) == 0:
-            inits = [int(init)] * self.num_envs
+            inits = [index(init, "init_state")] * self.num_envs
         else:
-            inits = [int(i) for i in init]
+            inits = [index(i, "init_state") for i in init]
         obs = self._env.reset(inits)
         self._autoreset[:] = False
         return obs, {"init_state": np.array(inits), "_init_state": np.ones(self.num_envs, dtype=bool)}
@@ -167,9 +167,7 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
     def step(self, actions):
         if self.closed:
             raise RuntimeError("the vector env is closed")
-        actions = np.ascontiguousarray(actions, dtype=np.float64)
-        if actions.shape != (self.num_envs, 7):
-            raise ValueError(f"actions of shape {actions.shape}: expected ({self.num_envs}, 7)")
+        actions = _action(actions, (self.num_envs, 7))
         resets = [self._draw(k) if self._autoreset[k] else None for k in range(self.num_envs)]
         obs, rewards, terminated, truncated = self._env.step(actions, resets)
         terminated, truncated = np.array(terminated), np.array(truncated)

@@ -23,6 +23,7 @@ import time
 import ray
 
 from . import _native
+from ._args import index
 
 __all__ = ["run_benchmark"]
 
@@ -97,6 +98,10 @@ def run_benchmark(
     unknown = set(selection) - {"suites", "protocols", "families", "per_family", "episodes"}
     if unknown:
         raise ValueError(f"selection: unknown keys {sorted(unknown)} (expected set, suites, protocols, families, per_family, episodes)")
+    for key in ("per_family", "episodes"):
+        if selection.get(key) is not None:
+            selection[key] = index(selection[key], f"selection[{key!r}]")
+    _native.check_size(size)
     servers = list(policy) if isinstance(policy, (list, tuple)) else [policy]
     if not servers or not all(isinstance(p, str) for p in servers):
         raise TypeError("policy: expected a built-in policy name, a ws:// URL or a list of ws:// URLs")
@@ -142,7 +147,10 @@ def run_benchmark(
                     records = ray.get(ref)
                 except ray.exceptions.RayError as e:
                     failed += 1
-                    print(f"libero_vifo.ray: a batch of {len(batch)} episodes failed after {max_retries} retries: {e}")
+                    # An exception raised by the batch's code is not retried (retry_exceptions=False);
+                    # a worker that died is, max_retries times.
+                    why = "failed" if isinstance(e, ray.exceptions.RayTaskError) else f"failed after {max_retries} retries"
+                    print(f"libero_vifo.ray: a batch of {len(batch)} episodes {why}: {e}")
                     continue
                 records = [(key, line, json.loads(line)) for key, line in records]
                 looks = {record.get("look", "") for _, _, record in records}

@@ -1,8 +1,10 @@
 """Drop-in for ``libero.libero.benchmark``: the four VLA suites and their tasks."""
 
+import os
 from collections import namedtuple
 
 from .. import _native
+from .._args import index
 
 Task = namedtuple("Task", ["name", "language", "problem", "problem_folder", "bddl_file", "init_states_file"])
 """LIBERO's task record. ``language`` is the instruction evaluations feed the policy."""
@@ -24,12 +26,15 @@ class Benchmark:
     def __init__(self, task_order_index=0):
         if task_order_index != 0:
             raise ValueError(f"task_order_index {task_order_index}: only LIBERO's default order 0 exists here")
+        self.task_order_index = task_order_index
+        self.task_embs = None
         self._tasks = [t for t in _TASKS if t["suite"] == self.name]
         self.n_tasks = len(self._tasks)
 
     def _task(self, i):
-        if not isinstance(i, int) or not 0 <= i < self.n_tasks:
-            raise IndexError(f"task {i!r}: {self.name} has tasks 0 to {self.n_tasks - 1}")
+        i = index(i, "task")
+        if i >= self.n_tasks:
+            raise IndexError(f"task {i}: {self.name} has tasks 0 to {self.n_tasks - 1}")
         return self._tasks[i]
 
     def get_task(self, i):
@@ -39,9 +44,33 @@ class Benchmark:
     def get_task_names(self):
         return [t["name"] for t in self._tasks]
 
+    def get_task_problems(self):
+        return [self.get_task(i).problem for i in range(self.n_tasks)]
+
+    def get_task_bddl_files(self):
+        return [self.get_task(i).bddl_file for i in range(self.n_tasks)]
+
+    def get_task_bddl_file_path(self, i):
+        """The path ``OffScreenRenderEnv(bddl_file_name=...)`` takes (no file is read)."""
+        from . import get_libero_path  # here: the package imports this module before defining it
+
+        task = self.get_task(i)
+        return os.path.join(get_libero_path("bddl_files"), task.problem_folder, task.bddl_file)
+
+    def get_task_demonstration(self, i):
+        """LIBERO's demonstration path, relative to its datasets folder (none ship here)."""
+        task = self.get_task(i)
+        return f"{task.problem_folder}/{task.name}_demo.hdf5"
+
     def get_task_init_states(self, i):
         t = self._task(i)
-        return [InitState(self.name, i, k) for k in range(t["init_states"])]
+        return [InitState(self.name, t["index"], k) for k in range(t["init_states"])]
+
+    def get_task_emb(self, i):
+        return self.task_embs[i]
+
+    def set_task_embs(self, task_embs):
+        self.task_embs = task_embs
 
     def get_num_tasks(self):
         return self.n_tasks
@@ -52,7 +81,10 @@ class Benchmark:
 
 
 def _suite_class(suite):
-    return type(suite.upper(), (Benchmark,), {"name": suite})
+    # A module global of its own name, as LIBERO's classes are, so that pickle finds it.
+    cls = type(suite.upper(), (Benchmark,), {"name": suite, "__module__": __name__})
+    globals()[cls.__name__] = cls
+    return cls
 
 
 BENCHMARK_MAPPING = {s: _suite_class(s) for s in SUITES}

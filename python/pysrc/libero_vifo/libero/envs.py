@@ -19,6 +19,7 @@ Differences from LIBERO, all on purpose:
 import os
 
 from .. import _native
+from .._args import action as _action, index
 from .benchmark import InitState, _TASKS
 
 __all__ = ["OffScreenRenderEnv"]
@@ -56,7 +57,8 @@ class OffScreenRenderEnv:
             language_condition = "original" if cue is None else "authorized"
         if language_condition != "original" and cue is None:
             raise ValueError(f"language_condition {language_condition!r} needs cue=<instance id> (libero_vifo.cue_instances() lists them)")
-        self._env = _native.NativeEnv(self._task["suite"], self._task["index"], int(camera_heights), language_condition, cue)
+        size = index(camera_heights, "camera_heights")
+        self._env = _native.NativeEnv(self._task["suite"], self._task["index"], size, language_condition, cue)
         self._seed = None
         self.cue = cue
         self.language_condition = language_condition
@@ -78,12 +80,13 @@ class OffScreenRenderEnv:
                 f"set_init_state: state of {init_state.suite}/{init_state.task_index}, "
                 f"this env runs {self._task['suite']}/{self._task['index']}"
             )
-        return self._env.reset(init_state.index)
+        return self._env.reset(index(init_state.index, "init_state.index"))
 
     def step(self, action):
-        """LIBERO's 4-tuple: obs, reward (1.0 once the task is done), done, info."""
-        obs, reward, done = self._env.step(action)
-        return obs, reward, done, {}
+        """LIBERO's 4-tuple: obs, reward (1.0 once the task is done), done (the task is
+        done: LIBERO's ``_check_success()``, not the end of the budget), info."""
+        obs, reward, _ = self._env.step(_action(action, (7,)).tolist())
+        return obs, reward, self._env.check_success(), {}
 
     def check_success(self):
         return self._env.check_success()

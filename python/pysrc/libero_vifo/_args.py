@@ -1,0 +1,33 @@
+"""Argument checks shared by the LIBERO drop-in, the gymnasium envs and the Ray runner, so a
+wrong value raises ``TypeError`` or ``ValueError`` naming the argument, never an
+``OverflowError`` from the Rust side or a silent conversion."""
+
+import operator
+
+import numpy as np
+
+
+def index(value, name):
+    """``value`` as a non-negative ``int``: Python and numpy integers pass (LIBERO indexes
+    lists, which take anything with ``__index__``); ``"3"``, ``3.9`` and ``True`` do not."""
+    if isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{name}: expected an integer, got {value!r}")
+    try:
+        i = operator.index(value)
+    except TypeError:
+        raise TypeError(f"{name}: expected an integer, got {type(value).__name__} {value!r}") from None
+    if i < 0:
+        raise ValueError(f"{name} {i}: expected 0 or more")
+    return i
+
+
+def action(value, shape):
+    """``value`` as a float64 array of ``shape`` (one action ``(7,)`` or a batch ``(N, 7)``)."""
+    a = np.asarray(value)
+    if a.dtype.kind not in "biuf":
+        raise TypeError(f"action of dtype {a.dtype}: expected real numbers")
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    if a.shape != shape:
+        name = "action" if len(shape) == 1 else "actions"
+        raise ValueError(f"{name} of shape {a.shape}: expected {shape}")
+    return a

@@ -213,12 +213,18 @@ fn answers_are_fetched_retried_resumed_and_scored() {
     assert_eq!((s.fca.correct, s.fca.total), (3, 4));
     assert_eq!(s.stages[&Stage::Detection].total, 4);
 
-    // A second run asks only what is still missing.
+    // A second run asks only what is still missing: the two that failed, and the last answer,
+    // whose line a kill cut off mid-write. Its new lines start on a line of their own (they
+    // were once glued to the cut bytes, which broke the file for every later reader).
+    let text = std::fs::read_to_string(&out).unwrap();
+    std::fs::write(&out, &text[..text.len() - 10]).unwrap();
     let before = server.requests.load(Ordering::SeqCst);
     let again = ChatClient::new(ClientConfig { model: Some("fake-vlm".into()), ..config(&server.endpoint()) }).unwrap();
     let summary = again.answer_all(&dir, &qs, &out).unwrap();
-    assert_eq!(summary.skipped, qs.len() - 2);
-    assert_eq!(server.requests.load(Ordering::SeqCst) - before, 3 + 3);
+    assert_eq!((summary.skipped, summary.answered), (qs.len() - 3, 1));
+    assert_eq!(server.requests.load(Ordering::SeqCst) - before, 1 + 3 + 3);
+    let (predictions, cut) = read_predictions(&out).unwrap();
+    assert_eq!((predictions.len(), cut), (qs.len() - 2, 0));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -18,7 +18,7 @@ use std::time::Duration;
 use base64::Engine;
 use serde_json::{Value, json};
 
-use super::files::{append_predictions, read_predictions};
+use super::files::{append_predictions, resume_predictions};
 use super::{LETTERS, Prediction, Question, VqaError};
 use crate::runner::{lock, progress_bar};
 
@@ -176,7 +176,7 @@ impl ChatClient {
     /// Answers every question of an export folder not yet in `out`, appending as it goes.
     pub fn answer_all(&self, dir: &Path, questions: &[Question], out: &Path) -> Result<AnswerSummary, VqaError> {
         let done: BTreeSet<String> =
-            if out.exists() { read_predictions(out)?.0.into_keys().collect() } else { BTreeSet::new() };
+            if out.exists() { resume_predictions(out)?.into_keys().collect() } else { BTreeSet::new() };
         let todo: Vec<&Question> = questions.iter().filter(|q| !done.contains(&q.id)).collect();
         let summary = Mutex::new(AnswerSummary { skipped: questions.len() - todo.len(), ..AnswerSummary::default() });
         let write_error: Mutex<Option<VqaError>> = Mutex::new(None);

@@ -6,7 +6,7 @@
 
 use std::collections::BTreeMap;
 use std::fs::OpenOptions;
-use std::io::Write;
+use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::Path;
 
 use serde::de::DeserializeOwned;
@@ -78,6 +78,25 @@ pub fn read_predictions(path: &Path) -> Result<(BTreeMap<String, String>, usize)
     Ok((lines.into_iter().map(|p| (p.id, p.prediction)).collect(), cut))
 }
 
+/// Reads a predictions file to be appended to (`vqa answer` resuming): a cut-off last line is
+/// removed and a complete one without its newline gets one, so the next line starts clean
+/// instead of being glued to it (which would corrupt the file for every later reader).
+pub fn resume_predictions(path: &Path) -> Result<BTreeMap<String, String>, VqaError> {
+    let (map, cut) = read_predictions(path)?;
+    let len = std::fs::metadata(path).map_err(|e| VqaError::io(path, e))?.len();
+    let mut file = OpenOptions::new().read(true).write(true).open(path).map_err(|e| VqaError::io(path, e))?;
+    if cut > 0 {
+        file.set_len(len - cut as u64).map_err(|e| VqaError::io(path, e))?;
+    } else if len > 0 {
+        let mut last = [0u8];
+        file.seek(SeekFrom::End(-1)).and_then(|_| file.read_exact(&mut last)).map_err(|e| VqaError::io(path, e))?;
+        if last[0] != b'\n' {
+            file.seek(SeekFrom::End(0)).and_then(|_| file.write_all(b"\n")).map_err(|e| VqaError::io(path, e))?;
+        }
+    }
+    Ok(map)
+}
+
 /// Appends predictions, one line per write (safe to stop at any time).
 pub fn append_predictions(path: &Path, predictions: &[Prediction]) -> Result<(), VqaError> {
     let mut file = OpenOptions::new().create(true).append(true).open(path).map_err(|e| VqaError::io(path, e))?;
@@ -138,6 +157,23 @@ mod tests {
             .unwrap();
         let err = read_predictions(&path).unwrap_err().to_string();
         assert!(err.contains("p.jsonl:2:") && err.contains("\"prediction\""), "{err}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn a_resumed_predictions_file_takes_new_lines_after_a_cut_or_unterminated_last_line() {
+        let dir = std::env::temp_dir().join(format!("vifo-vqa-resume-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("p.jsonl");
+        let a = "{\"id\":\"a\",\"prediction\":\"B\"}";
+        let c = Prediction { id: "c".into(), prediction: "D".into() };
+        for (before, kept) in [(format!("{a}\n{{\"id\":\"b\",\"pre"), 1), (a.to_string(), 1), (format!("{a}\n"), 1), (String::new(), 0)] {
+            std::fs::write(&path, &before).unwrap();
+            assert_eq!(resume_predictions(&path).unwrap().len(), kept, "{before:?}");
+            append_predictions(&path, std::slice::from_ref(&c)).unwrap();
+            let (map, cut) = read_predictions(&path).unwrap();
+            assert_eq!((map.len(), map["c"].as_str(), cut), (kept + 1, "D", 0), "{before:?}");
+        }
         let _ = std::fs::remove_dir_all(&dir);
     }
 

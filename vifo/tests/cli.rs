@@ -114,3 +114,30 @@ fn a_run_whose_episodes_ended_in_errors_exits_with_an_error_after_its_report() {
     let table = std::fs::read_to_string(dir.path().join("report").join("table1.md")).unwrap();
     assert!(table.contains(&format!("| {url} |")), "{table}");
 }
+
+/// Counts and selections that would run nothing, server options given to built-in policies
+/// and an unknown gallery task are refused before anything is written (each once ran nothing,
+/// ignored the option or drew another task, and exited 0).
+#[test]
+fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let out_arg = out.to_str().unwrap();
+    let goal_zero = ["run", "--suite", "libero_goal", "--protocol", "original", "--policy", "zero", "--out", out_arg];
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        ([&goal_zero[..], &["--episodes", "0"]].concat(), "'--episodes <EPISODES>': expected 1 or more"),
+        ([&goal_zero[..], &["--sample", "0"]].concat(), "'--sample <SAMPLE>': expected 1 or more"),
+        (vec!["run", "--protocol", "authorized", "--policy", "zero", "--per-family", "0", "--out", out_arg], "'--per-family <PER_FAMILY>': expected 1 or more"),
+        (vec!["run", "--study", "objects", "--protocol", "original", "--policy", "zero", "--out", out_arg], "the selection has no episodes"),
+        ([&goal_zero[..], &["--model-profile", "pi05"]].concat(), "say how to talk to a policy server; zero is built-in"),
+        (vec!["bench", "physics", "--steps", "0"], "expected 1 or more"),
+        (vec!["init-states", "generate", "--suite", "libero_goal", "--states", "0", "--out", out_arg], "expected 1 or more"),
+        (vec!["cues", "gallery", "--task", "libero_goal/99", "-o", out_arg], "task 'libero_goal/99': no such task"),
+    ];
+    for (args, says) in cases {
+        let run = Command::new(env!("CARGO_BIN_EXE_vifo")).args(&args).output().expect("run vifo");
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert!(!run.status.success() && stderr.contains(says), "{args:?}: {stderr}");
+        assert!(!out.exists(), "{args:?} wrote {}", out.display());
+    }
+}

@@ -26,18 +26,36 @@ impl GoalAtom {
     }
 }
 
-/// Parses `(On akita_black_bowl_1 plate_1)` (parentheses optional).
+/// Parses `(On akita_black_bowl_1 plate_1)` (parentheses optional, but balanced), with one of
+/// the predicates a goal can link to and its number of arguments.
 impl FromStr for GoalAtom {
     type Err = String;
 
     fn from_str(s: &str) -> Result<GoalAtom, String> {
-        let inner = s.trim().trim_start_matches('(').trim_end_matches(')');
+        let trimmed = s.trim();
+        let one_atom = || format!("goal atom {s:?}: expected one (Predicate arg ...) with nothing before or after it");
+        let inner = match trimmed.strip_prefix('(') {
+            Some(rest) => match rest.find(')') {
+                None => return Err(format!("goal atom {s:?}: a '(' without its closing ')'")),
+                Some(end) if end + 1 == rest.len() => &rest[..end],
+                Some(_) => return Err(one_atom()),
+            },
+            None => trimmed,
+        };
+        if inner.contains(['(', ')']) {
+            return Err(one_atom());
+        }
         let mut words = inner.split_whitespace();
         let predicate =
             words.next().ok_or_else(|| format!("goal atom {s:?}: expected a predicate name, found nothing"))?;
         let args: Vec<String> = words.map(str::to_string).collect();
-        if args.is_empty() {
-            return Err(format!("goal atom {s:?}: expected at least one argument after {predicate:?}"));
+        let arity = match predicate.to_ascii_lowercase().as_str() {
+            "on" | "in" => 2,
+            "open" | "close" | "turnon" | "turnoff" => 1,
+            _ => return Err(format!("goal atom {s:?}: unknown predicate {predicate:?} (expected On, In, Open, Close, TurnOn or TurnOff)")),
+        };
+        if args.len() != arity {
+            return Err(format!("goal atom {s:?}: {predicate} takes {arity} argument{}, found {}", if arity == 1 { "" } else { "s" }, args.len()));
         }
         Ok(GoalAtom { predicate: predicate.to_string(), args })
     }

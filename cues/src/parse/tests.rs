@@ -8,6 +8,23 @@ fn atoms(strings: &[&str]) -> Vec<GoalAtom> {
 }
 
 #[test]
+fn goal_atoms_need_balanced_parentheses_a_known_predicate_and_its_arguments() {
+    assert_eq!("(On akita_black_bowl_1 plate_1)".parse(), Ok(GoalAtom::new("On", &["akita_black_bowl_1", "plate_1"])));
+    assert_eq!(" Open  drawer_1 ".parse(), Ok(GoalAtom::new("Open", &["drawer_1"])));
+    for (bad, why) in [
+        ("(On bowl plate", "without its closing"),
+        ("(On bowl plate))) junk", "nothing before or after"),
+        ("(On bogus)", "On takes 2 arguments, found 1"),
+        ("(Open a b)", "Open takes 1 argument, found 2"),
+        ("(Foo x y)", "unknown predicate \"Foo\""),
+        ("()", "found nothing"),
+    ] {
+        let err = bad.parse::<GoalAtom>().unwrap_err();
+        assert!(err.contains(why), "{bad}: {err}");
+    }
+}
+
+#[test]
 fn names_ground_steps_without_goal_atoms() {
     let mut parsed = parse("put the cream cheese in the bowl").unwrap();
     ground_to_names(&mut parsed.steps, &["plate_1", "akita_black_bowl_1", "cream_cheese_1", "flat_stove_1"]);

@@ -173,8 +173,9 @@ where
     let progress = progress_bar(todo.len() as u64, options.quiet);
     let errors: Mutex<BTreeMap<String, usize>> = Mutex::new(BTreeMap::new());
     let next = AtomicUsize::new(0);
+    // No more workers than episodes: `--threads 3000` on a short list would only add start-up.
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(options.threads)
+        .num_threads(options.threads.min(todo.len().max(1)))
         .build()
         .map_err(|e| RunError::Pool(e.to_string()))?;
     pool.broadcast(|_| {

@@ -90,10 +90,13 @@ pub fn sheet(family: Family, task: &str, size: u32, init: usize) -> Result<Sheet
         why: format!("a {width}x{height} sheet is too large"),
     })?;
     pm.fill(tiny_skia::Color::WHITE);
-    let shown = vifo_scenes::task(
-        task.split_once('/').map_or("", |(s, _)| s),
-        task.split_once('/').and_then(|(_, i)| i.parse().ok()).unwrap_or(usize::MAX),
-    );
+    let shown = task
+        .split_once('/')
+        .and_then(|(suite, i)| vifo_scenes::task(suite, i.parse().ok()?))
+        .ok_or_else(|| SceneCueError::Unsupported {
+            cue: family.to_string(),
+            why: format!("no task {task:?} to show it on (expected <suite>/<index>, e.g. {SHOWCASE})"),
+        })?;
     let mode = match family.insert_mode() {
         InsertMode::SceneAnchored => "scene-anchored",
         InsertMode::FixedRegion => "fixed-region",
@@ -101,10 +104,7 @@ pub fn sheet(family: Family, task: &str, size: u32, init: usize) -> Result<Sheet
     };
     let title = format!("{family} {} ({mode})", family.name());
     heading_line(&mut pm, Face::SansBold, 18.0, &title, 4.0, INK);
-    let subtitle = match shown {
-        Some(t) => format!("{task}: \"{}\" · agentview {size}² · initial state {init}", t.instruction),
-        None => format!("{task} · agentview {size}² · initial state {init}"),
-    };
+    let subtitle = format!("{task}: \"{}\" · agentview {size}² · initial state {init}", shown.instruction);
     heading_line(&mut pm, Face::Sans, 13.0, &subtitle, 26.0, GREY);
 
     let mut renderer = Renderer::default();

@@ -32,9 +32,9 @@ pub enum ShippedError {
     WrongSuite { expected: String, found: String },
     #[error(transparent)]
     Format(#[from] FormatError),
-    #[error("init_states/{suite}.json has no states for task {index} ({name})")]
+    #[error("the {suite} states have none for task {index} ({name})")]
     Missing { suite: String, index: usize, name: String },
-    #[error("init_states/{suite}.json: task {index} {problem}")]
+    #[error("the {suite} states: task {index} {problem}")]
     Mismatch { suite: String, index: usize, problem: String },
 }
 

@@ -147,6 +147,8 @@ fn libero_root(dir: &Path) -> Option<PathBuf> {
 fn not_a_tree(dir: &Path) -> String {
     if dir.is_dir() {
         format!("not a LIBERO asset folder (none of {} inside it, its assets/ or libero/libero/assets)", MARKERS.join(", "))
+    } else if dir.exists() {
+        "a file, not a folder".into()
     } else {
         "no such folder".into()
     }

@@ -22,7 +22,7 @@ pub enum BenchWhat {
     /// Control steps per second (20 Hz steps of 25 physics substeps), one thread.
     Physics {
         /// Control steps to time per configuration.
-        #[arg(long, default_value_t = 400)]
+        #[arg(long, default_value_t = 400, value_parser = super::at_least_one)]
         steps: usize,
     },
     /// Camera frames per second on the full libero_spatial scene through one expert episode (256², one thread).
@@ -32,7 +32,7 @@ pub enum BenchWhat {
         #[arg(long, value_name = "DIR")]
         libero_init: Option<PathBuf>,
         /// Timed passes over the expert's episode (the median is reported).
-        #[arg(long, default_value_t = 5)]
+        #[arg(long, default_value_t = 5, value_parser = super::at_least_one)]
         passes: usize,
         #[command(flatten)]
         look: LookArgs,
@@ -43,7 +43,7 @@ pub enum BenchWhat {
         /// Directory of recordings, e.g. ../shared/xval/libero_reference.
         dir: PathBuf,
         /// Timed episodes per recording and configuration (the median is reported).
-        #[arg(long, default_value_t = 5)]
+        #[arg(long, default_value_t = 5, value_parser = super::at_least_one)]
         repeats: usize,
         #[command(flatten)]
         look: LookArgs,
@@ -59,7 +59,7 @@ pub enum BenchWhat {
         #[arg(long, value_delimiter = ',')]
         threads: Vec<usize>,
         /// Episodes in the sample (the same ones for every thread count).
-        #[arg(long, default_value_t = 24)]
+        #[arg(long, default_value_t = 24, value_parser = super::at_least_one)]
         episodes: usize,
         /// Skip the cameras (the expert reads the simulator; by default both 256² cameras are
         /// rendered after every step, as for an image policy).

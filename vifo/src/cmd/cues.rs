@@ -72,6 +72,7 @@ enum Command {
     /// Composition statistics of an instance set beside the paper's (appendix A): family shares
     /// and what the instances encode; draws both panels of the paper's figure as a PNG.
     Stats {
+        /// paper (the paper's 1,347 instances) or full (every instance the library makes).
         #[arg(long, default_value = "paper", value_parser = super::run::parse_set)]
         set: SetName,
         /// The figure's file.
@@ -146,6 +147,11 @@ fn parse_cmd(instruction: &str, goals: &[String], json: bool) -> anyhow::Result<
     let goals: Vec<GoalAtom> =
         goals.iter().map(|g| g.parse().map_err(anyhow::Error::msg)).collect::<anyhow::Result<_>>()?;
     let parsed = if goals.is_empty() { parse(&instruction)? } else { parse_with_goals(&instruction, &goals)? };
+    for g in &goals {
+        if !parsed.steps.iter().any(|s| s.source_id.as_ref() == g.args.first()) {
+            eprintln!("note: goal ({} {}) links to no step of the instruction", g.predicate, g.args.join(" "));
+        }
+    }
     if json {
         println!("{}", serde_json::to_string_pretty(&parsed)?);
         return Ok(());
@@ -347,6 +353,7 @@ fn gallery_cmd(dir: &Path, task: &str, family: Option<&str>, init: usize, size: 
         ],
         None => Family::ALL.to_vec(),
     };
+    vifo::render::parse_task(task)?;
     vifo_protocols::runner::create_folder(dir)?;
     for family in families {
         let sheet = gallery::sheet(family, task, size, init)?;

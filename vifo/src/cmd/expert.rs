@@ -101,6 +101,17 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
             let starts = Starts::load(task, &model, &source)?;
             let range: Vec<usize> = (args.first..(args.first + args.episodes).min(starts.len())).collect();
             ensure!(!range.is_empty(), "--first {}: {}/{index} has initial states 0 to {}", args.first, suite.name, starts.len().saturating_sub(1));
+            if range.len() < args.episodes {
+                eprintln!(
+                    "note: {}/{index} has initial states 0 to {}: {} episode{} from state {}, not {}",
+                    suite.name,
+                    starts.len() - 1,
+                    range.len(),
+                    if range.len() == 1 { "" } else { "s" },
+                    args.first,
+                    args.episodes
+                );
+            }
             let done = AtomicUsize::new(0);
             // The counter rewrites one line, which only a terminal shows as such.
             let live = std::io::stderr().is_terminal();

@@ -34,7 +34,7 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
         /// States per task.
-        #[arg(long, default_value_t = 50)]
+        #[arg(long, default_value_t = 50, value_parser = super::at_least_one)]
         states: usize,
         /// Worker threads (default: all cores).
         #[arg(long)]
@@ -76,15 +76,15 @@ pub fn run(args: Args) -> Result<()> {
         Command::Check { suite, drift, from, threads } => {
             let mut failed = 0;
             for suite in selected(suite.as_deref())? {
-                let stored = match &from {
+                let (stored, source) = match &from {
                     Some(dir) => {
                         let path = dir.join(format!("{}.json", suite.name));
                         let text = std::fs::read_to_string(&path).with_context(|| path.display().to_string())?;
-                        init_states::parse(&text, &path.display().to_string())?
+                        (init_states::parse(&text, &path.display().to_string())?, path.display().to_string())
                     }
-                    None => init_states::shipped_suite(&suite.name)?.clone(),
+                    None => (init_states::shipped_suite(&suite.name)?.clone(), "the states built into vifo".to_string()),
                 };
-                failed += check_suite(suite, &stored, drift, workers(threads))?;
+                failed += check_suite(suite, &stored, drift, workers(threads)).with_context(|| source)?;
             }
             if failed > 0 {
                 bail!("{failed} states have problems");

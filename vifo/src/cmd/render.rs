@@ -35,8 +35,8 @@ pub struct RenderArgs {
     /// <suite>/<task>.pruned_init) instead of the shipped ones.
     #[arg(long, value_name = "DIR")]
     pub libero_init: Option<PathBuf>,
-    /// Seed of the fixture placement (with --libero-init).
-    #[arg(long, default_value_t = 0)]
+    /// Seed of the fixture placement (with --libero-init; the shipped states fix the fixtures).
+    #[arg(long, default_value_t = 0, requires = "libero_init")]
     pub seed: u64,
     /// agentview or robot0_eye_in_hand.
     #[arg(long, default_value = "agentview")]

@@ -54,11 +54,11 @@ pub struct Args {
     #[arg(long, value_delimiter = ',')]
     family: Vec<String>,
     /// At most this many instances per family (spread over suites and tasks).
-    #[arg(long)]
+    #[arg(long, value_parser = super::at_least_one)]
     per_family: Option<usize>,
     /// Episodes per instance (per task for the original protocol) and protocol; episode e
     /// starts from initial state e mod 50.
-    #[arg(long)]
+    #[arg(long, value_parser = super::at_least_one)]
     episodes: Option<usize>,
     /// A built-in policy (expert-cue, expert-language, expert-authorized, random, zero) or a
     /// policy server: ws://host:port (openpi; InternVLA with --policy-format internvla),
@@ -81,7 +81,8 @@ pub struct Args {
     /// Continue the results files in OUT (finished episodes are skipped, errors retried).
     #[arg(long)]
     resume: bool,
-    /// Output folder (default: vifo-run-quick for the quick run, vifo-run otherwise).
+    /// Output folder (default: vifo-run-quick for the quick run, vifo-run-study for --study,
+    /// vifo-run otherwise).
     #[arg(long)]
     out: Option<PathBuf>,
     /// Camera image side in pixels.
@@ -111,7 +112,7 @@ pub struct Args {
     /// selection from it (the gate measurement: the mean episode wall time times the count,
     /// divided by the threads; with `--threads 1` the means are core time, with more they also
     /// hold the waits for a shared machine's cores). `--resume` later continues to the whole run.
-    #[arg(long)]
+    #[arg(long, value_parser = super::at_least_one)]
     sample: Option<usize>,
     /// Run the paper's extended studies instead of a benchmark selection: objects (§4.2, cues
     /// as scene objects), safety (§4.3, six safety-critical scenes), piper (§4.4, the PiPER cup stacking) or all; repeatable. `--episodes` and `--set` apply.
@@ -170,6 +171,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             serving_config(p, &args)?;
         }
     }
+    if (args.model_profile.is_some() || args.policy_format.is_some()) && policies.iter().all(|p| builtin(p).is_some()) {
+        bail!(
+            "--model-profile and --policy-format say how to talk to a policy server; {} {} built-in",
+            policies.join(", "),
+            if policies.len() == 1 { "is" } else { "are" }
+        );
+    }
     anyhow::ensure!((16..=4096).contains(&args.size), "--size must be between 16 and 4096 pixels");
     let default_out = match (quick, studies.is_empty()) {
         (true, _) => "vifo-run-quick",
@@ -223,6 +231,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Some(n) => specs::sample(&all_specs, n),
         None => all_specs.clone(),
     };
+    anyhow::ensure!(!specs.is_empty(), "the selection has no episodes: nothing to run (check --study, --protocol, --form and --instance)");
     // The look matters only where cameras draw (and is recorded only where the policy's do).
     // Loading it takes seconds, so the selection is checked first.
     if args.render_always || args.clips != Clips::None || policies.iter().any(|p| builtin(p).is_none_or(|b| b.uses_images())) {

@@ -104,6 +104,7 @@ enum Command {
         /// Export folder; without it, the questions of `--set` are generated here (the
         /// baselines need no images).
         dir: Option<PathBuf>,
+        /// The instance set whose questions are generated without DIR: paper or full.
         #[arg(long, default_value = "paper", value_parser = super::run::parse_set)]
         set: SetName,
         /// Also write each strategy's predictions into this folder.

@@ -63,6 +63,16 @@ impl Recording {
         self.meta.phases.clone().unwrap_or_else(|| REFERENCE_PHASES.iter().map(|&(n, lo, hi)| (n.to_string(), lo, hi)).collect())
     }
 
+    /// The built-in task the recording ran (its suite, index and name must agree).
+    pub fn task(&self) -> Result<&'static vifo_scenes::Task> {
+        let (suite, index) = (&self.meta.suite, self.meta.task_id);
+        let task = vifo_scenes::task(suite, index).ok_or_else(|| anyhow!("no built-in task {suite}[{index}]"))?;
+        if task.name != self.meta.task_name {
+            bail!("{suite}[{index}] is {}, but the recording is of {}", task.name, self.meta.task_name);
+        }
+        Ok(task)
+    }
+
     pub fn load(path: &Path) -> Result<Recording> {
         let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
         let rec: Recording =
@@ -74,6 +84,11 @@ impl Recording {
             if *lo < 1 || lo > hi {
                 bail!("{}: phase {name} runs from record {lo} to {hi}; phases need 1 <= first <= last", path.display());
             }
+        }
+        rec.task().with_context(|| path.display().to_string())?;
+        // A phase past the last record would report nothing as a perfect match.
+        if let Some((name, _, hi)) = rec.phases().into_iter().find(|(_, _, hi)| *hi >= rec.steps.len()) {
+            bail!("{}: phase {name} ends at record {hi}, but the recording stops at record {}", path.display(), rec.steps.len() - 1);
         }
         for (i, step) in rec.steps.iter().enumerate() {
             if step.t != i {
@@ -99,4 +114,40 @@ pub fn recordings_in(dir: &Path) -> Result<Vec<PathBuf>> {
         bail!("no *_init0.json recordings in {}", dir.display());
     }
     Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A recording of `records` records of task `suite`[`index`] named `name`.
+    fn recording(dir: &Path, suite: &str, index: usize, name: &str, records: usize) -> PathBuf {
+        let steps: Vec<serde_json::Value> = (0..records)
+            .map(|t| {
+                let zeros = |n: usize| vec![0.0; n];
+                serde_json::json!({"t": t, "action_applied_before": (t > 0).then(|| zeros(7)), "joint_qpos": zeros(7),
+                    "joint_qvel": zeros(7), "gripper_qpos": zeros(2), "objects": {}})
+            })
+            .collect();
+        let meta = serde_json::json!({"suite": suite, "task_id": index, "task_name": name, "problem_class": "x", "init_state_flat": []});
+        let path = dir.join(format!("{suite}_task{index}_init0.json"));
+        std::fs::write(&path, serde_json::json!({"meta": meta, "steps": steps}).to_string()).unwrap();
+        path
+    }
+
+    #[test]
+    fn a_recording_shorter_than_its_phases_or_of_an_unknown_task_is_refused_with_its_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let name = &vifo_scenes::task("libero_goal", 0).unwrap().name;
+        assert!(Recording::load(&recording(dir.path(), "libero_goal", 0, name, 91)).is_ok());
+        // Cut to one record, every phase would have reported nothing as a perfect match.
+        let short = recording(dir.path(), "libero_goal", 0, name, 1);
+        let err = format!("{:#}", Recording::load(&short).unwrap_err());
+        assert!(err.contains(&short.display().to_string()) && err.contains("phase settle ends at record 10, but the recording stops at record 0"), "{err}");
+        for (suite, index, task, says) in [("bogus", 0, name.as_str(), "no built-in task bogus[0]"), ("libero_goal", 0, "other", "but the recording is of other")] {
+            let path = recording(dir.path(), suite, index, task, 91);
+            let err = format!("{:#}", Recording::load(&path).unwrap_err());
+            assert!(err.contains(&path.display().to_string()) && err.contains(says), "{err}");
+        }
+    }
 }

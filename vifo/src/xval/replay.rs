@@ -108,11 +108,7 @@ pub struct Summary {
 /// The episode a recording starts from: our scene with the recording's fixture placement and
 /// initial state.
 pub fn start(rec: &Recording) -> Result<Sim> {
-    let task = vifo_scenes::task(&rec.meta.suite, rec.meta.task_id)
-        .ok_or_else(|| anyhow!("no built-in task {}[{}]", rec.meta.suite, rec.meta.task_id))?;
-    if task.name != rec.meta.task_name {
-        return Err(anyhow!("{}[{}] is {}, but the recording is of {}", rec.meta.suite, rec.meta.task_id, task.name, rec.meta.task_name));
-    }
+    let task = rec.task()?;
     let model = SceneModel::build(task)?;
     let mut sim = Sim::new(model.clone());
     for (name, body) in rec.steps[0].objects.iter().filter(|(_, b)| b.kind == "fixture") {

@@ -15,7 +15,7 @@ use vifo_protocols::policies::builtin;
 use vifo_protocols::remote::RemotePolicy;
 use vifo_protocols::runner::{OpenResults, RunError, RunOptions, read_records};
 use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec};
-use vifo_protocols::{Policy, report};
+use vifo_protocols::{Policy, report, studies};
 use vifo_scenes::view::CameraName;
 
 fn value_err(e: impl std::fmt::Display) -> PyErr {
@@ -183,6 +183,7 @@ pub fn write_report(paths: Vec<PathBuf>, out: PathBuf, mix_looks: bool) -> PyRes
     }
     // As `vifo report`: rows drawn with different looks are not comparable.
     report::check_looks(&report::looks_with_vqa(&records, std::iter::empty()), mix_looks, "mix_looks=True").map_err(PyValueError::new_err)?;
-    let report = report::build(&records, &Default::default());
+    // As `vifo report`: the extended studies' episodes stay out of Tables 1 and 2.
+    let report = report::build(&studies::main_records(&records), &Default::default());
     report.write(&out).map_err(|e| PyRuntimeError::new_err(format!("{}: {e}", out.display())))
 }

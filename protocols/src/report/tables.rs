@@ -54,8 +54,10 @@ pub(crate) fn ranked_cells(values: &[Option<f64>], higher_is_better: bool) -> Ve
         .collect()
 }
 
+/// `v` as its one-decimal cell shows it (`{:.1}` rounds a tie to even: 6.25 shows as 6.2), so
+/// that two cells that read alike rank alike.
 fn round1(v: f64) -> f64 {
-    (v * 10.0).round() / 10.0
+    format!("{v:.1}").parse().unwrap_or(v)
 }
 
 fn frac(a: &Accuracy) -> String {
@@ -93,6 +95,8 @@ pub fn table1_markdown(report: &Report) -> String {
         }
         out += &format!(" {} | {} |\n", row.episodes, row.errors);
     }
+    // The paper's caption says "highest"; its UVF column marks the lowest, its UVI the highest.
+    out += "\nBold: the best value of each column by its arrow (↓: the lowest), underlined: the second.\n";
     out += "\nSuccesses / scored episodes (errors excluded):\n\n| Model | Orig. SR | AVF | LFR | UVF | UVI | errors by protocol | unscored |\n|---|---|---|---|---|---|---|---|\n";
     for r in rows {
         let errors: Vec<String> = r.errors_by_protocol.iter().map(|(p, n)| format!("{} {n}", p.name())).collect();
@@ -187,6 +191,8 @@ mod tests {
         assert_eq!(ranked_cells(&v, true), ["10.0", "**30.0**", "–", "<u>20.0</u>"]);
         assert_eq!(ranked_cells(&v, false), ["**10.0**", "30.0", "–", "<u>20.0</u>"]);
         assert_eq!(ranked_cells(&[Some(5.0)], true), ["5.0"]);
+        // 1/16 = 6.25 shows as 6.2, as 31/500 does: the two rank alike.
+        assert_eq!(ranked_cells(&[Some(6.25), Some(6.2), Some(1.0)], true), ["**6.2**", "**6.2**", "<u>1.0</u>"]);
         assert_eq!(csv_field("a,b"), "\"a,b\"");
     }
 }

@@ -6,7 +6,7 @@
 //!
 //! The table is the paper's comparison figure as numbers: per policy and family, each metric in
 //! both forms and the change (object − overlay, points), and an Avg. row (unweighted mean of
-//! the families, as the paper's average drops are formed).
+//! the families measured in both forms, as the paper's average drops are formed).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -83,13 +83,18 @@ impl Pair {
         Some(self.object? - self.overlay?)
     }
 
+    /// The unweighted mean over the pairs measured in both forms, so that its change is the
+    /// mean of their changes (a family measured in one form only would move one side alone).
     fn mean(pairs: &[&Pair]) -> Pair {
-        let avg = |v: Vec<f64>| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
+        let both: Vec<&Pair> = pairs.iter().copied().filter(|p| p.change().is_some()).collect();
+        let avg = |side: fn(&Pair) -> Option<f64>| {
+            (!both.is_empty()).then(|| both.iter().filter_map(|p| side(p)).sum::<f64>() / both.len() as f64)
+        };
         Pair {
-            overlay: avg(pairs.iter().filter_map(|p| p.overlay).collect()),
-            object: avg(pairs.iter().filter_map(|p| p.object).collect()),
-            overlay_n: pairs.iter().map(|p| p.overlay_n).sum(),
-            object_n: pairs.iter().map(|p| p.object_n).sum(),
+            overlay: avg(|p| p.overlay),
+            object: avg(|p| p.object),
+            overlay_n: both.iter().map(|p| p.overlay_n).sum(),
+            object_n: both.iter().map(|p| p.object_n).sum(),
         }
     }
 }
@@ -198,7 +203,7 @@ impl Table {
                 .collect();
             s += &format!("| {} | {} | {} | {} | {} |\n", r.policy, family_name(r.family), cells.join(" | "), r.episodes, r.errors);
         }
-        s += "\nΔ = object − overlay in points; Avg. is the unweighted mean of F1, F6 and F8. VQA needs \
+        s += "\nΔ = object − overlay in points; Avg. is the unweighted mean of those of F1, F6 and F8 measured in both forms. VQA needs \
               `vifo report --vqa` / `--vqa-object` scores of the two exports (`vifo vqa export --form`).\n";
         s
     }
@@ -334,6 +339,8 @@ mod tests {
             record("p", f1, Protocol::Authorized, CueForm::Object, 1, Some(false)),
             record("p", f6, Protocol::NoLanguage, CueForm::Object, 0, None),
             record("p", f6, Protocol::NoLanguage, CueForm::Object, 0, Some(true)),
+            // F6's AVF only as an overlay: the Avg. row leaves it out of both sides.
+            record("p", f6, Protocol::Authorized, CueForm::Overlay, 0, Some(false)),
             // A policy without object episodes has no row; conflict episodes are not counted.
             record("q", f1, Protocol::Authorized, CueForm::Overlay, 0, Some(true)),
             record("p", f1, Protocol::Conflict, CueForm::Overlay, 0, Some(false)),
@@ -352,7 +359,7 @@ mod tests {
         assert_eq!((f6_row.uvi.object, f6_row.uvi.object_n, f6_row.errors), (Some(100.0), 1, 0));
         let avg = &table.rows[3];
         assert_eq!(avg.family, None);
-        assert_eq!(avg.avf.object, Some(50.0));
+        assert_eq!((avg.avf.overlay, avg.avf.object, avg.avf.change()), (Some(100.0), Some(50.0), Some(-50.0)));
         assert!(table.markdown().contains("| p | Avg. |"));
         assert!(table.csv().lines().count() == 5);
         assert!(table.chart().unwrap().starts_with(b"\x89PNG"));

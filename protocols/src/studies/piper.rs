@@ -33,7 +33,7 @@ use vifo_scenes::task::{Atom, Predicate};
 use crate::benchmark::BenchmarkError;
 use crate::report::chart::{COLOURS, axis, bar, encode_png, label, legend_row};
 use crate::report::tables::csv_field;
-use crate::runner::seed_for;
+use crate::runner::{final_records, seed_for};
 use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
 
 /// The study's suite.
@@ -289,7 +289,8 @@ fn rate(hits: usize, n: usize) -> Option<f64> {
 }
 
 /// The table of the study's records (other records are ignored), one row per policy in
-/// first-seen order.
+/// first-seen order; repeated records of one episode count once (the last completed one, as
+/// in the main report).
 pub fn table(records: &[EpisodeRecord]) -> Vec<Row> {
     let mut policies: Vec<String> = Vec::new();
     for r in records.iter().filter(|r| is_piper(&r.spec)) {
@@ -300,10 +301,10 @@ pub fn table(records: &[EpisodeRecord]) -> Vec<Row> {
     policies
         .into_iter()
         .map(|policy| {
-            let mine: Vec<&EpisodeRecord> = records.iter().filter(|r| is_piper(&r.spec) && r.policy == policy).collect();
+            let mine = final_records(records.iter().filter(|r| is_piper(&r.spec) && r.policy == policy).cloned());
             let mut counts = [0usize; 5]; // authorized n, stacked; conflict n, stacked, stopped
             let mut errors = 0;
-            for r in mine {
+            for r in mine.values() {
                 match (&r.outcome, r.spec.protocol) {
                     (Outcome::Error { .. }, _) => errors += 1,
                     (Outcome::Completed { cue_success, .. }, Protocol::Authorized) => {
@@ -417,6 +418,34 @@ mod tests {
         let image = image::load_from_memory(&chart(rows).unwrap()).unwrap().to_rgb8();
         assert_eq!(image.dimensions(), (900, 380));
         BARS.iter().map(|(_, colour, _)| image.pixels().filter(|p| p.0 == *colour).count()).collect()
+    }
+
+    #[test]
+    fn repeated_records_of_an_episode_count_once_as_in_the_main_report() {
+        use crate::spec::Outcome;
+        let record = |protocol, init, outcome| EpisodeRecord {
+            version: 1,
+            spec: spec(protocol, init, 0).unwrap(),
+            policy: "p".into(),
+            outcome,
+            wall_ms: 1.0,
+            set: vifo_cues::SetName::Paper,
+            look: String::new(),
+        };
+        let done = |language: Option<bool>, cue: bool| Outcome::Completed { language_success: language, cue_success: Some(cue), steps: 10 };
+        let error = || Outcome::Error { message: "dropped".into() };
+        let records = [
+            // Authorized init 0 written twice (a run resumed over it), init 1 once.
+            record(Protocol::Authorized, 0, done(None, true)),
+            record(Protocol::Authorized, 0, done(None, true)),
+            record(Protocol::Authorized, 1, done(None, false)),
+            // A conflict episode's error, then its completed retry: no error left.
+            record(Protocol::Conflict, 0, error()),
+            record(Protocol::Conflict, 0, done(Some(false), true)),
+        ];
+        let [row] = &table(&records)[..] else { panic!("one policy, one row") };
+        assert_eq!((row.authorized_success, row.authorized_n), (Some(50.0), 2));
+        assert_eq!((row.conflict_success, row.conflict_stop, row.conflict_n, row.errors), (Some(0.0), Some(100.0), 1, 0));
     }
 
     #[test]

@@ -9,7 +9,7 @@ loop. This adapter runs that loop for one request with the repository's own func
       load_action_stats(checkpoint))
   per episode:  session = {main_task, current_prompt = task, ref_0_rgb = None};
                 inference.reset_session(task)
-  per request:  state float32 (8,); base/wrist = CHW frame[:, :, ::-1] as the script builds them;
+  per request:  state float32 (8,); base/wrist = script_frame(raw frame), as the script builds them;
                 repeat inference.inference(prompt, {base_0_rgb, left_wrist_0_rgb, ref_0_rgb}, state,
                 do_sample=False, temperature=0.2, max_new_tokens=768, reset=True):
                   an action -> return denormalize(action[:, :7]) (the whole chunk is executed);
@@ -20,8 +20,8 @@ loop. This adapter runs that loop for one request with the repository's own func
 The client (`--model-profile action-sketcher`) sends robosuite's raw frames at 224x224 (the
 script's env renders 224; run `vifo run --size 224` to skip the resize) and executes the whole
 chunk before asking again. Differences that remain (documented, not hidden): the script waits 20
-no-op steps (LIBERO-VIFO settles 10), and its env wrapper (`cleandiffuser.env.libero`) is
-assumed to give robosuite's row order; check one frame against the training data first.
+no-op steps (LIBERO-VIFO settles 10) and runs up to 500 steps in every suite (LIBERO-VIFO gives
+each suite LIBERO's budget: 220, 280, 300, 520).
 
 Real weights are the user's step:
   git clone https://github.com/FlagOpen/Action-Sketcher && cd Action-Sketcher  # install per README
@@ -41,6 +41,15 @@ import openpi_ws  # noqa: E402
 
 # The stand-in's chunk: four rows, LIBERO's convention (the script does not convert the gripper).
 STAND_IN_CHUNK = [[0.001 * (i + 1), 0.0, -0.002, 0.0, 0.0, 0.0, -1.0] for i in range(4)]
+
+
+def script_frame(raw):
+    """The frame the script feeds the model, from robosuite's raw (bottom-up, HWC) frame: its env
+    wrapper flips the rows and transposes to CHW (CleanDiffuser `cleandiffuser/env/libero/
+    libero_env.py`: `raw[::-1].transpose(2, 0, 1)`), then `run_libero_example.py` reverses the
+    last axis (`obs["agentview_image"][:, :, ::-1]`, meant as BGR->RGB but flipping the
+    columns): the usual 180-degree rotation of LIBERO evaluations, in CHW."""
+    return np.ascontiguousarray(raw[::-1].transpose(2, 0, 1)[:, :, ::-1])
 
 
 class ActionSketcher:
@@ -71,9 +80,8 @@ class ActionSketcher:
         if s is None:
             raise RuntimeError("no episode started (the first request must carry reset: true)")
         state = np.asarray(obs["observation/state"], dtype=np.float32)
-        # The script's env gives CHW frames; it then reverses their last axis.
-        base = np.ascontiguousarray(obs["observation/image"].transpose(2, 0, 1)[:, :, ::-1])
-        wrist = np.ascontiguousarray(obs["observation/wrist_image"].transpose(2, 0, 1)[:, :, ::-1])
+        base = script_frame(obs["observation/image"])
+        wrist = script_frame(obs["observation/wrist_image"])
         if s["ref_0_rgb"] is None:
             s["ref_0_rgb"] = base.copy()
         state_tensor = torch.from_numpy(state).to(self.device, dtype=torch.bfloat16)[None, None, :]

@@ -482,7 +482,7 @@ def serve_lerobot():
 
     helpers = _install_fake_lerobot()
     _install_fake_torch()
-    state = {"ready": False, "config": None, "queue": queue.Queue(maxsize=1), "last_timestep": -1}
+    state = {"ready": False, "config": None, "wrist": None, "queue": queue.Queue(maxsize=1), "last_timestep": -1}
     names = ["x", "y", "z", "axis_angle_x", "axis_angle_y", "axis_angle_z", "gripper_left", "gripper_right"]
 
     def ready(request, context):
@@ -498,11 +498,19 @@ def serve_lerobot():
             expect(isinstance(cfg.pretrained_name_or_path, str) and cfg.pretrained_name_or_path, "pretrained")
             expect(isinstance(cfg.actions_per_chunk, int) and cfg.actions_per_chunk >= 1, "actions_per_chunk")
             expect(isinstance(cfg.device, str), "device")
+            expect(getattr(cfg, "rename_map", None) == {}, "rename_map")
+            # MolmoAct2's vendored server reads policy_kwargs; upstream LeRobot ignores it.
+            kwargs = getattr(cfg, "policy_kwargs", None)
+            expect(isinstance(kwargs, dict) and all(isinstance(k, str) and isinstance(v, str) for k, v in kwargs.items()),
+                   f"policy_kwargs {kwargs!r}")
             f = cfg.lerobot_features
-            expect(set(f) == {"observation.state", "observation.images.image", "observation.images.image2"},
+            cameras = sorted(k for k in f if k.startswith("observation.images."))
+            expect(set(f) == {"observation.state", *cameras} and len(cameras) == 2 and "observation.images.image" in cameras,
                    f"lerobot_features keys {sorted(f)}")
+            state["wrist"] = next(k for k in cameras if k != "observation.images.image").split(".")[-1]
+            print(f"SETUP wrist={state['wrist']} policy_kwargs={json.dumps(kwargs, sort_keys=True)}", file=sys.stderr, flush=True)
             expect(f["observation.state"] == {"dtype": "float32", "shape": (8,), "names": names}, "state feature")
-            for k in ("observation.images.image", "observation.images.image2"):
+            for k in cameras:
                 expect(f[k] == {"dtype": "image", "shape": (256, 256, 3), "names": ["height", "width", "channels"]},
                        f"{k} feature {f[k]}")
             state["config"] = cfg
@@ -528,11 +536,12 @@ def serve_lerobot():
             expect(isinstance(obs.timestep, int) and obs.timestep > state["last_timestep"], "timestep not increasing")
             expect(obs.must_go is True, "must_go is not True")
             raw = obs.observation
-            expect(set(raw) == set(names) | {"image", "image2", "task"}, f"observation keys {sorted(raw)}")
+            wrist = state["wrist"]
+            expect(set(raw) == set(names) | {"image", wrist, "task"}, f"observation keys {sorted(raw)}")
             for n in names:
                 expect(isinstance(raw[n], float), f"{n} is {type(raw[n]).__name__}")
             check_image(raw["image"], "image")
-            check_image(raw["image2"], "image2")
+            check_image(raw[wrist], wrist)
             expect(isinstance(raw["task"], str), "task is not a str")
             state["last_timestep"] = obs.timestep
             if not state["queue"].empty():
@@ -569,6 +578,8 @@ def serve_lerobot():
             return _encode_bytes_field(1, pickle.dumps([helpers.TimedData(t0, obs.timestep)]))
         if kind == "error_status":
             context.abort(grpc.StatusCode.INTERNAL, "scripted failure")
+        if kind == "empty_reply":
+            return b""  # LeRobot's answer when the policy raised on the observation
         raise ValueError(kind)
 
     ident = lambda b: b  # noqa: E731

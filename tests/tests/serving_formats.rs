@@ -132,7 +132,7 @@ fn cases() -> Vec<Case> {
             state32: true,
             action32: true,
             gripper: open_close,
-            query: "?policy_type=molmoact2&pretrained=allenai/MolmoAct2-LIBERO&device=cpu",
+            query: "?policy_type=molmoact2&pretrained=allenai/MolmoAct2-LIBERO&device=cpu&kw.norm_tag=libero&kw.inference_action_mode=continuous",
         },
     ]
 }
@@ -214,6 +214,27 @@ fn gate_xiaomi() {
 #[test]
 fn gate_lerobot() {
     gate(Format::LeRobot);
+}
+
+/// The policy setup names the wrist camera as MolmoAct2's LIBERO evaluation does, or as the URL
+/// asks, and carries the `kw.` keys as `policy_kwargs` (MolmoAct2's `norm_tag`, ...).
+#[test]
+fn lerobot_setup_names_the_wrist_camera_and_passes_policy_kwargs() {
+    if !python::ready("lerobot_setup_names_the_wrist_camera_and_passes_policy_kwargs", modules(Format::LeRobot)) {
+        return;
+    }
+    let case = cases().into_iter().find(|c| c.format == Format::LeRobot).unwrap();
+    for (query, says) in [
+        (case.query, r#"SETUP wrist=wrist_image policy_kwargs={"inference_action_mode": "continuous", "norm_tag": "libero"}"#),
+        ("?policy_type=pi0&pretrained=lerobot/pi0_libero&wrist=image2", "SETUP wrist=image2 policy_kwargs={}"),
+    ] {
+        let server = Server::for_format(Format::LeRobot, case.chunk, &[]);
+        let mut policy = connect(&Case { query, ..case }, &server).unwrap();
+        policy.reset().unwrap();
+        policy.act(&observation("pick up the bowl")).unwrap_or_else(|e| panic!("{query}: {e}; {}", server.log()));
+        let log = server.log();
+        assert!(log.contains(says) && !log.contains("CHECK FAILED"), "{query}: {log}");
+    }
 }
 
 fn pattern(salt: u32) -> RgbImage {
@@ -320,6 +341,7 @@ fn malformed_lerobot() {
             ("wrong_dtype", "torch.LongStorage is not a float tensor"),
             ("missing_action", "`actions[0]` has no `action`"),
             ("error_status", "scripted failure"),
+            ("empty_reply", "the server answered no actions for observation #"),
         ],
     );
 }

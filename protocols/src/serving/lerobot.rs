@@ -3,17 +3,24 @@
 //! one observation, then its action chunk.
 //!
 //! `grpc://host:port?policy_type=<type>&pretrained=<name or path>[&device=cuda]
-//! [&actions_per_chunk=10]`. At connect: `Ready`, then `SendPolicyInstructions` with a pickled
-//! `RemotePolicyConfig(policy_type, pretrained_name_or_path, lerobot_features,
-//! actions_per_chunk, device)`. Per request: `SendObservations`, a client stream of
+//! [&actions_per_chunk=10][&wrist=wrist_image][&kw.<name>=<value>…]`. At connect: `Ready`, then
+//! `SendPolicyInstructions` with a pickled `RemotePolicyConfig(policy_type,
+//! pretrained_name_or_path, lerobot_features, actions_per_chunk, device, rename_map,
+//! policy_kwargs)`; `policy_kwargs` (the `kw.` keys, as strings: MolmoAct2's vendored server
+//! reads it, e.g. `kw.norm_tag=libero&kw.inference_action_mode=continuous`) is an extra
+//! attribute that upstream LeRobot ignores. Per request: `SendObservations`, a client stream of
 //! `Observation{transfer_state, data}` chunks (2 MiB each; BEGIN, MIDDLE…, END; a single chunk
 //! is END) of a pickled `TimedObservation(timestamp, timestep, observation, must_go=True)`, then
 //! `GetActions`, whose `Actions.data` is a pickled `list[TimedAction(timestamp, timestep,
-//! action)]` with one torch tensor (7,) per action (empty data: no observation yet, ask again).
+//! action)]` with one torch tensor (7,) per action. The server answers an empty `Actions` when
+//! no observation arrived in time and when the policy raised on it; the observation was sent
+//! and queued (`must_go`) before `GetActions`, so an empty answer is the policy's failure, an
+//! error naming the server's log, not a reason to ask again.
 //!
 //! The raw observation is what a LeRobot robot reports: one float per state name (LIBERO's
-//! 8-D state, named below), the cameras `image` (agentview) and `image2` (wrist) as uint8
-//! H×W×3 arrays, as LeRobot's LIBERO env names them, and `task`. `lerobot_features`
+//! 8-D state, named below), the cameras `image` (agentview) and the wrist camera (`wrist=`,
+//! default `wrist_image`, the name MolmoAct2's LIBERO evaluation maps robot0_eye_in_hand to;
+//! LeRobot's LIBERO env default is `image2`) as uint8 H×W×3 arrays, and `task`. `lerobot_features`
 //! describes them as `hw_to_dataset_features` would. The async server runs only the policy's
 //! processors, so frames and state arrive already as lerobot-eval's `LiberoProcessorStep`
 //! makes them (the profile's job).
@@ -71,6 +78,10 @@ pub struct Setup {
     pub pretrained: String,
     pub device: String,
     pub actions_per_chunk: usize,
+    /// The wrist camera's name in the observation and its features.
+    pub wrist: String,
+    /// `kw.<name>=<value>` entries, sent as `RemotePolicyConfig.policy_kwargs`.
+    pub policy_kwargs: Vec<(String, String)>,
 }
 
 impl Setup {
@@ -84,6 +95,8 @@ impl Setup {
             pretrained: String::new(),
             device: "cuda".into(),
             actions_per_chunk: 10,
+            wrist: "wrist_image".into(),
+            policy_kwargs: Vec::new(),
         };
         for pair in query.split('&').filter(|p| !p.is_empty()) {
             let (k, v) = pair.split_once('=').ok_or_else(|| bad(format!("query entry {pair:?} is not key=value")))?;
@@ -91,6 +104,9 @@ impl Setup {
                 "policy_type" => setup.policy_type = v.into(),
                 "pretrained" => setup.pretrained = v.into(),
                 "device" => setup.device = v.into(),
+                "wrist" if !v.is_empty() && v != "image" => setup.wrist = v.into(),
+                "wrist" => return Err(bad(format!("wrist {v:?}: expected the wrist camera's name, other than image"))),
+                k if k.starts_with("kw.") && k.len() > 3 => setup.policy_kwargs.push((k[3..].into(), v.into())),
                 "actions_per_chunk" => {
                     setup.actions_per_chunk =
                         v.parse().ok().filter(|&n| n > 0).ok_or_else(|| bad(format!("actions_per_chunk {v:?}")))?
@@ -141,7 +157,7 @@ impl LeRobotTransport {
             grpc,
             timeout: config.request_timeout,
             setup,
-            image_side: config.profile.image_size.unwrap_or(256) as usize,
+            image_side: config.profile.image_size.unwrap_or(config.frame_size) as usize,
             timestep: 0,
         };
         t.unary::<Empty, Empty>("Ready", Empty {})?;
@@ -252,7 +268,7 @@ pub fn policy_setup(setup: &Setup, image_side: usize) -> Vec<u8> {
         w.begin_dict();
         w.str("observation.state");
         feature(w, "float32", &[8], &STATE_NAMES);
-        for camera in ["image", "image2"] {
+        for camera in ["image", setup.wrist.as_str()] {
             w.str(&format!("observation.images.{camera}"));
             feature(w, "image", &[image_side, image_side, 3], &["height", "width", "channels"]);
         }
@@ -264,12 +280,19 @@ pub fn policy_setup(setup: &Setup, image_side: usize) -> Vec<u8> {
         w.str("rename_map");
         w.begin_dict();
         w.end_dict();
+        w.str("policy_kwargs");
+        w.begin_dict();
+        for (k, v) in &setup.policy_kwargs {
+            w.str(k);
+            w.str(v);
+        }
+        w.end_dict();
     });
     w.finish()
 }
 
-/// The pickled `TimedObservation`.
-pub fn observation(input: &ModelInput, timestep: i64, timestamp: f64) -> Vec<u8> {
+/// The pickled `TimedObservation`, the wrist frame named `wrist`.
+pub fn observation(input: &ModelInput, wrist: &str, timestep: i64, timestamp: f64) -> Vec<u8> {
     let mut w = Writer::default();
     dataclass(&mut w, "TimedObservation", |w| {
         w.str("timestamp");
@@ -282,7 +305,7 @@ pub fn observation(input: &ModelInput, timestep: i64, timestamp: f64) -> Vec<u8>
             w.str(name);
             w.float(*v);
         }
-        for (camera, img) in [("image", &input.image), ("image2", &input.wrist)] {
+        for (camera, img) in [("image", &input.image), (wrist, &input.wrist)] {
             w.str(camera);
             w.ndarray("|u1", &[img.height as usize, img.width as usize, 3], &img.data);
         }
@@ -337,17 +360,15 @@ impl Transport for LeRobotTransport {
         let timestep = self.timestep;
         self.timestep += 1;
         let now = SystemTime::now().duration_since(UNIX_EPOCH).map_or(0.0, |d| d.as_secs_f64());
-        self.send_observation(observation(input, timestep, now))?;
-        let deadline = std::time::Instant::now() + self.timeout;
-        loop {
-            let reply: Actions = self.unary("GetActions", Empty {})?;
-            if !reply.data.is_empty() {
-                return parse(&reply.data, timestep);
-            }
-            if std::time::Instant::now() >= deadline {
-                return Err(PolicyError::Timeout(self.timeout.as_secs_f64()));
-            }
+        self.send_observation(observation(input, &self.setup.wrist, timestep, now))?;
+        let reply: Actions = self.unary("GetActions", Empty {})?;
+        if reply.data.is_empty() {
+            return Err(PolicyError::Other(format!(
+                "the server answered no actions for observation #{timestep}: its policy failed on it \
+                 (LeRobot answers an empty chunk when the policy raises; the server's log has the error)"
+            )));
         }
+        parse(&reply.data, timestep)
     }
 }
 
@@ -364,5 +385,10 @@ mod tests {
         assert!(e.contains("policy_type"), "{e}");
         assert!(Setup::parse("grpc://h:1?policy_type=a&pretrained=b&colour=red").is_err());
         assert!(Setup::parse("grpc://h:1?policy_type=a&pretrained=b&actions_per_chunk=0").is_err());
+        assert_eq!(s.wrist, "wrist_image");
+        let s = Setup::parse("grpc://h:1?policy_type=a&pretrained=b&wrist=image2&kw.norm_tag=libero").unwrap();
+        assert_eq!((s.wrist.as_str(), &s.policy_kwargs[..]), ("image2", &[("norm_tag".to_string(), "libero".to_string())][..]));
+        assert!(Setup::parse("grpc://h:1?policy_type=a&pretrained=b&wrist=image").is_err());
+        assert!(Setup::parse("grpc://h:1?policy_type=a&pretrained=b&kw.=x").is_err());
     }
 }

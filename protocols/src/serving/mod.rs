@@ -156,6 +156,8 @@ pub struct ServingConfig {
     pub url: String,
     pub format: Format,
     pub profile: Profile,
+    /// Side of the rendered frames (`--size`): what a profile without its own image size sends.
+    pub frame_size: u32,
     /// TCP connect, handshake, metadata.
     pub connect_timeout: Duration,
     /// One request: sending the observation and receiving the whole reply.
@@ -175,6 +177,7 @@ impl ServingConfig {
             url: url.to_string(),
             format,
             profile,
+            frame_size: 256,
             connect_timeout: Duration::from_secs(10),
             // First inferences compile or warm up CUDA kernels and can take minutes.
             request_timeout: Duration::from_secs(180),

@@ -99,6 +99,9 @@ pub struct Profile {
     /// The adapter keeps per-episode state (action ensembling, reasoning sessions): the first
     /// request of each episode carries `reset: true`.
     pub session: bool,
+    /// The server un-normalises actions with one suite's statistics, chosen at its start
+    /// (OpenVLA-OFT's `--unnorm_key`, InstructVLA's `{suite}_no_noops`): one server per suite.
+    pub one_suite_per_server: bool,
 }
 
 /// Every profile, in the README's order.
@@ -115,6 +118,7 @@ pub const PROFILES: [Profile; 7] = [
         replan_steps: 5,
         gripper: Gripper::AsIs,
         session: false,
+        one_suite_per_server: false,
     },
     // openvla-oft `run_libero_eval.py` + `vla-scripts/deploy.py`: the server resizes 256² frames
     // with the same `resize_image_for_policy` (JPEG, lanczos3) the eval script calls, builds
@@ -130,6 +134,7 @@ pub const PROFILES: [Profile; 7] = [
         replan_steps: 8,
         gripper: Gripper::OpenVlaBinarizeInvert,
         session: false,
+        one_suite_per_server: true,
     },
     // InternVLA-A1.5 `evaluation/LIBERO/model2libero_interface.py`: 256² rotated frames,
     // float32 state, replan 8, gripper thresholded at 0.5 and flipped.
@@ -144,6 +149,7 @@ pub const PROFILES: [Profile; 7] = [
         replan_steps: 8,
         gripper: Gripper::ThresholdHalfInvert,
         session: false,
+        one_suite_per_server: false,
     },
     // Xiaomi-Robotics-0 `eval_libero/main.py`: 256² rotated PIL images, state padded to 32,
     // "Capitalized." instruction, replan 10, actions used as returned.
@@ -158,6 +164,7 @@ pub const PROFILES: [Profile; 7] = [
         replan_steps: 10,
         gripper: Gripper::AsIs,
         session: false,
+        one_suite_per_server: false,
     },
     // MolmoAct2 through LeRobot's async inference. lerobot-eval's `LiberoProcessorStep` (an env
     // processor, which the async server does not run) flips frames in H and W and builds the 8-D
@@ -175,6 +182,7 @@ pub const PROFILES: [Profile; 7] = [
         replan_steps: 10,
         gripper: Gripper::AsIs,
         session: false,
+        one_suite_per_server: false,
     },
     // InstructVLA `deploy/libero/run_libero_eval.py`: one action per step (the model ensembles
     // its own chunks across steps, reset per episode), OpenVLA gripper convention. Our adapter
@@ -190,6 +198,7 @@ pub const PROFILES: [Profile; 7] = [
         replan_steps: 1,
         gripper: Gripper::OpenVlaBinarizeInvert,
         session: true,
+        one_suite_per_server: true,
     },
     // Action-Sketcher `run_libero_example.py`: pi0 on LeRobot at 224², the whole chunk executed
     // (the adapter `serving/action_sketcher_server.py` runs the reasoning turns, denormalises and
@@ -205,6 +214,7 @@ pub const PROFILES: [Profile; 7] = [
         replan_steps: 0,
         gripper: Gripper::AsIs,
         session: true,
+        one_suite_per_server: false,
     },
 ];
 

@@ -163,12 +163,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         ([], false) => bail!("name the policy to run: --policy {} or --policy ws://host:port", policies::NAMES.join("|")),
         (given, _) => given.to_vec(),
     };
+    let mut one_suite_servers = Vec::new();
     for p in &policies {
         if builtin(p).is_none() {
             if !p.contains("://") {
                 bail!("unknown policy {p:?}: expected one of {} or a server URL", policies::NAMES.join(", "));
             }
-            serving_config(p, &args)?;
+            if let Some(c) = serving_config(p, &args)?.filter(|c| c.profile.one_suite_per_server) {
+                one_suite_servers.push(c.profile.name);
+            }
         }
     }
     if (args.model_profile.is_some() || args.policy_format.is_some()) && policies.iter().all(|p| builtin(p).is_some()) {
@@ -232,6 +235,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         None => all_specs.clone(),
     };
     anyhow::ensure!(!specs.is_empty(), "the selection has no episodes: nothing to run (check --study, --protocol, --form and --instance)");
+    let suites: Vec<&str> = specs.iter().map(|s| s.task.suite.as_str()).collect::<std::collections::BTreeSet<_>>().into_iter().collect();
+    if suites.len() > 1 {
+        for profile in &one_suite_servers {
+            eprintln!(
+                "note: the {profile} server un-normalises actions with the statistics of the one suite it was started for, \
+                 and this selection spans {}: run one suite per server (--suite), as serving/README.md says",
+                suites.join(", ")
+            );
+        }
+    }
     // The look matters only where cameras draw (and is recorded only where the policy's do).
     // Loading it takes seconds, so the selection is checked first.
     if args.render_always || args.clips != Clips::None || policies.iter().any(|p| builtin(p).is_none_or(|b| b.uses_images())) {
@@ -434,7 +447,7 @@ fn serving_config(url: &str, args: &Args) -> anyhow::Result<Option<ServingConfig
     if url.starts_with("ws://") && profile.is_none() && format.is_none() {
         return Ok(None);
     }
-    Ok(Some(ServingConfig::new(url, format, profile)?))
+    Ok(Some(ServingConfig { frame_size: args.size, ..ServingConfig::new(url, format, profile)? }))
 }
 
 /// Tables and charts of every results file in the folder, and the clips of `policies` (name,

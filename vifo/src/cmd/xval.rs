@@ -51,6 +51,10 @@ pub fn run(args: &XvalArgs) -> Result<()> {
     for r in &reports {
         for p in r.phases.iter().map(|p| (p.phase.as_str(), &p.stats)).chain([("all", &r.all)]) {
             let s = p.1;
+            if s.records == 0 {
+                println!("{:<w$} {:<9} {:>11}", r.file, p.0, "no records");
+                continue;
+            }
             println!(
                 "{:<w$} {:<9} {:>11.3} {:>11.3} {:>10.3} {:>11.5} {:>11.3} {:>11.6}",
                 r.file, p.0, s.eef_pos_max_m * 1e3, s.eef_pos_rms_m * 1e3, s.eef_rot_max_deg, s.joint_max_rad, s.finger_max_m * 1e3, s.step_joint_max_rad

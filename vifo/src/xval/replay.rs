@@ -158,10 +158,13 @@ fn object_errors(sim: &Sim, record: &Record, at: &'static str) -> Vec<ObjectErro
 
 /// Replays one recording and compares every record.
 pub fn replay(file: &str, rec: &Recording) -> Result<TaskReport> {
+    let ranges = rec.phases();
+    // A recording cut short would otherwise report all its phases as a perfect match.
+    let compared = rec.steps[1..].iter().filter(|r| ranges.iter().any(|&(_, lo, hi)| (lo..=hi).contains(&r.t))).count();
+    anyhow::ensure!(compared > 0, "{file}: no record to compare (it stops at record {}, before every phase)", rec.steps.len() - 1);
     let mut sim = start(rec)?;
     let mut one = start(rec)?;
     let panda = sim.model().robot.panda().cloned().ok_or_else(|| anyhow!("{file}: xval replays recordings of the Panda; this scene has another arm"))?;
-    let ranges = rec.phases();
     let mut phases: Vec<PhaseReport> = ranges.iter().map(|(phase, ..)| PhaseReport { phase: phase.clone(), stats: ErrorStats::default() }).collect();
     // Objects are compared after the first phase (settling) and at the end of the last.
     let object_checks = [("settle", ranges.first().map_or(0, |p| p.2)), ("end", ranges.iter().map(|p| p.2).max().unwrap_or(0))];

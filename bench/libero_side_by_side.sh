@@ -41,6 +41,11 @@ if [ ! -f "$venv/.complete" ]; then
   touch "$venv/.complete"
 fi
 
+# Setting up the original stack needs no vifo.
+for arg in "$@"; do
+  [ "$arg" = "--setup-only" ] && exec "$venv/bin/python" "$here/libero_side_by_side.py" --setup-only
+done
+
 # The release build, as users run it (`cargo run --release`): its one-unit LTO makes physics 3-5 % faster than
 # `--profile fast`. Cargo rebuilds only what changed.
 vifo="${VIFO:-$root/target/release/vifo}"

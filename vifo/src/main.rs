@@ -17,7 +17,7 @@ struct Cli {
 enum Command {
     /// Where LIBERO's asset files were found and which parts are drawn from them.
     Assets(cmd::assets::AssetsArgs),
-    /// Measure speed (physics, render, replay, cues).
+    /// Measure speed (physics, render, replay, scaling, cues).
     Bench(cmd::bench::BenchArgs),
     /// Run the scripted expert on LIBERO tasks and print success rates.
     Expert(cmd::expert::ExpertArgs),

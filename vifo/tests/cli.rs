@@ -141,3 +141,25 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
         assert!(!out.exists(), "{args:?} wrote {}", out.display());
     }
 }
+
+/// `--resume` without selection options continues the quick default, not the run the folder
+/// holds: it says so, naming how many of the file's episodes lie outside.
+#[test]
+fn a_resume_outside_the_files_selection_says_what_it_continues() {
+    let dir = tempfile::tempdir().unwrap();
+    let vifo = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_vifo"))
+            .args(["run", "--policy", "zero", "--quiet", "--builtin-look", "--clips", "none", "--out"])
+            .arg(dir.path())
+            .args(args)
+            .output()
+            .expect("run vifo")
+    };
+    let first = vifo(&["--suite", "libero_goal", "--protocol", "original", "--episodes", "1"]);
+    assert!(first.status.success(), "{}", String::from_utf8_lossy(&first.stderr));
+    let resumed = vifo(&["--resume"]);
+    let stderr = String::from_utf8_lossy(&resumed.stderr);
+    assert!(resumed.status.success(), "{stderr}");
+    // The quick default holds 2 of the 10 libero_goal tasks without a cue.
+    assert!(stderr.contains("holds 8 episodes outside this selection") && stderr.contains("the quick default"), "{stderr}");
+}

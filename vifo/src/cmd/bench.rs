@@ -58,7 +58,8 @@ pub enum BenchWhat {
         /// against it), for a many-core machine where timing every count takes too long.
         #[arg(long, value_delimiter = ',')]
         threads: Vec<usize>,
-        /// Episodes in the sample (the same ones for every thread count).
+        /// Episodes in the sample (the same ones for every thread count; at least one per
+        /// protocol, so a count below four rounds up).
         #[arg(long, default_value_t = 24, value_parser = super::at_least_one)]
         episodes: usize,
         /// Skip the cameras (the expert reads the simulator; by default both 256² cameras are

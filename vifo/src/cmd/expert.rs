@@ -14,7 +14,7 @@ use vifo_scenes::sim::{self, Extremes, SceneModel};
 
 #[derive(Args)]
 pub struct ExpertArgs {
-    /// Suite name or `all` (the 40 LIBERO tasks); a study suite (`vifo_piper`) by name.
+    /// Suite name or `all` (the 40 LIBERO tasks); a study suite (`vifo_safety`, `vifo_piper`) by name.
     #[arg(long, default_value = "all")]
     pub suite: String,
     /// Only this task index of the suite.

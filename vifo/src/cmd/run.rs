@@ -108,7 +108,7 @@ pub struct Args {
     #[arg(long)]
     conflicts: bool,
     /// Run only a sample of about this many episodes of the selection (spread over the
-    /// protocols in proportion, chosen by a stable hash) and extrapolate the time of the whole
+    /// protocols in proportion, at least one each, chosen by a stable hash) and extrapolate the time of the whole
     /// selection from it (the gate measurement: the mean episode wall time times the count,
     /// divided by the threads; with `--threads 1` the means are core time, with more they also
     /// hold the waits for a shared machine's cores). `--resume` later continues to the whole run.
@@ -264,6 +264,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         if policies.len() == 1 { "y" } else { "ies" },
         out.display()
     );
+    if args.resume {
+        note_records_outside(&out, &policies, &all_specs, quick);
+    }
     eprintln!("(stop at any time: the results files stay valid; run again with --resume to continue)");
     let mut results = Vec::new();
     let mut errors = 0;
@@ -303,6 +306,27 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         if errors == 1 { "" } else { "s" }
     );
     Ok(())
+}
+
+/// Says where a results file being resumed holds episodes this selection does not have:
+/// `--resume` continues the selection the options give (with none, the quick default), not the
+/// one the file was started with.
+fn note_records_outside(out: &Path, policies: &[String], selection: &[EpisodeSpec], quick: bool) {
+    let keys: std::collections::BTreeSet<String> = selection.iter().map(EpisodeSpec::key).collect();
+    for policy in policies {
+        let path = out.join(results_name(policy));
+        let Ok(loaded) = read_records(&path) else { continue };
+        let outside: std::collections::BTreeSet<String> =
+            loaded.records.iter().map(|r| r.spec.key()).filter(|k| !keys.contains(k)).collect();
+        if !outside.is_empty() {
+            eprintln!(
+                "note: {} holds {} episodes outside this selection; they stay in it and in the report, and --resume continues only this selection{}",
+                path.display(),
+                outside.len(),
+                if quick { " (without selection options, the quick default: repeat the interrupted run's --suite, --protocol, --episodes ... to continue it)" } else { "" }
+            );
+        }
+    }
 }
 
 /// The selection the options describe (defaults: every suite, protocol and family, one episode).

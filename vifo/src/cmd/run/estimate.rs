@@ -31,21 +31,43 @@ pub fn print(all: &[EpisodeSpec], sample: &[EpisodeSpec], filmed: &BTreeSet<Stri
     println!("  |---|---|---|---|---|---|");
     let mut total = 0.0;
     let mut surplus_ms = 0.0;
+    let (mut filmed_count, mut filmed_only, mut unsampled) = (0, false, false);
     for (protocol, count) in &counts {
-        let Some(m) = measured.get(protocol).filter(|m| m.n > 0) else { continue };
-        let mean = m.mean_ms() / 1e3;
-        let minutes = mean * *count as f64 / threads as f64 / 60.0;
+        let Some(m) = measured.get(protocol) else {
+            unsampled = true;
+            println!("  | {} | {count} | 0 | – | – | not sampled |", protocol.name());
+            continue;
+        };
+        // A protocol whose only sampled episodes were filmed is timed by them: too high, not 0.
+        let (mean_ms, note) = match m.mean_ms() {
+            Some(mean) => {
+                surplus_ms += m.filmed_surplus_ms(mean);
+                filmed_count += m.filmed.len();
+                (mean, "")
+            }
+            None => {
+                filmed_only = true;
+                (m.filmed.iter().sum::<f64>() / m.filmed.len() as f64, " (filmed)")
+            }
+        };
+        let minutes = mean_ms / 1e3 * *count as f64 / threads as f64 / 60.0;
         total += minutes;
-        surplus_ms += m.filmed_surplus_ms();
-        println!("  | {} | {count} | {} | {mean:.2} | {:.0} | {minutes:.1} |", protocol.name(), m.n, m.steps as f64 / m.n as f64);
+        let sampled = m.n + if note.is_empty() { 0 } else { m.filmed.len() };
+        let steps = if m.n > 0 { format!("{:.0}", m.steps as f64 / m.n as f64) } else { "–".into() };
+        println!("  | {} | {count} | {sampled}{note} | {:.2} | {steps} | {minutes:.1} |", protocol.name(), mean_ms / 1e3);
     }
-    let filmed_count: usize = measured.values().map(|m| m.filmed.len()).sum();
     if filmed_count > 0 {
         let minutes = surplus_ms / 1e3 / threads as f64 / 60.0;
         total += minutes;
         println!("  | filming the clips, once | {filmed_count} | | | | {minutes:.1} |");
     }
     println!("  | all | {} | {} | | | **{total:.1}** |", all.len(), keys.len());
+    if filmed_only {
+        println!("  (a protocol sampled only by filmed episodes is timed by them, clip frames included: an overestimate; a larger --sample times it without)");
+    }
+    if unsampled {
+        println!("  (a protocol without a sampled episode is left out of the total: an underestimate)");
+    }
     Ok(())
 }
 
@@ -71,13 +93,14 @@ impl Measured {
         }
     }
 
-    fn mean_ms(&self) -> f64 {
-        self.ms / self.n as f64
+    /// The unfilmed episodes' mean, if there are any.
+    fn mean_ms(&self) -> Option<f64> {
+        (self.n > 0).then(|| self.ms / self.n as f64)
     }
 
-    /// What the filmed episodes took beyond an unfilmed episode's mean.
-    fn filmed_surplus_ms(&self) -> f64 {
-        self.filmed.iter().map(|w| w - self.mean_ms()).sum()
+    /// What the filmed episodes took beyond an unfilmed episode's mean `mean_ms`.
+    fn filmed_surplus_ms(&self, mean_ms: f64) -> f64 {
+        self.filmed.iter().map(|w| w - mean_ms).sum()
     }
 }
 
@@ -94,7 +117,10 @@ mod tests {
         }
         m.add(2500.0, &done, true);
         assert_eq!((m.n, m.steps, m.filmed.len()), (3, 300, 1));
-        assert_eq!(m.mean_ms(), 1000.0);
-        assert_eq!(m.filmed_surplus_ms(), 1500.0);
+        assert_eq!(m.mean_ms(), Some(1000.0));
+        assert_eq!(m.filmed_surplus_ms(1000.0), 1500.0);
+        let mut only_filmed = Measured::default();
+        only_filmed.add(2500.0, &done, true);
+        assert_eq!(only_filmed.mean_ms(), None);
     }
 }

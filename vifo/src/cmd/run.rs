@@ -15,6 +15,7 @@
 //! threads, shards, `--sample` and report, plus each study's own table. The quick default
 //! includes a small sample of every study.
 
+use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -211,7 +212,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         let offered = || per_study.iter().flat_map(|(_, e)| e).filter_map(|s| s.instance.as_deref());
         if let Some(missing) = args.instance.iter().find(|id| !offered().any(|i| i == id.as_str())) {
-            let mut seen = std::collections::BTreeSet::new();
+            let mut seen = BTreeSet::new();
             let distinct: Vec<&str> = offered().filter(|i| seen.insert(*i)).collect();
             bail!(
                 "--instance {missing}: no episode of the chosen studies has this cue instance; they have {} instances, such as {}",
@@ -235,16 +236,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         None => all_specs.clone(),
     };
     anyhow::ensure!(!specs.is_empty(), "the selection has no episodes: nothing to run (check --study, --protocol, --form and --instance)");
-    let suites: Vec<&str> = specs.iter().map(|s| s.task.suite.as_str()).collect::<std::collections::BTreeSet<_>>().into_iter().collect();
-    if suites.len() > 1 {
-        for profile in &one_suite_servers {
-            eprintln!(
-                "note: the {profile} server un-normalises actions with the statistics of the one suite it was started for, \
-                 and this selection spans {}: run one suite per server (--suite), as serving/README.md says",
-                suites.join(", ")
-            );
-        }
-    }
+    note_one_suite_servers(&one_suite_servers, &specs);
     // The look matters only where cameras draw (and is recorded only where the policy's do).
     // Loading it takes seconds, so the selection is checked first.
     if args.render_always || args.clips != Clips::None || policies.iter().any(|p| builtin(p).is_none_or(|b| b.uses_images())) {
@@ -308,15 +300,32 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Says where servers that un-normalise with one suite's statistics (`profiles`) meet a
+/// selection of several suites.
+fn note_one_suite_servers(profiles: &[&str], specs: &[EpisodeSpec]) {
+    let suites: BTreeSet<&str> = specs.iter().map(|s| s.task.suite.as_str()).collect();
+    if suites.len() < 2 {
+        return;
+    }
+    let suites: Vec<&str> = suites.into_iter().collect();
+    for profile in profiles {
+        eprintln!(
+            "note: the {profile} server un-normalises actions with the statistics of the one suite it was started for, \
+             and this selection spans {}: run one suite per server (--suite), as serving/README.md says",
+            suites.join(", ")
+        );
+    }
+}
+
 /// Says where a results file being resumed holds episodes this selection does not have:
 /// `--resume` continues the selection the options give (with none, the quick default), not the
 /// one the file was started with.
 fn note_records_outside(out: &Path, policies: &[String], selection: &[EpisodeSpec], quick: bool) {
-    let keys: std::collections::BTreeSet<String> = selection.iter().map(EpisodeSpec::key).collect();
+    let keys: BTreeSet<String> = selection.iter().map(EpisodeSpec::key).collect();
     for policy in policies {
         let path = out.join(results_name(policy));
         let Ok(loaded) = read_records(&path) else { continue };
-        let outside: std::collections::BTreeSet<String> =
+        let outside: BTreeSet<String> =
             loaded.records.iter().map(|r| r.spec.key()).filter(|k| !keys.contains(k)).collect();
         if !outside.is_empty() {
             eprintln!(

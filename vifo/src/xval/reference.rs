@@ -116,7 +116,7 @@ pub fn recordings_in(dir: &Path) -> Result<Vec<PathBuf>> {
 mod tests {
     use super::*;
 
-    /// A recording of `records` records of task `suite`[`index`] named `name`.
+    /// A recording of `records` records of task `index` of `suite`, named `name`.
     fn recording(dir: &Path, suite: &str, index: usize, name: &str, records: usize) -> PathBuf {
         let steps: Vec<serde_json::Value> = (0..records)
             .map(|t| {

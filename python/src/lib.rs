@@ -115,9 +115,12 @@ impl NativeEnv {
         Ok((observation(py, env)?, reward, done))
     }
 
-    /// Whether the task's goal holds as of the last step.
+    /// Whether the task's goal holds as of the last step; before the first reset an error, as
+    /// `step` (there is no episode to check).
     fn check_success(&mut self) -> PyResult<bool> {
-        Ok(self.env()?.scored_success())
+        let env = self.env()?;
+        env.state().map_err(py_err)?;
+        Ok(env.scored_success())
     }
 
     /// The positions of the state: arm joints (7), fingers (2), then per movable object its

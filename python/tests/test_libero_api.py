@@ -222,6 +222,8 @@ def test_wrong_arguments_raise_clear_exceptions():
     env = make_env()
     with pytest.raises(RuntimeError, match="reset"):
         env.step(DUMMY)
+    with pytest.raises(RuntimeError, match="call reset first"):
+        env.check_success()
     spatial = benchmark.get_benchmark_dict()["libero_spatial"]().get_task_init_states(0)[0]
     with pytest.raises(ValueError, match="libero_spatial/0"):
         env.set_init_state(spatial)

@@ -40,7 +40,7 @@ fn listed_ids_are_accepted_and_a_mistyped_one_names_the_tasks_ids() {
 }
 
 /// A selection that holds no episode is an error naming the option, not an empty table with a
-/// success rate of "-0.0%".
+/// success rate of "-0.0%" (nor a table header over the error).
 #[test]
 fn an_empty_expert_selection_is_an_error() {
     for (args, says) in [
@@ -51,6 +51,7 @@ fn an_empty_expert_selection_is_an_error() {
         let out = Command::new(env!("CARGO_BIN_EXE_vifo")).arg("expert").args(args).output().expect("run vifo");
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success() && stderr.contains(says), "{args:?}: {stderr}");
+        assert!(out.stdout.is_empty(), "{args:?}: {}", String::from_utf8_lossy(&out.stdout));
     }
 }
 

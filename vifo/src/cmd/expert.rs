@@ -89,9 +89,8 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
     }
     ensure!(args.episodes > 0, "--episodes 0: nothing to run");
     let mut tasks = Vec::new();
-    if !args.json {
-        println!("{:<15} {:>2} {:<72} {:>7} {:>6} {:>6} {:>6}  failures (init:why)", "suite", "#", "task", "ok", "rate", "steps", "budget");
-    }
+    // Printed with the first row, so that an error found on loading the first task stands alone.
+    let mut header = !args.json;
     for suite in suites {
         for (index, task) in suite.tasks.iter().enumerate() {
             if args.task.is_some_and(|t| t != index) {
@@ -143,6 +142,9 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
                 below_support: results.iter().filter_map(|r| Some(format!("{}: {}", r.init, r.below_support.as_ref()?))).collect(),
                 extremes: results.iter().fold(Extremes::default(), |m, r| m.max(r.extremes)),
             };
+            if std::mem::take(&mut header) {
+                println!("{:<15} {:>2} {:<72} {:>7} {:>6} {:>6} {:>6}  failures (init:why)", "suite", "#", "task", "ok", "rate", "steps", "budget");
+            }
             if !args.json {
                 println!(
                     "{:<15} {:>2} {:<72} {:>3}/{:<3} {:>5.0}% {:>6.0} {:>6}  {}",

@@ -156,10 +156,12 @@ impl Inserter {
         if self.cache.len() > CACHE_LIMIT {
             self.cache.clear();
         }
+        // The whole spec, not only its id: a caller may give one task key to specs of other
+        // instructions or objects, whose captions, codes and labels differ.
         let key_prefix = format!(
-            "{}|{}|{}x{}",
+            "{}|{:016x}|{}x{}",
             spec.id(),
-            serde_json::to_string(&spec.params).unwrap_or_default(),
+            crate::hash::fnv1a64(&serde_json::to_vec(spec).unwrap_or_default()),
             frame.width,
             frame.height
         );

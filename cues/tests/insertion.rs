@@ -221,6 +221,24 @@ fn same_inputs_give_the_same_bytes() {
     }
 }
 
+/// Specs that share a task key but not their content (another instruction, other objects) are
+/// drawn as a fresh inserter draws each, never from the other's kept captions, codes or labels.
+#[test]
+fn specs_sharing_a_task_key_do_not_share_drawings() {
+    let other = "pick up the ketchup and place it in the basket";
+    let mut kept = Inserter::new();
+    for v in VARIANTS {
+        let inputs = FrameInputs::anchored(anchors());
+        for task in [TASK, other, TASK] {
+            let Ok(spec) = CueSpec::new("test/0", &parse(task).unwrap(), 0, v) else { continue };
+            let (mut want, mut got) = (base(W, W), base(W, W));
+            let fresh = Inserter::new().insert(&mut want, &spec, &inputs);
+            assert_eq!(fresh.ok(), kept.insert(&mut got, &spec, &inputs).ok(), "{}", v.name);
+            assert!(got == want, "{}: {task:?} drawn from another spec's drawing", v.name);
+        }
+    }
+}
+
 /// The inserter keeps the layers it drew from anchors alone: frames of two cameras, one whose
 /// anchors move and one whose stay, over two backgrounds, must come out as a fresh inserter
 /// draws them. Variants that need ghost layers or pictures fail without them and are skipped.

@@ -135,7 +135,7 @@ impl Arm for Panda<'_> {
         let err = rotation_vector(&(target.rot * ee.rot.transpose())) * servo.rot_gain;
         let t = |v: f64| v.clamp(-servo.max_speed, servo.max_speed);
         let r = |v: f64| v.clamp(-1.0, 1.0);
-        Action([t(dp.x), t(dp.y), t(dp.z), r(err.x), r(err.y), r(err.z), grip])
+        Action::clipped([t(dp.x), t(dp.y), t(dp.z), r(err.x), r(err.y), r(err.z), grip])
     }
 }
 
@@ -206,6 +206,6 @@ impl Arm for Piper<'_> {
         let goal = OscGoal::new(from + dp, rotation_from_axis_angle_vector(&turn) * from_rot);
         let q = self.piper.solve_ik(&self.control.joint_targets, &goal);
         let d = |i: usize| (q[i] - self.control.joint_targets[i]).clamp(-1.0, 1.0);
-        Action([d(0), d(1), d(2), d(3), d(4), d(5), grip])
+        Action::clipped([d(0), d(1), d(2), d(3), d(4), d(5), grip])
     }
 }

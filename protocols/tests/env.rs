@@ -191,3 +191,12 @@ fn an_unsettled_start_plus_libero_dummy_steps_is_the_settled_start() {
         assert_eq!(env.cue_drawing(), settled.cue_drawing());
     }
 }
+
+/// A camera size no renderer takes is an error at the first reset, not an allocation of
+/// 10¹⁰ pixels that aborts the process in `Env::new`.
+#[test]
+fn an_impossible_camera_size_is_an_error() {
+    let mut env = Env::new(EnvConfig { size: 100_000, ..EnvConfig::default() });
+    let err = env.reset(&goal0(Protocol::Original)).unwrap_err();
+    assert!(matches!(err, EnvError::Render(_)) && err.to_string().contains("100000"), "{err}");
+}

@@ -18,9 +18,10 @@ pub const END_EFFECTOR_DELTAS: [&str; 7] = ["dx", "dy", "dz", "dax", "day", "daz
 /// The values of the PiPER's joint-delta action.
 pub const JOINT_DELTAS: [&str; 7] = ["dq1", "dq2", "dq3", "dq4", "dq5", "dq6", "gripper"];
 
-/// A validated action, clipped to [-1, 1] as robosuite's controllers clip their input.
+/// An action of finite values in [-1, 1] (clipped, as robosuite's controllers clip their
+/// input): it cannot carry a NaN or an infinity into the physics.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Action(pub [f64; 7]);
+pub struct Action([f64; 7]);
 
 impl Action {
     /// Validates and clips. Rejects wrong lengths and NaN/inf values with an error naming them
@@ -40,9 +41,20 @@ impl Action {
         Ok(Action(values.map(|v| v.clamp(-1.0, 1.0))))
     }
 
+    /// From values a controller computed (the scripted expert, a bench): clipped to [-1, 1],
+    /// and a non-finite value becomes 0 (no motion on that axis). A policy's action goes
+    /// through [`Action::new`], which refuses such values instead.
+    pub fn clipped(values: [f64; 7]) -> Action {
+        Action(values.map(|v| if v.is_finite() { v.clamp(-1.0, 1.0) } else { 0.0 }))
+    }
+
     /// All zeros except the gripper: hold still with the gripper opening (-1) or closing (+1).
     pub fn hold(gripper: f64) -> Action {
-        Action([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, gripper.clamp(-1.0, 1.0)])
+        Action::clipped([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, gripper])
+    }
+
+    pub fn values(&self) -> [f64; 7] {
+        self.0
     }
 
     pub fn translation(&self) -> [f64; 3] {
@@ -61,6 +73,14 @@ impl Action {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn actions_built_from_computed_values_are_finite_and_clipped() {
+        let a = Action::clipped([f64::NAN, 2.0, -3.0, f64::INFINITY, 0.25, -0.5, f64::NEG_INFINITY]);
+        assert_eq!(a.values(), [0.0, 1.0, -1.0, 0.0, 0.25, -0.5, 0.0]);
+        assert_eq!(Action::hold(f64::NAN).gripper(), 0.0);
+        assert_eq!(Action::hold(-7.0).values(), [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]);
+    }
 
     #[test]
     fn rejects_bad_actions_with_a_clear_error() {

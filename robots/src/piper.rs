@@ -292,7 +292,7 @@ impl Piper {
     pub fn command_joint_delta(&self, world: &World, control: &mut PiperControl, action: &Action) {
         let q = self.arm.state(world).q;
         for i in 0..6 {
-            let target = control.joint_targets[i] + action.0[i];
+            let target = control.joint_targets[i] + action.values()[i];
             let [low, high] = JOINT_LIMITS[i];
             control.joint_targets[i] = target.clamp(q[i] - JOINT_LEASH, q[i] + JOINT_LEASH).clamp(low, high);
         }

@@ -9,9 +9,13 @@
 //! - [`catalog`]: every object and fixture category the 40 tasks use (collision, mass, sites,
 //!   procedural looks).
 //! - [`look`]: LIBERO's own meshes and textures, found and loaded at run time when installed.
-//! - [`sim`]: tasks running in the physics world; [`view`]: rendering them with LIBERO's cameras.
+//! - [`cue_object`]: cues made physical (paper §4.2): text cards, signs and code tags as
+//!   rigid bodies in the scene.
+//! - [`sim`]: tasks running in the physics world ([`vifo_physics`], [`vifo_robots`]); [`view`]:
+//!   rendering them with LIBERO's cameras ([`vifo_render`]).
 //!
-//! This crate is data and parsing only; it depends on no physics or robot code.
+//! The task data and its parsing need none of those; the simulated scene and its view are
+//! built on them. Nothing here knows of cues' drawings or protocols.
 
 pub mod bddl;
 pub mod catalog;

@@ -55,7 +55,7 @@ pub fn episode(model: &Arc<SceneModel>, starts: &Starts, init: usize, seed: u64,
             let (q, fingers) = sim.model().robot.joint_positions(sim.world());
             eprintln!(
                 "step {steps:3} q {:?} ee ({:.3} {:.3} {:.3}) fingers {:.4} {:.4} action {:?} {} contacts {:?}",
-                q.map(|v| (v * 100.0).round() / 100.0), ee.x, ee.y, ee.z, fingers[0], fingers[1], action.0.map(|v| (v * 100.0).round() / 100.0), expert.describe(), sim.robot_contacts()
+                q.map(|v| (v * 100.0).round() / 100.0), ee.x, ee.y, ee.z, fingers[0], fingers[1], action.values().map(|v| (v * 100.0).round() / 100.0), expert.describe(), sim.robot_contacts()
             );
             for (i, e) in sim.model().entities.iter().enumerate().filter(|(_, e)| e.movable()) {
                 let p = sim.entity_pose(i);

@@ -164,7 +164,9 @@ impl Env {
             config,
             renderer: Renderer::new(RenderOptions::default()),
             cameras: Cameras::new(size, size),
-            frame: Frame::new(size, size),
+            // Sized by the first render, which checks the size first (a huge one is an error there,
+            // not an allocation that aborts here).
+            frame: Frame::default(),
             observation: Observation {
                 agentview: empty_image(),
                 wrist: empty_image(),

@@ -93,8 +93,8 @@ impl Policy for ExpertPolicy {
             self.plan = Some(expert);
         }
         Ok(match self.plan.as_mut().and_then(Option::as_mut) {
-            Some(expert) => expert.act(state.sim).0,
-            None => Action::hold(OPEN).0,
+            Some(expert) => expert.act(state.sim).values(),
+            None => Action::hold(OPEN).values(),
         })
     }
 

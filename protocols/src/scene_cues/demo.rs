@@ -16,7 +16,9 @@ use serde::Serialize;
 use vifo_cues::RgbaImage;
 use vifo_robots::spatial::Pose;
 use vifo_expert::Expert;
+use vifo_render::Renderer;
 use vifo_scenes::sim::Sim;
+use vifo_scenes::view::SceneView;
 use vifo_scenes::task::Atom;
 
 use super::SceneCueError;
@@ -60,7 +62,8 @@ pub struct Recording {
 const KEPT: usize = 256;
 
 /// Everything a recording depends on: the task, the exact start (state bits and step count),
-/// the goals, the tracked entity, the step cap and the picture size (`None`: no pictures).
+/// the goals, the tracked entity, the step cap and what the pictures are drawn with (`None`:
+/// no pictures).
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub struct RecordingKey {
     task: String,
@@ -68,11 +71,28 @@ pub struct RecordingKey {
     goals: String,
     tracked: Option<usize>,
     cap: usize,
-    pictures: Option<(u32, u32)>,
+    pictures: Option<PictureKey>,
+}
+
+/// What a recording's pictures are drawn with: their size, the view's look and instance count
+/// (a cue object's face is an attached instance) and the renderer's options, so that a caller
+/// drawing with another look or renderer in the same process never gets these pictures.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct PictureKey {
+    size: (u32, u32),
+    look: String,
+    instances: usize,
+    options: String,
+}
+
+impl PictureKey {
+    pub fn new(size: (u32, u32), view: &SceneView, renderer: &Renderer) -> PictureKey {
+        PictureKey { size, look: view.look().to_string(), instances: view.scene().instances.len(), options: format!("{:?}", renderer.options()) }
+    }
 }
 
 impl RecordingKey {
-    pub fn new(sim: &Sim, goals: &[Atom], tracked: Option<usize>, cap: usize, pictures: Option<(u32, u32)>) -> RecordingKey {
+    pub fn new(sim: &Sim, goals: &[Atom], tracked: Option<usize>, cap: usize, pictures: Option<PictureKey>) -> RecordingKey {
         RecordingKey {
             task: sim.model().task.label(),
             start: (sim.world().fingerprint().0, sim.steps()),
@@ -222,6 +242,14 @@ mod tests {
         // Another cap (or start, goals, tracked object, picture size) is another recording.
         let other = recorded(RecordingKey::new(&sim, &task.goal, None, 8, None), record).unwrap();
         assert_eq!((made.get(), other.demo.track[0]), (2, at(2.0)));
+        // So are pictures drawn by another renderer.
+        let view = SceneView::new(sim.model());
+        let plain = Renderer::new(vifo_render::RenderOptions::default());
+        let fine = Renderer::new(vifo_render::RenderOptions { supersample: 2, ..Default::default() });
+        for renderer in [&plain, &fine, &plain] {
+            recorded(RecordingKey::new(&sim, &task.goal, None, 8, Some(PictureKey::new((8, 8), &view, renderer))), record).unwrap();
+        }
+        assert_eq!(made.get(), 4);
     }
 
     #[test]

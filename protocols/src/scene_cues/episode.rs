@@ -81,7 +81,7 @@ impl EpisodeCue {
             return Err(SceneCueError::Unsupported { cue, why: "no goal atoms to demonstrate".into() });
         }
         let cap = sim.model().task.suite.as_deref().and_then(vifo_scenes::suite).map_or(DEFAULT_STEP_CAP, |s| s.max_steps as usize);
-        let key = demo::RecordingKey::new(sim, goals, moved, cap, wants_pictures.then_some(size));
+        let key = demo::RecordingKey::new(sim, goals, moved, cap, wants_pictures.then(|| demo::PictureKey::new(size, view, renderer)));
         let recording = demo::recorded(key, || {
             let camera = Cameras::new(size.0, size.1).agentview(sim.model().class);
             let mut painter = view.clone();

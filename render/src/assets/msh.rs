@@ -35,7 +35,8 @@ pub fn parse_msh(bytes: &[u8], name: &str) -> Result<Mesh, AssetError> {
             return Err(err(format!("header {label} = {n} must be 0 or nvertex = {nv}")));
         }
     }
-    let expected = [3 * nv, 3 * nn, 2 * nt, 3 * nf].iter().try_fold(HEADER, |acc, &k| acc.checked_add(k.checked_mul(4)?));
+    // Checked throughout: on a 32-bit target (wasm) the header's counts overflow `usize`.
+    let expected = [(3, nv), (3, nn), (2, nt), (3, nf)].iter().try_fold(HEADER, |acc, &(k, n)| acc.checked_add(n.checked_mul(k * 4)?));
     match expected {
         Some(e) if e == bytes.len() => {}
         Some(e) => {

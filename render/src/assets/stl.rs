@@ -19,9 +19,9 @@ pub fn parse_stl(bytes: &[u8], name: &str) -> Result<Mesh, AssetError> {
         if bytes.len() < BINARY_HEADER {
             return Err(err(format!("{} bytes is too short for a binary STL header (84 bytes)", bytes.len())));
         }
-        let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
-        let need = BINARY_HEADER + n * BINARY_FACE;
-        if bytes.len() < need {
+        let n = triangle_count(bytes);
+        let need = binary_size(n);
+        if (bytes.len() as u64) < need {
             return Err(err(format!("binary STL declares {n} triangles ({need} bytes) but the file has {} bytes", bytes.len())));
         }
     }
@@ -36,10 +36,18 @@ pub fn parse_stl(bytes: &[u8], name: &str) -> Result<Mesh, AssetError> {
 
 /// Some binary STLs start with "solid" too; trust the size field when it fits exactly.
 fn binary_size_matches(bytes: &[u8]) -> bool {
-    bytes.len() >= BINARY_HEADER && {
-        let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as usize;
-        bytes.len() == BINARY_HEADER + n * BINARY_FACE
-    }
+    bytes.len() >= BINARY_HEADER && bytes.len() as u64 == binary_size(triangle_count(bytes))
+}
+
+/// The header's triangle count (the file is at least [`BINARY_HEADER`] long).
+fn triangle_count(bytes: &[u8]) -> u32 {
+    u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]])
+}
+
+/// Bytes of a binary STL of `n` triangles, in 64 bits: on a 32-bit target (wasm) the header's
+/// count times 50 overflows `usize`.
+fn binary_size(n: u32) -> u64 {
+    BINARY_HEADER as u64 + u64::from(n) * BINARY_FACE as u64
 }
 
 #[cfg(test)]

@@ -53,14 +53,26 @@ pub struct FixturePose {
 }
 
 /// Puts `start` into `sim`: fixtures first (their parts move with them), then LIBERO's state.
+/// A start that does not fit the scene is an error and changes nothing.
 pub fn apply(sim: &mut Sim, start: &EpisodeStart) -> Result<(), StateError> {
-    for f in &start.fixtures {
-        let fixture = sim.model().entity(&f.name).filter(|(_, e)| !e.movable()).map(|(i, _)| i);
-        let entity = fixture.ok_or_else(|| StateError::UnknownObject(f.name.clone()))?;
-        if f.pos.iter().chain(&f.quat_wxyz).any(|v| !v.is_finite()) {
-            return Err(StateError::NotFinite { what: format!("of fixture {}", f.name) });
-        }
-        sim.place_fixture(entity, &Pose::from_wxyz(f.pos, f.quat_wxyz));
+    let fixtures = start
+        .fixtures
+        .iter()
+        .map(|f| {
+            let fixture = sim.model().entity(&f.name).filter(|(_, e)| !e.movable()).map(|(i, _)| i);
+            let entity = fixture.ok_or_else(|| StateError::UnknownObject(f.name.clone()))?;
+            if f.pos.iter().chain(&f.quat_wxyz).any(|v| !v.is_finite()) {
+                return Err(StateError::NotFinite { what: format!("of fixture {}", f.name) });
+            }
+            if f.quat_wxyz == [0.0; 4] {
+                return Err(StateError::ZeroQuaternion { what: format!("of fixture {}", f.name) });
+            }
+            Ok((entity, Pose::from_wxyz(f.pos, f.quat_wxyz)))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    sim.check_state(&start.state)?;
+    for (entity, at) in &fixtures {
+        sim.place_fixture(*entity, at);
     }
     sim.load_state(&start.state)
 }

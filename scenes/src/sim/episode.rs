@@ -6,7 +6,7 @@ use thiserror::Error;
 use vifo_physics::rapier::prelude::*;
 use vifo_physics::{Snapshot, World};
 use vifo_robots::action::Action;
-use vifo_robots::convert::{pose, rapier_pose};
+use vifo_robots::convert::{pose, rapier_pose, vec3, vector};
 use vifo_robots::joint;
 use vifo_robots::model::JointKind as RobotJointKind;
 use vifo_robots::spatial::{Pose, Vec3};
@@ -25,11 +25,17 @@ pub enum StateError {
     UnknownJoint { owner: String, joint: String },
     #[error("state value {what} is not finite")]
     NotFinite { what: String },
+    #[error("state quaternion {what} is zero, not a rotation")]
+    ZeroQuaternion { what: String },
+    #[error("the snapshot was taken of another scene model (task {snapshot}); this Sim runs {this}")]
+    ForeignSnapshot { snapshot: String, this: String },
 }
 
 /// Everything needed to continue an episode bit for bit from the same point.
 #[derive(Clone)]
 pub struct SimSnapshot {
+    /// The model it was taken of: its body and joint handles are the model's.
+    model: Arc<SceneModel>,
     world: Snapshot,
     control: RobotControl,
     steps: usize,
@@ -107,24 +113,40 @@ impl Sim {
         body.set_angvel(Vector::from([0.0; 3]), true);
     }
 
-    /// Loads a LIBERO state (arm, gripper, object poses, articulation joints) and resets the
-    /// controller as LIBERO's `reset()` + `set_init_state()` leave it.
+    /// Checks that `state` fits this scene (every object and joint it names exists, every value
+    /// is finite, every quaternion non-zero) without changing anything.
+    pub fn check_state(&self, state: &InitState) -> Result<(), StateError> {
+        self.resolve(state).map(|_| ())
+    }
+
+    /// The entity index of each object and joint of `state`, after [`Sim::check_state`]'s checks.
+    fn resolve(&self, state: &InitState) -> Result<(Vec<usize>, Vec<usize>), StateError> {
+        check_values(state)?;
+        let model = &self.model;
+        let objects = state.objects.iter().map(|o| model.entity(&o.name).map(|(i, _)| i).ok_or_else(|| StateError::UnknownObject(o.name.clone())));
+        let joints = state.joints.iter().map(|j| match model.entity(&j.owner) {
+            Some((i, entity)) if entity.joint(&j.joint).is_some() => Ok(i),
+            _ => Err(StateError::UnknownJoint { owner: j.owner.clone(), joint: j.joint.clone() }),
+        });
+        Ok((objects.collect::<Result<_, _>>()?, joints.collect::<Result<_, _>>()?))
+    }
+
+    /// Loads a LIBERO state (arm, gripper, object poses and velocities, articulation joints)
+    /// and resets the controller as LIBERO's `reset()` + `set_init_state()` leave it. A state
+    /// that does not fit ([`Sim::check_state`]) is an error and changes nothing.
     pub fn load_state(&mut self, state: &InitState) -> Result<(), StateError> {
-        check_finite(state)?;
+        let (objects, joints) = self.resolve(state)?;
         let model = self.model.clone();
-        for object in &state.objects {
-            let (i, _) = model.entity(&object.name).ok_or_else(|| StateError::UnknownObject(object.name.clone()))?;
+        for (object, i) in state.objects.iter().zip(objects) {
             let at = Pose::from_wxyz(object.pos, object.quat_wxyz);
             let body = &mut self.world.rapier_mut().bodies[model.entities[i].bodies[0]];
             body.set_position(rapier_pose(&at), true);
-            body.set_linvel(Vector::from(object.lin_vel), true);
-            body.set_angvel(Vector::from(object.ang_vel), true);
+            let (linvel, angvel) = free_joint_velocity(&at, object.lin_vel, object.ang_vel, vec3(body.local_center_of_mass()));
+            body.set_linvel(vector(&linvel), true);
+            body.set_angvel(vector(&angvel), true);
         }
-        for j in &state.joints {
-            let unknown = || StateError::UnknownJoint { owner: j.owner.clone(), joint: j.joint.clone() };
-            let (i, entity) = model.entity(&j.owner).ok_or_else(unknown)?;
-            let (_, _) = entity.joint(&j.joint).ok_or_else(unknown)?;
-            self.set_joint(i, &j.joint, j.qpos);
+        for (j, i) in state.joints.iter().zip(joints) {
+            self.set_joint_moving(i, &j.joint, j.qpos, j.qvel);
         }
         model.robot.set_joints(&mut self.world, &state.arm_qpos, &state.gripper_qpos, &state.arm_qvel, &state.gripper_qvel);
         self.control = model.robot.reset_control(&self.world);
@@ -134,6 +156,11 @@ impl Sim {
 
     /// Sets an articulation joint of an entity (drawer, door, knob) to `value`, at rest.
     pub fn set_joint(&mut self, entity: usize, name: &str, value: f64) {
+        self.set_joint_moving(entity, name, value, 0.0);
+    }
+
+    /// Sets an articulation joint to `value`, moving at `velocity`.
+    fn set_joint_moving(&mut self, entity: usize, name: &str, value: f64, velocity: f64) {
         let Some((_, jh)) = self.model.entities[entity].joint(name) else { return };
         let current = self.joint_position(entity, name).unwrap_or(value);
         let r = self.world.rapier_mut();
@@ -142,7 +169,7 @@ impl Sim {
         let mut disp = vec![0.0; mb.ndofs()];
         disp[dof] = value - current;
         mb.apply_displacements(&disp);
-        mb.generalized_velocity_mut()[dof] = 0.0;
+        mb.generalized_velocity_mut()[dof] = velocity;
         mb.forward_kinematics(&r.bodies, true);
         mb.update_rigid_bodies(&mut r.bodies, true);
         self.wake(entity);
@@ -252,24 +279,39 @@ impl Sim {
     }
 
     pub fn snapshot(&self) -> SimSnapshot {
-        SimSnapshot { world: self.world.snapshot(), control: self.control, steps: self.steps }
+        SimSnapshot { model: self.model.clone(), world: self.world.snapshot(), control: self.control, steps: self.steps }
     }
 
-    pub fn restore(&mut self, snapshot: &SimSnapshot) {
+    /// Goes back to `snapshot`, which must have been taken of this Sim's model (the same
+    /// `Arc`): another model's bodies and joints are not this one's.
+    pub fn restore(&mut self, snapshot: &SimSnapshot) -> Result<(), StateError> {
+        if !Arc::ptr_eq(&snapshot.model, &self.model) {
+            return Err(StateError::ForeignSnapshot { snapshot: snapshot.model.task.label(), this: self.model.task.label() });
+        }
         self.world.restore(&snapshot.world);
         self.control = snapshot.control;
         self.steps = snapshot.steps;
+        Ok(())
     }
 
     /// A copy of this episode that can be run forward without touching it (simulated futures).
     pub fn fork(&self) -> Sim {
-        let mut copy = Sim::new(self.model.clone());
-        copy.restore(&self.snapshot());
-        copy
+        Sim { model: self.model.clone(), world: self.world.clone(), control: self.control, steps: self.steps }
     }
 }
 
-fn check_finite(state: &InitState) -> Result<(), StateError> {
+/// rapier's velocities (the centre of mass's, and the angular one, both in the world frame) from
+/// MuJoCo's free-joint velocity (the body origin's, in the world frame, and the angular one in
+/// the body frame). At rest they pass through bit for bit.
+fn free_joint_velocity(at: &Pose, origin: [f64; 3], body_frame: [f64; 3], local_com: Vec3) -> (Vec3, Vec3) {
+    if body_frame == [0.0; 3] {
+        return (Vec3::from(origin), Vec3::from(body_frame));
+    }
+    let angular = at.rot * Vec3::from(body_frame);
+    (Vec3::from(origin) + angular.cross(&(at.rot * local_com)), angular)
+}
+
+fn check_values(state: &InitState) -> Result<(), StateError> {
     let bad = |what: &str| Err(StateError::NotFinite { what: what.to_string() });
     if state.arm_qpos.iter().chain(&state.arm_qvel).chain(&state.gripper_qpos).chain(&state.gripper_qvel).any(|v| !v.is_finite()) {
         return bad("of the robot");
@@ -278,6 +320,9 @@ fn check_finite(state: &InitState) -> Result<(), StateError> {
         if o.pos.iter().chain(&o.quat_wxyz).chain(&o.lin_vel).chain(&o.ang_vel).any(|v| !v.is_finite()) {
             return bad(&format!("of object {}", o.name));
         }
+        if o.quat_wxyz == [0.0; 4] {
+            return Err(StateError::ZeroQuaternion { what: format!("of object {}", o.name) });
+        }
     }
     for j in &state.joints {
         if !j.qpos.is_finite() || !j.qvel.is_finite() {
@@ -285,4 +330,83 @@ fn check_finite(state: &InitState) -> Result<(), StateError> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::init_states;
+
+    fn started(suite: &str, index: usize) -> (Sim, &'static init_states::EpisodeStart) {
+        let task = crate::task(suite, index).unwrap();
+        let start = &init_states::fixed(task).unwrap()[0];
+        let mut sim = Sim::new(SceneModel::build(task).unwrap());
+        init_states::apply(&mut sim, start).unwrap();
+        (sim, start)
+    }
+
+    #[test]
+    fn a_snapshot_continues_bit_for_bit_and_only_in_its_own_model() {
+        let (mut sim, _) = started("libero_goal", 0);
+        let hold = Action::hold(1.0);
+        sim.step(&hold);
+        let snap = sim.snapshot();
+        let mut fork = sim.fork();
+        (0..3).for_each(|_| sim.step(&hold));
+        (0..3).for_each(|_| fork.step(&hold));
+        let after = sim.world().fingerprint().0;
+        assert_eq!(fork.world().fingerprint().0, after);
+        sim.restore(&snap).unwrap();
+        (0..3).for_each(|_| sim.step(&hold));
+        assert_eq!((sim.world().fingerprint().0, sim.steps()), (after, 4));
+
+        let (mut other, _) = started("libero_goal", 0);
+        let before = other.world().fingerprint().0;
+        let err = other.restore(&snap).unwrap_err();
+        assert!(matches!(err, StateError::ForeignSnapshot { .. }), "{err}");
+        assert_eq!(other.world().fingerprint().0, before);
+    }
+
+    /// MuJoCo's free joint moves its body origin at `lin_vel` (world frame) and turns at
+    /// `ang_vel` in the body frame; rapier keeps the centre of mass's velocity in the world frame.
+    #[test]
+    fn loaded_velocities_mean_what_mujoco_means() {
+        let (mut sim, start) = started("libero_goal", 0);
+        let mut state = start.state.clone();
+        let object = &mut state.objects[0];
+        object.quat_wxyz = [0.5f64.sqrt(), 0.0, 0.0, 0.5f64.sqrt()]; // 90° about z
+        object.lin_vel = [0.1, -0.2, 0.05];
+        object.ang_vel = [1.0, 0.0, 0.5];
+        state.joints[0].qvel = 0.2;
+        sim.load_state(&state).unwrap();
+        let (owner, joint) = sim.model().entity(&state.joints[0].owner).unwrap();
+        let (mb, link) = sim.world().rapier().multibody_joints.get(joint.joint(&state.joints[0].joint).unwrap().1).unwrap();
+        assert_eq!(mb.generalized_velocity()[mb.link(link).unwrap().assembly_id()], 0.2, "joint of entity {owner}");
+        let (i, _) = sim.model().entity(&state.objects[0].name).unwrap();
+        let body = &sim.world().rapier().bodies[sim.model().entities[i].bodies[0]];
+        let angvel = vec3(body.angvel());
+        assert!((angvel - Vec3::new(0.0, 1.0, 0.5)).norm() < 1e-12, "{angvel:?}");
+        let origin = Vec3::from(state.objects[0].pos);
+        let com = origin + Pose::from_wxyz(state.objects[0].pos, state.objects[0].quat_wxyz).rot * vec3(body.local_center_of_mass());
+        let at_origin = vec3(body.linvel()) + angvel.cross(&(origin - com));
+        assert!((at_origin - Vec3::new(0.1, -0.2, 0.05)).norm() < 1e-12, "{at_origin:?}");
+    }
+
+    #[test]
+    fn a_state_that_does_not_fit_changes_nothing() {
+        let (mut sim, start) = started("libero_goal", 0);
+        sim.step(&Action::hold(1.0));
+        let before = sim.world().fingerprint().0;
+        let mut late = start.state.clone();
+        late.objects.last_mut().unwrap().name = "teapot_1".into();
+        assert_eq!(sim.load_state(&late).unwrap_err(), StateError::UnknownObject("teapot_1".into()));
+        let mut zero = start.state.clone();
+        zero.objects[0].quat_wxyz = [0.0; 4];
+        assert!(matches!(sim.load_state(&zero), Err(StateError::ZeroQuaternion { .. })));
+        let mut joint = start.clone();
+        joint.fixtures[0].pos[0] += 0.1;
+        joint.state.joints.push(crate::init_file::JointState { owner: "nothing".into(), joint: "x".into(), qpos: 0.0, qvel: 0.0 });
+        assert!(matches!(init_states::apply(&mut sim, &joint), Err(StateError::UnknownJoint { .. })));
+        assert_eq!((sim.world().fingerprint().0, sim.steps()), (before, 1));
+    }
 }

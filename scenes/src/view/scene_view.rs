@@ -74,6 +74,8 @@ pub struct SceneView {
     indicators: Vec<Indicator>,
     legend: Vec<Segment>,
     class: &'static SceneClass,
+    /// What results record as the look ([`Look::label`], or `built-in`).
+    look: String,
 }
 
 /// A coarser mesh is drawn where the pixel it was made for is at most this many of the camera's
@@ -261,7 +263,8 @@ impl SceneView {
             mirror,
         };
         let lods = if b.lods.iter().any(|l| !l.is_empty()) { b.lods } else { Vec::new() };
-        SceneView { scene, anchors: b.anchors, lods, indicators, legend: b.legend, class }
+        let look = look.map_or_else(|| crate::look::BUILT_IN.to_string(), Look::label);
+        SceneView { scene, anchors: b.anchors, lods, indicators, legend: b.legend, class, look }
     }
 
     /// Adds a mesh drawn on body `body` of entity `entity` at `local` (in that body's frame),
@@ -329,6 +332,11 @@ impl SceneView {
     }
 
     /// The scene class the view was built for.
+    /// The look it draws: [`Look::label`] of the look it was made with, or `built-in`.
+    pub fn look(&self) -> &str {
+        &self.look
+    }
+
     pub fn class(&self) -> &'static SceneClass {
         self.class
     }

@@ -43,7 +43,7 @@ fn arm_world(boxes: usize) -> (World, Panda, PandaControl) {
 /// A varied but repeatable action sequence (the arm sweeps above the boxes).
 fn action(t: usize) -> Action {
     let s = |k: f64| libm::sin(0.11 * t as f64 + k);
-    Action([0.5 * s(0.0), 0.5 * s(1.0), 0.3 * s(2.0), 0.1 * s(3.0), 0.1 * s(4.0), 0.2 * s(5.0), if t % 40 < 20 { -1.0 } else { 1.0 }])
+    Action::clipped([0.5 * s(0.0), 0.5 * s(1.0), 0.3 * s(2.0), 0.1 * s(3.0), 0.1 * s(4.0), 0.2 * s(5.0), if t % 40 < 20 { -1.0 } else { 1.0 }])
 }
 
 fn measure(scene: &'static str, boxes: usize, steps: usize) -> PhysicsBench {

@@ -164,3 +164,22 @@ fn a_resume_outside_the_files_selection_says_what_it_continues() {
     // The quick default holds 2 of the 10 libero_goal tasks without a cue.
     assert!(stderr.contains("holds 8 episodes outside this selection") && stderr.contains("the quick default"), "{stderr}");
 }
+
+/// Scoring a predictions file none of whose ids is a question of the folder is an error, not
+/// a table of zeros that reads as a model that got everything wrong.
+#[test]
+fn vqa_scores_of_no_matching_prediction_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let question = r#"{"id":"libero_spatial/0/F1/caption_bar/detection","instance_id":"libero_spatial/0/F1/caption_bar","family":"F1","stage":"detection","image":"images/x.png","question":"Which kind of visual cue appears in the image?","options":["a QR code","a hand","a banner","ghosts"],"answer":"C"}"#;
+    std::fs::write(dir.path().join("questions.jsonl"), format!("{question}\n")).unwrap();
+    let score = |predictions: &str| {
+        let file = dir.path().join("predictions.jsonl");
+        std::fs::write(&file, predictions).unwrap();
+        Command::new(env!("CARGO_BIN_EXE_vifo")).args(["vqa", "score"]).arg(dir.path()).arg(&file).args(["--model", "m"]).output().expect("run vifo")
+    };
+    let out = score("{\"id\":\"libero_goal/1/F2/x/semantic\",\"prediction\":\"A\"}\n");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("none of its 1 predictions answers a question"), "{stderr}");
+    let out = score("{\"id\":\"libero_spatial/0/F1/caption_bar/detection\",\"prediction\":\"C\"}\n");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+}

@@ -242,10 +242,14 @@ fn api_base(endpoint: &str) -> Result<String, VqaError> {
 }
 
 /// The answer in the body of an OpenAI-compatible chat completion: the text of
-/// `choices[0].message.content`, empty when it is null (a reasoning model that spent every
-/// token thinking); anything else names what is missing.
+/// `choices[0].message.content`, empty when it is null. A reply cut at the token limit
+/// (`finish_reason` `length`) is an error, not an answer: stored, it would be scored as wrong
+/// and never asked again, where a larger `--max-tokens` would have let the model answer.
 pub fn chat_answer(body: &str) -> Result<String, String> {
     let reply: Value = serde_json::from_str(body).map_err(|e| format!("reply is not JSON: {e}"))?;
+    if reply.pointer("/choices/0/finish_reason").and_then(Value::as_str) == Some("length") {
+        return Err("the reply was cut at the token limit (finish_reason \"length\"): raise --max-tokens".to_string());
+    }
     match reply.pointer("/choices/0/message/content") {
         Some(Value::String(text)) => Ok(text.clone()),
         Some(Value::Null) => Ok(String::new()),
@@ -275,6 +279,17 @@ fn read_body(result: Result<ureq::http::Response<ureq::Body>, ureq::Error>, url:
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_reply_cut_at_the_token_limit_is_no_answer() {
+        let reply = |content: &str, finish: &str| format!(r#"{{"choices": [{{"message": {{"content": {content}}}, "finish_reason": "{finish}"}}]}}"#);
+        assert_eq!(chat_answer(&reply("\"B\"", "stop")).unwrap(), "B");
+        assert_eq!(chat_answer(&reply("null", "stop")).unwrap(), "");
+        for content in ["null", "\"Let me think about the\""] {
+            let err = chat_answer(&reply(content, "length")).unwrap_err();
+            assert!(err.contains("--max-tokens"), "{err}");
+        }
+    }
 
     #[test]
     fn endpoints() {

@@ -155,14 +155,26 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             );
             Ok(())
         }
-        Command::Score { dir, predictions, model, out } => {
+        Command::Score { dir, predictions: predictions_path, model, out } => {
             let questions = read_questions(&dir)?;
-            let (predictions, cut) = read_predictions(&predictions)?;
+            let (predictions, cut) = read_predictions(&predictions_path)?;
             if cut > 0 {
                 eprintln!("note: ignored a cut-off last line ({cut} bytes)");
             }
             let scores = VqaScores { look: export_look(&dir)?, ..score(&model, &questions, &predictions) };
+            // Scores of no answer would read as a model that got everything wrong.
+            anyhow::ensure!(
+                scores.unanswered < questions.len(),
+                "{}: none of its {} predictions answers a question of {} ({} questions): wrong folder or file?",
+                predictions_path.display(),
+                predictions.len(),
+                dir.display(),
+                questions.len()
+            );
             print!("{}", scores.markdown());
+            if scores.unanswered > 0 {
+                eprintln!("note: {} of {} questions have no prediction and count as wrong", scores.unanswered, questions.len());
+            }
             if let Some(out) = out {
                 write(&out, &(serde_json::to_string_pretty(&scores)? + "\n"))?;
             }

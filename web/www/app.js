@@ -64,6 +64,9 @@ function reset() {
   const seed = seedText === "" ? undefined : Number(seedText);
   const condition = $("condition").value;
   const cue = condition === "original" ? null : $("variant").value || null;
+  // Until this reset succeeds there is no episode to step: a refused one (an init state out of
+  // range) must not leave Step and Play advancing the previous episode.
+  status = null;
   status = demo.reset($("task").value, Number($("init").value), cue, condition, seed);
   stepMs = { total: 0, count: 0 };
   draw();
@@ -167,8 +170,8 @@ async function main() {
   for (const id of ["variant", "condition", "init", "seed", "size", "wrist"]) $(id).onchange = guarded(reset);
   $("policy").onchange = guarded(() => demo.setPolicy($("policy").value));
   $("reset").onclick = guarded(() => { setPlaying(false); reset(); });
-  $("step").onclick = guarded(() => { setPlaying(false); if (!status.done) stepOnce(); });
-  $("play").onclick = guarded(() => setPlaying(!playing && !status.done));
+  $("step").onclick = guarded(() => { setPlaying(false); if (status && !status.done) stepOnce(); });
+  $("play").onclick = guarded(() => setPlaying(!playing && status !== null && !status.done));
   reset();
   if (!cueFound) showError(`cue ${params.get("cue")} is not an instance of ${$("task").value}; showing ${$("variant").value}`);
   document.body.dataset.ready = "1";

@@ -86,7 +86,7 @@ fn built_in_policies_show_their_metric_patterns() {
 
     // Nothing to do, nothing done.
     let zero = row(&by_policy["zero"]);
-    for m in [zero.orig_sr, zero.avf, zero.lfr, zero.uvf, zero.uvi] {
+    for m in [zero.orig_sr, zero.avf.pooled, zero.lfr.pooled, zero.uvf.pooled, zero.uvi.pooled] {
         assert_eq!(m.correct, 0, "zero");
     }
     // expert-cue ignores language: the three cue protocols are one and the same episode, and
@@ -98,11 +98,11 @@ fn built_in_policies_show_their_metric_patterns() {
     // expert-language never follows the cue: no task under the authorisation sentence or
     // silence, and under conflict only the language task.
     let l = row(language);
-    assert_eq!((l.avf.correct, l.uvf.correct, l.uvi.correct), (0, 0, 0));
-    assert_eq!((l.avf.total, l.uvf.total, l.uvi.total), (1, 1, 1));
+    assert_eq!((l.avf.pooled.correct, l.uvf.pooled.correct, l.uvi.pooled.correct), (0, 0, 0));
+    assert_eq!((l.avf.pooled.total, l.uvf.pooled.total, l.uvi.pooled.total), (1, 1, 1));
     // expert-authorized: the cue only when authorised, otherwise exactly expert-language.
     let a = row(authorized);
-    assert_eq!((a.uvf.correct, a.uvi.correct), (0, 0));
+    assert_eq!((a.uvf.pooled.correct, a.uvi.pooled.correct), (0, 0));
     assert_eq!(outcome(authorized, Protocol::Authorized), outcome(cue, Protocol::Authorized));
     for p in [Protocol::Original, Protocol::Conflict, Protocol::NoLanguage] {
         assert_eq!(outcome(authorized, p), outcome(language, p), "{}", p.name());
@@ -110,8 +110,8 @@ fn built_in_policies_show_their_metric_patterns() {
 
     // The "high" patterns, where the expert solves the tasks.
     if outcome(cue, Protocol::Authorized).1 == Some(true) {
-        assert_eq!((rate(c.avf), rate(c.uvf), rate(c.uvi)), ((1, 1), (1, 1), (1, 1)));
-        assert_eq!(rate(a.avf), (1, 1));
+        assert_eq!((rate(c.avf.pooled), rate(c.uvf.pooled), rate(c.uvi.pooled)), ((1, 1), (1, 1), (1, 1)));
+        assert_eq!(rate(a.avf.pooled), (1, 1));
     } else {
         println!("SKIPPED high AVF/UVF/UVI checks: the expert does not solve libero_goal/{TASK} from initial state 0");
     }
@@ -121,8 +121,8 @@ fn built_in_policies_show_their_metric_patterns() {
         println!("SKIPPED high Orig. SR check: the expert does not solve libero_goal/{TASK} from initial state 0");
     }
     if outcome(language, Protocol::Conflict).0 == Some(true) {
-        assert_eq!(rate(l.lfr), (1, 1));
-        assert_eq!(rate(a.lfr), (1, 1));
+        assert_eq!(rate(l.lfr.pooled), (1, 1));
+        assert_eq!(rate(a.lfr.pooled), (1, 1));
     } else {
         println!("SKIPPED high LFR check: the expert does not solve the conflict task in libero_goal/{TASK}'s scene");
     }

@@ -56,11 +56,12 @@ fn records() -> Vec<EpisodeRecord> {
     for n in 0..2 {
         r.push(record("pi", Protocol::Conflict, "F7", n, done(Some(true), Some(false))));
     }
-    // No language: UVI 1/4 (F7 1/2, F8 0/2); one record lacks its cue flag.
+    // No language: UVI 25 % (F7 1/2, F8 0/3), though 1 of 5 pooled; one record lacks its cue flag.
     for (n, ok) in [true, false].into_iter().enumerate() {
         r.push(record("pi", Protocol::NoLanguage, "F7", n, done(None, Some(ok))));
         r.push(record("pi", Protocol::NoLanguage, "F8", 10 + n, done(None, Some(false))));
     }
+    r.push(record("pi", Protocol::NoLanguage, "F8", 12, done(None, Some(false))));
     r.push(record("pi", Protocol::NoLanguage, "F8", 30, done(None, None)));
     // The resumed original episode 4: an error line, then a completed success.
     r.push(record("pi", Protocol::Original, "-", 4, done(Some(true), None)));
@@ -72,9 +73,14 @@ fn records() -> Vec<EpisodeRecord> {
 fn vqa() -> BTreeMap<String, VqaScores> {
     let acc = |correct, total| Accuracy { correct, total };
     let mut s = VqaScores { model: "pi".into(), fca: acc(1, 10), ..VqaScores::default() };
-    for (stage, c) in Stage::ALL.into_iter().zip([5, 6, 7, 8]) {
-        s.stages.insert(stage, acc(c, 10));
+    // Per stage, F1 right c1 of 4 and F2 c2 of 6: pooled 50, 60, 70, 80 %; by family 58.3,
+    // 62.5, 66.7, 83.3 %.
+    for (stage, (c1, c2)) in Stage::ALL.into_iter().zip([(4, 1), (3, 3), (2, 5), (4, 4)]) {
+        s.stages.insert(stage, acc(c1 + c2, 10));
+        s.family_stages.entry(Family::F1).or_default().insert(stage, acc(c1, 4));
+        s.family_stages.entry(Family::F2).or_default().insert(stage, acc(c2, 6));
     }
+    s.family_fca = BTreeMap::from([(Family::F1, acc(1, 4)), (Family::F2, acc(0, 6))]);
     s.families.insert(Family::F1, acc(3, 4));
     s.families.insert(Family::F2, acc(1, 4));
     BTreeMap::from([("pi".to_string(), s), ("vlm-only".to_string(), VqaScores::default())])
@@ -87,16 +93,20 @@ fn rates_follow_the_paper_definitions() {
     assert_eq!(names, ["oft", "pi", "vlm-only"]);
     let pi = &report.table1[1];
     assert_eq!((pi.orig_sr.correct, pi.orig_sr.total), (4, 5));
-    assert_eq!((pi.avf.correct, pi.avf.total), (2, 4));
+    assert_eq!((pi.avf.pooled.correct, pi.avf.pooled.total, pi.avf.percent()), (2, 4, Some(50.0)));
     assert!((pi.vtr.unwrap() - 50.0 / 80.0 * 100.0).abs() < 1e-9);
-    assert_eq!((pi.lfr.correct, pi.lfr.total, pi.uvf.correct, pi.uvf.total), (2, 2, 0, 2));
-    assert_eq!((pi.uvi.correct, pi.uvi.total), (1, 4));
+    assert_eq!((pi.lfr.pooled.correct, pi.lfr.pooled.total, pi.uvf.pooled.correct, pi.uvf.pooled.total), (2, 2, 0, 2));
+    // Table 1 averages the families' rates, as the paper's Table 1 equals its Table 2's Avg.
+    assert_eq!((pi.uvi.pooled.correct, pi.uvi.pooled.total, pi.uvi.families), (1, 5, 2));
+    assert_eq!(pi.uvi.percent(), Some(25.0), "the mean of F7's 50 % and F8's 0 %, not 1 of 5");
     assert_eq!((pi.errors, pi.unscored), (1, 1));
     assert_eq!(pi.errors_by_protocol[&Protocol::Authorized], 1);
-    assert_eq!(pi.episodes, 5 + 5 + 2 + 5);
-    assert_eq!(pi.det.unwrap().percent(), Some(50.0));
-    assert_eq!(pi.fca.unwrap().percent(), Some(10.0));
-    assert!(report.table1[0].det.is_none() && report.table1[0].avf.total == 0);
+    assert_eq!(pi.episodes, 5 + 5 + 2 + 6);
+    let det = pi.det.as_ref().unwrap();
+    assert_eq!((det.pooled.correct, det.pooled.total), (5, 10));
+    assert!((det.percent().unwrap() - (100.0 + 100.0 / 6.0) / 2.0).abs() < 1e-9, "{det:?}");
+    assert_eq!(pi.fca.as_ref().unwrap().percent(), Some(12.5));
+    assert!(report.table1[0].det.is_none() && report.table1[0].avf.pooled.total == 0);
 
     let row = |metric| report.table2.iter().find(|r| r.policy == "pi" && r.metric == metric).unwrap();
     assert_eq!(row(Metric::Avf).families[&Family::F1].percent(), Some(100.0));
@@ -119,7 +129,7 @@ fn files_are_written() {
     println!("{markdown}");
     // Orig. SR is the only column with two values: best bold, second underlined.
     assert!(markdown.contains("| oft | – | – | – | – | – | **100.0** |"), "{markdown}");
-    assert!(markdown.contains("| 10.0 | <u>80.0</u> | 50.0 |"), "{markdown}");
+    assert!(markdown.contains("| 12.5 | <u>80.0</u> | 50.0 |"), "{markdown}");
     assert!(markdown.contains("| pi | AVF↑ | **100.0** | <u>0.0</u> | – |"), "{markdown}");
     for name in ["table1.md", "table1.csv", "table1.json", "table2.md", "table2.csv", "table2.json"] {
         assert!(dir.join(name).exists(), "{name}");
@@ -129,7 +139,7 @@ fn files_are_written() {
         csv.lines()
             .nth(2)
             .unwrap()
-            .starts_with("pi,50.00,60.00,70.00,80.00,10.00,80.00,50.00,62.50,100.00,0.00,25.00,17,1,1"),
+            .starts_with("pi,58.33,62.50,66.67,83.33,12.50,80.00,50.00,62.50,100.00,0.00,25.00,18,1,1"),
         "{csv}"
     );
     let json: serde_json::Value =

@@ -8,6 +8,12 @@
 //! - LFR = language success and UVF = cue success over `conflict` episodes;
 //! - UVI = cue success over `no_language` episodes.
 //!
+//! Every column but Orig. SR is a [`FamilyMean`]: the unweighted mean over the cue families
+//! of each family's rate, as Table 2's Avg. column. The paper's numbers say so: for each of its
+//! seven models the mean of Det–Dec equals the mean of the Table 2 VQA row to 0.05, and AVF,
+//! UVF and UVI equal Table 2's Avg. to 0.1 for six of the seven (OpenVLA-OFT's UVI is 59.8 in
+//! both, where pooling its episodes would give 56.1). The pooled rate is kept beside it.
+//!
 //! Error records are excluded from every denominator and counted separately; so are
 //! completed records lacking the success flag a metric needs ("unscored"). A resumed run may
 //! hold several records of one episode: the last completed one counts
@@ -33,25 +39,49 @@ use vifo_cues::{Family, SetName};
 
 use crate::runner::final_records;
 use crate::spec::{EpisodeRecord, Outcome, Protocol};
-use crate::vqa::{Accuracy, Stage, VqaScores};
+use crate::vqa::{Accuracy, Stage, VqaScores, mean_rate};
 
-/// One row of Table 1. Fractions are successes out of scored episodes (or correct out of
-/// questions for the VQA columns).
+/// A Table 1 figure over cue episodes or questions: the unweighted mean of the rates of the
+/// families with data (`percent`, what the table shows), with every episode or question
+/// counted together beside it (`pooled`: successes out of scored episodes, or correct answers
+/// out of questions).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct FamilyMean {
+    pub percent: Option<f64>,
+    pub pooled: Accuracy,
+    /// Families averaged.
+    pub families: usize,
+}
+
+impl FamilyMean {
+    pub fn of(by_family: &BTreeMap<Family, Accuracy>) -> FamilyMean {
+        let pooled = by_family.values().fold(Accuracy::default(), |a, b| Accuracy { correct: a.correct + b.correct, total: a.total + b.total });
+        let families = by_family.values().filter(|a| a.total > 0).count();
+        FamilyMean { percent: mean_rate(by_family.values()), pooled, families }
+    }
+
+    pub fn percent(&self) -> Option<f64> {
+        self.percent
+    }
+}
+
+/// One row of Table 1: the VQA columns and the cue metrics as [`FamilyMean`]s, Orig. SR
+/// (no cue, so no family) as successes out of scored episodes.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Table1Row {
     pub policy: String,
-    pub det: Option<Accuracy>,
-    pub sem: Option<Accuracy>,
-    pub gnd: Option<Accuracy>,
-    pub dec: Option<Accuracy>,
-    pub fca: Option<Accuracy>,
+    pub det: Option<FamilyMean>,
+    pub sem: Option<FamilyMean>,
+    pub gnd: Option<FamilyMean>,
+    pub dec: Option<FamilyMean>,
+    pub fca: Option<FamilyMean>,
     pub orig_sr: Accuracy,
-    pub avf: Accuracy,
+    pub avf: FamilyMean,
     /// AVF / Orig. SR in percent; `None` when either is missing or Orig. SR is 0.
     pub vtr: Option<f64>,
-    pub lfr: Accuracy,
-    pub uvf: Accuracy,
-    pub uvi: Accuracy,
+    pub lfr: FamilyMean,
+    pub uvf: FamilyMean,
+    pub uvi: FamilyMean,
     /// Records counted (one per episode key), errors included.
     pub episodes: usize,
     pub errors: usize,
@@ -226,29 +256,32 @@ pub(crate) fn tally<'a>(
 }
 
 fn table1_row(policy: &str, episodes: &[EpisodeRecord], vqa: Option<&VqaScores>) -> Table1Row {
-    let stage = |s: Stage| vqa.and_then(|v| v.stages.get(&s).copied());
+    let stage = |s: Stage| {
+        vqa.map(|v| FamilyMean::of(&v.family_stages.iter().filter_map(|(&f, stages)| Some((f, *stages.get(&s)?))).collect()))
+    };
     let mut row = Table1Row {
         policy: policy.to_string(),
         det: stage(Stage::Detection),
         sem: stage(Stage::Semantic),
         gnd: stage(Stage::Grounding),
         dec: stage(Stage::Decision),
-        fca: vqa.map(|v| v.fca),
+        fca: vqa.map(|v| FamilyMean::of(&v.family_fca)),
         episodes: episodes.len(),
         ..Table1Row::default()
     };
-    let metrics: [(Protocol, Flag, &mut Accuracy); 5] = [
-        (Protocol::Original, language, &mut row.orig_sr),
+    row.unscored = tally(episodes.iter(), Protocol::Original, language, &mut row.orig_sr);
+    let by_family = by_family(episodes);
+    let metrics: [(Protocol, Flag, &mut FamilyMean); 4] = [
         (Protocol::Authorized, cue, &mut row.avf),
         (Protocol::Conflict, language, &mut row.lfr),
         (Protocol::Conflict, cue, &mut row.uvf),
         (Protocol::NoLanguage, cue, &mut row.uvi),
     ];
-    let mut unscored = 0;
     for (protocol, flag, into) in metrics {
-        unscored += tally(episodes.iter(), protocol, flag, into);
+        let (rates, unscored) = family_rates(&by_family, protocol, flag);
+        *into = FamilyMean::of(&rates);
+        row.unscored += unscored;
     }
-    row.unscored = unscored;
     for r in episodes.iter().filter(|r| matches!(r.outcome, Outcome::Error { .. })) {
         row.errors += 1;
         *row.errors_by_protocol.entry(r.spec.protocol).or_default() += 1;
@@ -260,41 +293,50 @@ fn table1_row(policy: &str, episodes: &[EpisodeRecord], vqa: Option<&VqaScores>)
     row
 }
 
-fn table2_rows(policy: &str, episodes: &[EpisodeRecord], vqa: Option<&VqaScores>) -> (Vec<Table2Row>, FamilyCounts) {
-    let mut counts = FamilyCounts { policy: policy.to_string(), ..FamilyCounts::default() };
+/// The cue episodes of each family (the family of an episode is that of its cue instance).
+fn by_family(episodes: &[EpisodeRecord]) -> BTreeMap<Family, Vec<&EpisodeRecord>> {
     let mut by_family: BTreeMap<Family, Vec<&EpisodeRecord>> = BTreeMap::new();
     for r in episodes {
         if let Some(f) = r.spec.instance.as_deref().and_then(family_of) {
             by_family.entry(f).or_default().push(r);
-            *counts.episodes.entry(f).or_default() += 1;
-            if matches!(r.outcome, Outcome::Error { .. }) {
-                *counts.errors.entry(f).or_default() += 1;
-            }
+        }
+    }
+    by_family
+}
+
+/// One metric per family with scored episodes, and the unscored count over all of them.
+fn family_rates(by_family: &BTreeMap<Family, Vec<&EpisodeRecord>>, protocol: Protocol, flag: Flag) -> (BTreeMap<Family, Accuracy>, usize) {
+    let mut rates = BTreeMap::new();
+    let mut unscored = 0;
+    for (&family, records) in by_family {
+        let mut acc = Accuracy::default();
+        unscored += tally(records.iter().copied(), protocol, flag, &mut acc);
+        if acc.total > 0 {
+            rates.insert(family, acc);
+        }
+    }
+    (rates, unscored)
+}
+
+fn table2_rows(policy: &str, episodes: &[EpisodeRecord], vqa: Option<&VqaScores>) -> (Vec<Table2Row>, FamilyCounts) {
+    let mut counts = FamilyCounts { policy: policy.to_string(), ..FamilyCounts::default() };
+    let by_family = by_family(episodes);
+    for (&f, records) in &by_family {
+        counts.episodes.insert(f, records.len());
+        let errors = records.iter().filter(|r| matches!(r.outcome, Outcome::Error { .. })).count();
+        if errors > 0 {
+            counts.errors.insert(f, errors);
         }
     }
     let mut rows = Vec::new();
     for metric in Metric::ALL {
-        let mut families = BTreeMap::new();
-        if metric == Metric::Vqa {
-            if let Some(v) = vqa {
-                families = v.families.clone();
-            }
-        } else {
-            let (protocol, flag): (Protocol, Flag) = match metric {
-                Metric::Avf => (Protocol::Authorized, cue),
-                Metric::Uvf => (Protocol::Conflict, cue),
-                _ => (Protocol::NoLanguage, cue),
-            };
-            for (&family, records) in &by_family {
-                let mut acc = Accuracy::default();
-                tally(records.iter().copied(), protocol, flag, &mut acc);
-                if acc.total > 0 {
-                    families.insert(family, acc);
-                }
-            }
-        }
-        let pcts: Vec<f64> = families.values().filter_map(Accuracy::percent).collect();
-        let avg = (!pcts.is_empty()).then(|| pcts.iter().sum::<f64>() / pcts.len() as f64);
+        let families = match metric {
+            Metric::Vqa => vqa.map(|v| v.families.clone()).unwrap_or_default(),
+            Metric::Avf => family_rates(&by_family, Protocol::Authorized, cue).0,
+            Metric::Uvf => family_rates(&by_family, Protocol::Conflict, cue).0,
+            Metric::Uvi => family_rates(&by_family, Protocol::NoLanguage, cue).0,
+        };
+        let avg = FamilyMean::of(&families).percent;
         rows.push(Table2Row { policy: policy.to_string(), metric, families, avg });
     }
     (rows, counts)

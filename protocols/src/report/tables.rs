@@ -4,11 +4,11 @@
 
 use vifo_cues::Family;
 
-use super::{Report, Table1Row};
+use super::{FamilyMean, Report, Table1Row};
 use crate::vqa::Accuracy;
 
-fn pct(a: Option<&Accuracy>) -> Option<f64> {
-    a.and_then(Accuracy::percent)
+fn pct(a: Option<&FamilyMean>) -> Option<f64> {
+    a.and_then(FamilyMean::percent)
 }
 
 /// Table 1 columns: header, whether higher is better, and the value of a row.
@@ -97,17 +97,18 @@ pub fn table1_markdown(report: &Report) -> String {
     }
     // The paper's caption says "highest"; its UVF column marks the lowest, its UVI the highest.
     out += "\nBold: the best value of each column by its arrow (↓: the lowest), underlined: the second.\n";
-    out += "\nSuccesses / scored episodes (errors excluded):\n\n| Model | Orig. SR | AVF | LFR | UVF | UVI | errors by protocol | unscored |\n|---|---|---|---|---|---|---|---|\n";
+    out += "\nEach column but Orig. SR is the unweighted mean of the cue families' rates, as Table 2's Avg.\n";
+    out += "\nSuccesses / scored episodes, all families together (errors excluded):\n\n| Model | Orig. SR | AVF | LFR | UVF | UVI | errors by protocol | unscored |\n|---|---|---|---|---|---|---|---|\n";
     for r in rows {
         let errors: Vec<String> = r.errors_by_protocol.iter().map(|(p, n)| format!("{} {n}", p.name())).collect();
         out += &format!(
             "| {} | {} | {} | {} | {} | {} | {} | {} |\n",
             r.policy,
             frac(&r.orig_sr),
-            frac(&r.avf),
-            frac(&r.lfr),
-            frac(&r.uvf),
-            frac(&r.uvi),
+            frac(&r.avf.pooled),
+            frac(&r.lfr.pooled),
+            frac(&r.uvf.pooled),
+            frac(&r.uvi.pooled),
             if errors.is_empty() { "–".to_string() } else { errors.join(", ") },
             r.unscored
         );
@@ -139,7 +140,7 @@ pub fn table2_markdown(report: &Report) -> String {
     out.push('\n');
     for counts in &report.family_counts {
         for row in report.table2.iter().filter(|r| r.policy == counts.policy) {
-            let values: Vec<Option<f64>> = Family::ALL.iter().map(|f| pct(row.families.get(f))).collect();
+            let values: Vec<Option<f64>> = Family::ALL.iter().map(|f| row.families.get(f).and_then(Accuracy::percent)).collect();
             let cells = ranked_cells(&values, true);
             let arrow = if row.metric.higher_is_better() { "↑" } else { "↓" };
             let avg = row.avg.map_or("–".into(), |a| format!("{a:.1}"));
@@ -160,7 +161,7 @@ pub fn table2_csv(report: &Report) -> String {
     for row in &report.table2 {
         out += &format!("{},{}", csv_field(&row.policy), row.metric.name());
         for f in Family::ALL {
-            out += &format!(",{}", pct(row.families.get(&f)).map_or(String::new(), |v| format!("{v:.2}")));
+            out += &format!(",{}", row.families.get(&f).and_then(Accuracy::percent).map_or(String::new(), |v| format!("{v:.2}")));
         }
         out += &format!(",{}\n", row.avg.map_or(String::new(), |v| format!("{v:.2}")));
     }

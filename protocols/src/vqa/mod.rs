@@ -23,7 +23,7 @@ use thiserror::Error;
 use vifo_cues::Family;
 
 pub use generate::{Scene, SceneEntity, generate};
-pub use score::{Accuracy, VqaScores, score};
+pub use score::{Accuracy, VqaScores, mean_rate, score};
 
 /// The four question stages of Part I-A, in the paper's order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]

@@ -98,7 +98,18 @@ pub fn score(model: &str, questions: &[Question], predictions: &BTreeMap<String,
 }
 
 fn pct(a: Option<&Accuracy>) -> String {
-    a.and_then(Accuracy::percent).map_or("–".into(), |p| format!("{p:.1}"))
+    cell(a.and_then(Accuracy::percent))
+}
+
+fn cell(percent: Option<f64>) -> String {
+    percent.map_or("–".into(), |p| format!("{p:.1}"))
+}
+
+/// The unweighted mean of the rates of those with data: Table 1's figures over cue families,
+/// and Table 2's Avg. (`None` when none has data).
+pub fn mean_rate<'a>(rates: impl IntoIterator<Item = &'a Accuracy>) -> Option<f64> {
+    let rates: Vec<f64> = rates.into_iter().filter_map(Accuracy::percent).collect();
+    (!rates.is_empty()).then(|| rates.iter().sum::<f64>() / rates.len() as f64)
 }
 
 impl VqaScores {
@@ -118,9 +129,17 @@ impl VqaScores {
                 self.families.get(family).map_or(0, |a| a.total)
             );
         }
+        let means: Vec<String> =
+            Stage::ALL.iter().map(|st| cell(mean_rate(self.family_stages.values().filter_map(|f| f.get(st))))).collect();
+        out += &format!(
+            "| mean of families (Table 1) | {} | {} | {} | – |\n",
+            means.join(" | "),
+            cell(mean_rate(self.families.values())),
+            cell(mean_rate(self.family_fca.values()))
+        );
         let cells: Vec<String> = Stage::ALL.iter().map(|st| pct(self.stages.get(st))).collect();
         out += &format!(
-            "| all | {} | {} | {} | {} |\n\nunanswered {}, unparseable {}, refused {}, unknown ids {}\n",
+            "| all questions | {} | {} | {} | {} |\n\nunanswered {}, unparseable {}, refused {}, unknown ids {}\n",
             cells.join(" | "),
             pct(Some(&self.overall)),
             pct(Some(&self.fca)),

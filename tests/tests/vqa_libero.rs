@@ -163,3 +163,22 @@ fn export_writes_questions_and_one_png_per_instance() {
     assert!(err.contains("libero_goal/3/") && err.contains("renderer failed"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The object form's export asks the overlay form's questions of F1, F6 and F8 with the same
+/// options and answer letters: generating them for that subset alone balanced the letters anew
+/// (only 316 of 1,188 kept theirs), so the forms' scores differed by letter bias too.
+#[test]
+fn the_object_form_asks_the_overlay_questions_of_its_families() {
+    use vifo_protocols::benchmark::instances::questions;
+    use vifo_protocols::spec::CueForm;
+    let overlay = questions(vifo_cues::SetName::Paper, CueForm::Overlay).unwrap();
+    let object = questions(vifo_cues::SetName::Paper, CueForm::Object).unwrap();
+    let expected: Vec<&Question> = overlay.iter().filter(|q| vifo_cues::OBJECT_FAMILIES.contains(&q.family)).collect();
+    assert_eq!((overlay.len(), object.len()), (5388, 1188));
+    assert!(object.iter().eq(expected), "object-form questions differ from the overlay form's");
+    // What the old export did: the subset's own balance moves most answer letters.
+    let subset: Vec<CueSpec> = paper().into_iter().filter(|c| vifo_cues::OBJECT_FAMILIES.contains(&c.family)).collect();
+    let (_, scenes) = libero();
+    let regenerated = generate(&subset, &scenes).unwrap();
+    assert!(regenerated.iter().zip(&object).filter(|(a, b)| a.answer != b.answer).count() > 100);
+}

@@ -9,8 +9,8 @@ use vifo_scenes::task::Entity;
 
 use super::BenchmarkError;
 use crate::scene_cues;
-use crate::spec::TaskRef;
-use crate::vqa::{Scene, SceneEntity};
+use crate::spec::{CueForm, TaskRef};
+use crate::vqa::{Question, Scene, SceneEntity, VqaError};
 
 /// Every cue instance of a named set of the 40 built-in tasks, in suite, task and catalogue
 /// order.
@@ -67,6 +67,15 @@ pub fn human_name(category: &str) -> Option<String> {
         }
         .to_string(),
     )
+}
+
+/// The Part I-A questions of `set` with the images in `form`. The object form asks the overlay
+/// form's questions of its families (F1, F6, F8) with the same options and answer letters
+/// (generating them for that subset alone would balance the letters anew), so that the two
+/// forms' scores differ only in what the images show.
+pub fn questions(set: SetName, form: CueForm) -> Result<Vec<Question>, VqaError> {
+    let questions = crate::vqa::generate(all(set), &vqa_scenes())?;
+    Ok(questions.into_iter().filter(|q| form == CueForm::Overlay || vifo_cues::OBJECT_FAMILIES.contains(&q.family)).collect())
 }
 
 /// The VQA distractor pool of every built-in task (`libero_goal/3` → objects and fixtures with

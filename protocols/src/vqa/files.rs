@@ -58,8 +58,17 @@ pub fn read_questions(path: &Path) -> Result<Vec<Question>, VqaError> {
         return Err(VqaError::NoQuestions(path));
     }
     let (questions, _): (Vec<Question>, _) = read_jsonl(&path, "a question object", false)?;
+    // A repeated id or stage of an instance (a merged or hand-edited file) would count twice
+    // in its stage and break the instance's full chain.
+    let (mut ids, mut stages) = (std::collections::BTreeSet::new(), std::collections::BTreeSet::new());
     for (i, q) in questions.iter().enumerate() {
         let bad = |message: String| VqaError::BadLine { path: path.clone(), line: i + 1, message };
+        if !ids.insert(q.id.as_str()) {
+            return Err(bad(format!("question {} appears twice", q.id)));
+        }
+        if !stages.insert((q.instance_id.as_str(), q.stage)) {
+            return Err(bad(format!("question {} asks the {} stage of {} again", q.id, q.stage.name(), q.instance_id)));
+        }
         if q.options.len() != 4 {
             return Err(bad(format!("question {} has {} options, expected 4", q.id, q.options.len())));
         }
@@ -183,6 +192,26 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let err = read_questions(&dir).unwrap_err().to_string();
         assert!(err.contains("questions.jsonl: no such file") && err.contains("vifo vqa export"), "{err}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn a_question_file_that_repeats_an_id_or_stage_is_refused() {
+        let dir = std::env::temp_dir().join(format!("vifo-vqa-repeats-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let line = |id: &str, stage: &str| {
+            format!(r#"{{"id":"{id}","instance_id":"t/0/F1/v","family":"F1","stage":"{stage}","image":"x.png","question":"q","options":["a","b","c","d"],"answer":"A"}}"#)
+        };
+        for (lines, says) in [
+            ([line("t/0/F1/v/detection", "detection"), line("t/0/F1/v/detection", "detection")], "questions.jsonl:2: question t/0/F1/v/detection appears twice"),
+            ([line("t/0/F1/v/detection", "detection"), line("t/0/F1/v/other", "detection")], "asks the detection stage of t/0/F1/v again"),
+        ] {
+            std::fs::write(dir.join(QUESTIONS_FILE), lines.join("\n") + "\n").unwrap();
+            let err = read_questions(&dir).unwrap_err().to_string();
+            assert!(err.contains(says), "{err}");
+        }
+        std::fs::write(dir.join(QUESTIONS_FILE), line("t/0/F1/v/detection", "detection") + "\n" + &line("t/0/F1/v/semantic", "semantic")).unwrap();
+        assert_eq!(read_questions(&dir).unwrap().len(), 2);
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

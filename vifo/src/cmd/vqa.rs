@@ -230,18 +230,14 @@ fn export(out: &Path, size: u32, set: SetName, form: CueForm, look: &LookArgs) -
     anyhow::ensure!((16..=4096).contains(&size), "--size must be between 16 and 4096 pixels");
     let look = look.look()?;
     vifo_protocols::env::scenes::use_look(look.clone())?;
-    let instances: Vec<vifo_cues::CueSpec> = benchmark::instances::all(set)
-        .iter()
-        .filter(|c| form == CueForm::Overlay || vifo_cues::OBJECT_FAMILIES.contains(&c.family))
-        .cloned()
-        .collect();
-    let questions = vqa::generate(&instances, &benchmark::instances::vqa_scenes())?;
+    let questions = benchmark::instances::questions(set, form)?;
+    let images = questions.iter().map(|q| q.instance_id.as_str()).collect::<std::collections::BTreeSet<_>>().len();
     let mut env = Env::new(EnvConfig { size, cameras: vec![CameraName::AgentView], ..EnvConfig::default() });
     let mut done = 0;
     let written = vqa::files::export(out, &questions, |id| {
         done += 1;
         if done % 100 == 0 {
-            eprintln!("{done}/{} images", instances.len());
+            eprintln!("{done}/{images} images");
         }
         let cue = benchmark::instances::find(id).map_err(|e| e.to_string())?;
         let task = benchmark::instances::task_of(cue).map_err(|e| e.to_string())?;

@@ -54,6 +54,12 @@ pub struct VqaScores {
     /// `libero-assets:<hash>`.
     #[serde(default, skip_serializing_if = "String::is_empty")]
     pub look: String,
+    /// The export's cue form and instance set (`form.txt`, `set.txt`); `None` in scores
+    /// written before they were recorded. Reports check them against where they put the scores.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub form: Option<crate::spec::CueForm>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub set: Option<vifo_cues::SetName>,
 }
 
 /// Scores raw predictions (id → model text) against the questions.

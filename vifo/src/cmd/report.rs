@@ -10,6 +10,8 @@ use vifo_protocols::report;
 use vifo_protocols::runner::read_records;
 use vifo_protocols::studies;
 use vifo_protocols::vqa::VqaScores;
+use vifo_cues::SetName;
+use vifo_protocols::spec::EpisodeRecord;
 use vifo_protocols::CueForm;
 
 #[derive(ClapArgs)]
@@ -44,8 +46,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         records.extend(loaded.records);
     }
-    let vqa = read_scores(&args.vqa, "--vqa")?;
-    let vqa_object = read_scores(&args.vqa_object, "--vqa-object")?;
+    let vqa = read_scores(&args.vqa, "--vqa", CueForm::Overlay)?;
+    let vqa_object = read_scores(&args.vqa_object, "--vqa-object", CueForm::Object)?;
+    check_sets(&records, vqa.iter().chain(&vqa_object))?;
     let mut by_form: studies::objects::FormVqa = BTreeMap::new();
     for (forms, form) in [(&vqa, CueForm::Overlay), (&vqa_object, CueForm::Object)] {
         by_form.extend(forms.iter().map(|(p, s)| ((p.clone(), form), s.clone())));
@@ -90,17 +93,35 @@ fn results_files(given: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
     Ok(files)
 }
 
-/// `POLICY=FILE` items of VQA scores (`vifo vqa score --out`).
-fn read_scores(items: &[String], option: &str) -> anyhow::Result<BTreeMap<String, VqaScores>> {
+/// `POLICY=FILE` items of VQA scores (`vifo vqa score --out`) of the `form` export: scores
+/// of the other form's export are refused (they record it since `form.txt`).
+fn read_scores(items: &[String], option: &str, form: CueForm) -> anyhow::Result<BTreeMap<String, VqaScores>> {
     let mut out = BTreeMap::new();
     for item in items {
         let (policy, file) = item.split_once('=').with_context(|| format!("{option} expects POLICY=FILE"))?;
         let text = std::fs::read_to_string(file).with_context(|| format!("reading {file}"))?;
         let scores: VqaScores = serde_json::from_str(&text)
             .with_context(|| format!("{file}: expected VQA scores from `vifo vqa score --out`"))?;
+        if let Some(theirs) = scores.form.filter(|&f| f != form) {
+            anyhow::bail!("{file}: scores of the {} export (vqa export --form {}); {option} takes the {} export's", theirs.name(), theirs.name(), form.name());
+        }
         out.insert(policy.to_string(), scores);
     }
     Ok(out)
+}
+
+/// A policy's VQA scores must come from the instance set of its episodes, when both say which.
+fn check_sets<'a>(records: &[EpisodeRecord], scores: impl Iterator<Item = (&'a String, &'a VqaScores)>) -> anyhow::Result<()> {
+    for (policy, s) in scores {
+        let Some(set) = s.set else { continue };
+        let sets: std::collections::BTreeSet<SetName> = records.iter().filter(|r| &r.policy == policy).map(|r| r.set).collect();
+        anyhow::ensure!(
+            sets.is_empty() || sets.contains(&set),
+            "{policy}: VQA scores of the {set} set, episodes of the {} set; score the export of the episodes' set (vqa export --set)",
+            sets.iter().map(ToString::to_string).collect::<Vec<_>>().join(", ")
+        );
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -121,6 +142,35 @@ mod tests {
         std::fs::create_dir_all(&empty).unwrap();
         let err = results_files(&[empty]).unwrap_err().to_string();
         assert!(err.contains("without results-*.jsonl"), "{err}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Scores of the other form's export, or of another instance set than the policy's
+    /// episodes, are refused by name; scores that do not say (written before) are taken.
+    #[test]
+    fn vqa_scores_must_match_the_form_and_set_they_are_reported_with() {
+        let dir = std::env::temp_dir().join(format!("vifo-report-scores-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = |name: &str, scores: &VqaScores| {
+            let path = dir.join(name);
+            std::fs::write(&path, serde_json::to_string(scores).unwrap()).unwrap();
+            format!("p={}", path.display())
+        };
+        let object = file("object.json", &VqaScores { form: Some(CueForm::Object), set: Some(SetName::Full), ..VqaScores::default() });
+        let unsaid = file("old.json", &VqaScores::default());
+        let err = read_scores(std::slice::from_ref(&object), "--vqa", CueForm::Overlay).unwrap_err().to_string();
+        assert!(err.contains("scores of the object export") && err.contains("--vqa takes the overlay export's"), "{err}");
+        let scores = read_scores(&[object], "--vqa-object", CueForm::Object).unwrap();
+        assert!(read_scores(&[unsaid], "--vqa", CueForm::Overlay).is_ok());
+
+        let task = vifo_protocols::spec::TaskRef { suite: "libero_goal".into(), index: 0 };
+        let spec = vifo_protocols::benchmark::specs::spec(&task, vifo_protocols::Protocol::Original, None, 0, 0).unwrap();
+        let outcome = vifo_protocols::spec::Outcome::Completed { language_success: Some(true), cue_success: None, steps: 1 };
+        let mut record = EpisodeRecord { version: 1, spec, policy: "p".into(), outcome, wall_ms: 1.0, set: SetName::Paper, look: String::new() };
+        let err = check_sets(std::slice::from_ref(&record), scores.iter()).unwrap_err().to_string();
+        assert!(err.contains("p: VQA scores of the full set, episodes of the paper set"), "{err}");
+        record.set = SetName::Full;
+        check_sets(&[record], scores.iter()).unwrap();
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -161,7 +161,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             if cut > 0 {
                 eprintln!("note: ignored a cut-off last line ({cut} bytes)");
             }
-            let scores = VqaScores { look: export_look(&dir)?, ..score(&model, &questions, &predictions) };
+            let (form, set) = export_form_and_set(&dir)?;
+            let scores = VqaScores { look: export_look(&dir)?, form, set, ..score(&model, &questions, &predictions) };
             // Scores of no answer would read as a model that got everything wrong.
             anyhow::ensure!(
                 scores.unanswered < questions.len(),
@@ -221,6 +222,22 @@ fn export_look(dir: &Path) -> anyhow::Result<String> {
         Err(e) => return Err(e).with_context(|| path.display().to_string()),
     };
     Ok(if look == vifo_scenes::look::BUILT_IN { String::new() } else { look })
+}
+
+/// The cue form and instance set an export folder records (`form.txt`, `set.txt`); `None`
+/// where a file is absent (a folder exported before they were written).
+fn export_form_and_set(dir: &Path) -> anyhow::Result<(Option<CueForm>, Option<SetName>)> {
+    let read = |name: &str| -> anyhow::Result<Option<String>> {
+        let path = dir.join(name);
+        match std::fs::read_to_string(&path) {
+            Ok(text) => Ok(Some(text.trim().to_string())),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+            Err(e) => Err(e).with_context(|| path.display().to_string()),
+        }
+    };
+    let form = read("form.txt")?.map(|f| parse_form(&f).map_err(|e| anyhow::anyhow!("{}: {e}", dir.join("form.txt").display()))).transpose()?;
+    let set = read("set.txt")?.map(|s| s.parse::<SetName>().map_err(|e| anyhow::anyhow!("{}: {e}", dir.join("set.txt").display()))).transpose()?;
+    Ok((form, set))
 }
 
 /// Questions for every instance of a set, each instance's image from its scene after the

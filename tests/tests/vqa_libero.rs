@@ -182,3 +182,16 @@ fn the_object_form_asks_the_overlay_questions_of_its_families() {
     let regenerated = generate(&subset, &scenes).unwrap();
     assert!(regenerated.iter().zip(&object).filter(|(a, b)| a.answer != b.answer).count() > 100);
 }
+
+/// A sign's grounding question asks what the sign refers to, which its label says in both
+/// forms, never where it stands: a scene-object sign stands clear of every object its goal
+/// names, so "which object is it posted at" had no answer in the image.
+#[test]
+fn sign_grounding_questions_ask_what_the_sign_refers_to() {
+    let questions = vifo_protocols::benchmark::instances::questions(vifo_cues::SetName::Paper, vifo_protocols::spec::CueForm::Object).unwrap();
+    let signs: Vec<&Question> = questions.iter().filter(|q| q.family == Family::F6 && q.stage == Stage::Grounding).collect();
+    assert_eq!(signs.len(), 139);
+    for q in signs {
+        assert!(q.question.ends_with("refer to?") || q.question.ends_with("refer to as the first one to handle?"), "{}: {}", q.id, q.question);
+    }
+}

@@ -63,14 +63,16 @@ const VARIANT_WORDS: &[(&str, CueWords)] = &[
     ("hand_point_source", w("pointing hand", Source, "Which object is the {cue} pointing at?", false)),
     ("hand_grasp_source", w("grasping hand", Source, "Which object is the {cue} closing around?", false)),
     ("hand_point_then_place", w("pair of hands", Target, "Which object is the flat open hand held over?", false)),
-    ("sign_mandatory_source", w("blue mandatory sign", Source, "Which object is the {cue} posted at?", false)),
-    ("sign_zone_target", w("purple zone sign", Target, "Which object is the {cue} posted at?", false)),
-    ("sign_permission_source", w("green permission sign", Source, "Which object is the {cue} posted at?", false)),
-    ("sign_prohibition_source", w("red prohibition sign", Source, "Which object is the {cue} posted at?", false)),
-    ("sign_hazard", w("yellow hazard sign", Target, "Which object is the {cue} posted at?", false)),
-    ("sign_handover_target", w("orange hand-over sign", Target, "Which object is the {cue} posted at?", false)),
-    ("sign_maintenance_source", w("teal service sign", Source, "Which object is the {cue} posted at?", false)),
-    ("sign_system_state", w("navy status panel", Source, "Which object is the {cue} posted at?", false)),
+    // A sign is asked what it refers to (its label names the object), not where it stands: as
+    // a scene object (§4.2) it stands clear of everything the goal names.
+    ("sign_mandatory_source", w("blue mandatory sign", Source, "Which object does the {cue} refer to?", false)),
+    ("sign_zone_target", w("purple zone sign", Target, "Which object does the {cue} refer to?", false)),
+    ("sign_permission_source", w("green permission sign", Source, "Which object does the {cue} refer to?", false)),
+    ("sign_prohibition_source", w("red prohibition sign", Source, "Which object does the {cue} refer to?", false)),
+    ("sign_hazard", w("yellow hazard sign", Target, "Which object does the {cue} refer to?", false)),
+    ("sign_handover_target", w("orange hand-over sign", Target, "Which object does the {cue} refer to?", false)),
+    ("sign_maintenance_source", w("teal service sign", Source, "Which object does the {cue} refer to?", false)),
+    ("sign_system_state", w("navy status panel", Source, "Which object does the {cue} refer to?", false)),
     ("spotlight_cone", w("spotlight", Source, "Which object is lit by the {cue}?", false)),
     ("glow_halo", w("yellow glow", Source, "Which object is surrounded by the {cue}?", false)),
     ("dim_surround", w("lit circles in a dimmed scene", Source, "Which object is lit up in the dimmed scene?", true)),
@@ -92,7 +94,7 @@ fn family_words(family: Family) -> CueWords {
         Family::F3 => w("faded copies of an object", Source, "Which object is shown by the {cue}?", false),
         Family::F4 => w("inset picture", Source, "Which object does the {cue} show being handled first?", false),
         Family::F5 => w("drawn hand", Source, "Which object is the {cue} pointing at?", false),
-        Family::F6 => w("sign", Source, "Which object is the {cue} posted at?", false),
+        Family::F6 => w("sign", Source, "Which object does the {cue} refer to?", false),
         Family::F7 => w("light highlight", Source, "Which object is lit by the {cue}?", false),
         Family::F8 => {
             w("machine-readable code", Source, "Which object does the {cue} name as the first one to handle?", false)

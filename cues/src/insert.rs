@@ -276,7 +276,7 @@ impl Ctx<'_> {
         let unused = which == Which::Target && self.spec.target.is_none();
         let (use_, placed) = match anchor {
             Some(a) if a.usable() => {
-                let radius = a.radius.map_or(default_radius, |r| (r as f32).clamp(2.0, w.max(h) as f32));
+                let radius = a.radius.map_or(default_radius, |r| (r as f32).clamp(2.0, (w.max(h) as f32).max(2.0)));
                 let truth = v2(a.u as f32, a.v as f32);
                 if a.inside(w, h) {
                     (AnchorUse::InView, Some(Placed { at: truth, radius }))

@@ -186,7 +186,7 @@ impl CueSpec {
 
     /// Stable id: `<task>/<family>/<variant>`, e.g. `libero_goal/3/F2/curved_arrow_yellow`,
     /// with `@<step number>` added when the spec shows a later step than the variant's first
-    /// fitting one (`libero_10/2/F2/straight_arrow_red@2`; see [`crate::instances`]).
+    /// fitting one (`libero_10/4/F2/straight_arrow_red@2`; see [`crate::instances`]).
     pub fn id(&self) -> String {
         let first = variants::find(&self.variant)
             .and_then(|v| crate::instances::first_step(&self.steps, &self.instruction, v.needs));

@@ -221,6 +221,21 @@ fn same_inputs_give_the_same_bytes() {
     }
 }
 
+/// Tiny frames (down to 1×1) give a drawing or an error, never a panic.
+#[test]
+fn every_variant_survives_tiny_frames() {
+    for side in 1..=40u32 {
+        let (g, p) = (ghosts(side, side), pictures());
+        let inputs = FrameInputs { anchors: anchors(), ghost_layers: &g, pictures: &p };
+        for v in VARIANTS {
+            let spec = spec_for(TASK, v);
+            let mut frame = base(side, side);
+            let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| insert(&spec, &mut frame, &inputs)))
+                .unwrap_or_else(|_| panic!("{} panicked on a {side}x{side} frame", v.name));
+        }
+    }
+}
+
 /// Specs that share a task key but not their content (another instruction, other objects) are
 /// drawn as a fresh inserter draws each, never from the other's kept captions, codes or labels.
 #[test]

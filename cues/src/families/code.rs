@@ -91,11 +91,17 @@ pub fn barcode(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
 }
 
 /// The tag with its family name and id printed under it.
+/// The smallest tag drawn (pixels a side): its 6×6 cells need at least one pixel plus a border.
+const MIN_TAG: u32 = 10;
+
 pub fn fiducial(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     let (x, y, w, h) = ctx.region(NormBox::new(0.74, 0.02, 0.24, 0.3));
     let id = fiducial_id(ctx.spec);
     let pm = ctx.cached("tag", || {
-        let side = w.min((h as f32 * 0.8) as u32).max(10);
+        let side = w.min((h as f32 * 0.8) as u32);
+        if side < MIN_TAG {
+            return Err(CueError::BadParam(format!("the tag's region is {w}x{h} pixels: a fiducial tag needs {MIN_TAG} across (a larger frame)")));
+        }
         let tag = fiducial::render(id, side).ok_or_else(|| CueError::BadParam("empty tag region".into()))?;
         let mut pm = canvas(w, h)?;
         let left = ((w - side) / 2) as i32;

@@ -186,6 +186,13 @@ fn boxed(ctx: &mut Ctx<'_>, which: Which, color: Rgba, dashed: bool) -> Result<(
         tag(super::head_noun(&name), (10.0 * s).max(6.0), WHITE, color)
     })?;
     let h = a.radius.max(9.0 * s) * 1.2;
+    let (fw, fh) = ctx.size();
+    let (lw, lh) = (label.width() as f32, label.height() as f32);
+    // Over the box's top left corner; below the box where that leaves the frame, and never past
+    // its sides (a name cut to "t" or "wer" names nothing).
+    let above = a.at.y - h - lh;
+    let ly = if above >= 0.0 { above } else { (a.at.y + h).min(fh as f32 - lh).max(0.0) };
+    let lx = (a.at.x - h - 1.0 * s).clamp(0.0, (fw as f32 - lw).max(0.0));
     let pm = ctx.layer();
     if let Some(p) = geom::rect(a.at.x - h, a.at.y - h, 2.0 * h, 2.0 * h) {
         draw::stroke(pm, &p, DARK, 4.5 * s, ID);
@@ -195,8 +202,7 @@ fn boxed(ctx: &mut Ctx<'_>, which: Which, color: Rgba, dashed: bool) -> Result<(
             draw::stroke(pm, &p, color, 2.5 * s, ID);
         }
     }
-    let (lx, ly) = ((a.at.x - h - 1.0 * s).round() as i32, (a.at.y - h - label.height() as f32).round() as i32);
-    draw::blit_over(pm, &label, lx, ly);
+    draw::blit_over(pm, &label, lx.round() as i32, ly.round() as i32);
     Ok(())
 }
 

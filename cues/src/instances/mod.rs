@@ -14,7 +14,7 @@
 //! ([`Marks`]) an earlier instance of the variant already marks (a crosshair on the basket
 //! for "put both the soup and the sauce in the basket" is one instance). An instance showing
 //! the variant's first fitting step has the id `<task>/<family>/<variant>`; one showing a later
-//! step adds `@<step number>` (`libero_10/2/F2/straight_arrow_red@2`).
+//! step adds `@<step number>` (`libero_10/4/F2/straight_arrow_red@2`).
 
 use std::collections::BTreeMap;
 

@@ -381,6 +381,7 @@ fn qr_payloads_round_trip() {
         TASK,
         "put the white mug on the left plate and put the yellow and white mug on the right plate",
         "turn on the stove",
+        "pick up the black bowl between the plate and the ramekin and place it on the plate",
     ];
     for instruction in instructions {
         let mut frame = base(W, W);
@@ -399,6 +400,8 @@ fn qr_payloads_round_trip() {
         assert_eq!(json["steps"].as_array().unwrap().len(), parsed.steps.len());
         assert_eq!(json["steps"][0]["source"], parsed.steps[0].source);
         assert_eq!(json["steps"][0]["relation"], parsed.steps[0].relation.name());
+        // The locating phrase, where there is one, says which of two alike objects is meant.
+        assert_eq!(json["steps"][0]["source_qualifier"].as_str(), parsed.steps[0].source_qualifier.as_deref(), "{instruction}");
     }
 }
 

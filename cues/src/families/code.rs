@@ -22,6 +22,10 @@ pub fn json_payload(spec: &CueSpec) -> String {
         .iter()
         .map(|s| {
             let mut o = json!({ "source": s.source, "relation": s.relation });
+            // Which of two alike objects is meant (libero_spatial's two black bowls).
+            if let Some(q) = &s.source_qualifier {
+                o["source_qualifier"] = json!(q);
+            }
             if let Some(t) = &s.target {
                 o["target"] = json!(t);
             }

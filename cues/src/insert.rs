@@ -12,9 +12,11 @@
 //!
 //! * An anchor inside the image is used as is.
 //! * An anchor in front of the camera but outside the image is **clamped** to the image border,
-//!   inset by 6 % of the shorter side; the cue is drawn at the clamped point and an
-//!   **off-screen indicator** (a small triangle pointing towards the true position, in the
-//!   cue's colour with a white rim) is added there.
+//!   inset by 6 % of the shorter side, where the line from the image centre to it crosses that
+//!   border (so an arrow to it keeps its direction); the cue is drawn at the clamped point and
+//!   an **off-screen indicator** (a small triangle pointing towards the true position, in the
+//!   cue's colour with a white rim) is added there. (The paper drops such anchors; clamping
+//!   keeps the cue drawn in the wrist camera, where targets are often out of view.)
 //! * An anchor behind the camera, non-finite, or not given is **skipped**: parts of the cue
 //!   that need it are not drawn (an arrow needs both ends); parts that need only the other
 //!   anchor still are. If nothing is left, the frame is unchanged and the report says
@@ -282,7 +284,7 @@ impl Ctx<'_> {
                     (AnchorUse::InView, Some(Placed { at: truth, radius }))
                 } else {
                     let m = 0.06 * w.min(h) as f32;
-                    let at = v2(truth.x.clamp(m, w as f32 - m), truth.y.clamp(m, h as f32 - m));
+                    let at = toward(truth, w as f32, h as f32, m);
                     self.clamped.push((at, truth, color));
                     (AnchorUse::Clamped, Some(Placed { at, radius: radius.min(m) }))
                 }
@@ -357,4 +359,14 @@ fn draw_offscreen_indicator(pm: &mut Pixmap, at: V2, toward: V2, color: Rgba, s:
     if let Some(p) = draw::geom::arrow_head(tip, dir, size, size) {
         draw::fill_outlined(pm, &p, color, draw::WHITE, 1.2 * s, ID);
     }
+}
+
+/// Where the line from the centre of a `w`×`h` image to `truth` (outside it) crosses the border
+/// inset by `m`: clamping x and y apart would send every far point to a corner, turning an
+/// arrow towards it by up to 45°.
+fn toward(truth: V2, w: f32, h: f32, m: f32) -> V2 {
+    let centre = v2(w / 2.0, h / 2.0);
+    let d = truth.sub(centre);
+    let reach = |half: f32, along: f32| if along == 0.0 { f32::INFINITY } else { (half - m).max(0.0) / along.abs() };
+    centre.add(d.scale(reach(w / 2.0, d.x).min(reach(h / 2.0, d.y)).min(1.0)))
 }

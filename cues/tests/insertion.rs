@@ -221,6 +221,22 @@ fn same_inputs_give_the_same_bytes() {
     }
 }
 
+/// A far anchor is clamped where the line from the image centre towards it meets the inset
+/// border, not into the nearest corner (an arrow to it keeps its direction).
+#[test]
+fn a_far_anchor_is_clamped_in_its_direction() {
+    let spec = spec_for(TASK, variants::find("glow_halo").unwrap());
+    // 3,128 px left and 228 px up of the centre: about 4° above the horizontal.
+    let off = Anchors { source: Some(Anchor::at(-3000.0, -100.0).with_radius(16.0)), ..anchors() };
+    let frame0 = base(W, W);
+    let mut frame = frame0.clone();
+    assert_eq!(insert(&spec, &mut frame, &FrameInputs::anchored(off)).unwrap().source, AnchorUse::Clamped);
+    let diff = changed(&frame0, &frame);
+    let (ys, n) = diff.iter().fold((0, 0), |(s, n), (_, y)| (s + y, n + 1));
+    let mean_y = ys as f32 / n as f32;
+    assert!((100.0..140.0).contains(&mean_y), "the glow sits at mean row {mean_y}, expected about 120 (the corner is row 15)");
+}
+
 /// Tiny frames (down to 1×1) give a drawing or an error, never a panic.
 #[test]
 fn every_variant_survives_tiny_frames() {

@@ -313,8 +313,23 @@ impl Demo {
     }
 }
 
+/// A seed written as decimal digits, 0 to 2^64-1 (what `vifo web episode` prints).
+pub fn parse_seed(text: &str) -> Result<u64, String> {
+    let digits = !text.is_empty() && text.bytes().all(|b| b.is_ascii_digit());
+    digits.then(|| text.parse().ok()).flatten().ok_or_else(|| format!("seed must be decimal digits of a number from 0 to 2^64-1, got {text:?}"))
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn seeds_are_read_as_decimal_digits_of_64_bits() {
+        assert_eq!(parse_seed("3309794020868337508"), Ok(3309794020868337508));
+        assert_eq!(parse_seed("18446744073709551615"), Ok(u64::MAX));
+        for bad in ["", "1e3", "0x10", "-1", " 7", "18446744073709551616"] {
+            assert!(parse_seed(bad).unwrap_err().contains("decimal digits"), "{bad}");
+        }
+    }
+
     use super::*;
 
     const CUE: &str = "libero_goal/0/F1/caption_bar";

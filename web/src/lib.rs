@@ -81,18 +81,19 @@ impl VifoDemo {
         self.inner.set_policy(name).map_err(js_error)
     }
 
-    /// Starts an episode; `cueId` may be null for `original`, `seed` (an integer) defaults to
-    /// the benchmark's seed of the episode. Returns the status.
+    /// Starts an episode; `cueId` may be null for `original`; `seed` (a whole number, or its
+    /// decimal digits as a string: benchmark seeds need all 64 bits) defaults to the
+    /// benchmark's seed of the episode. Returns the status.
     pub fn reset(
         &mut self,
         task: &str,
         init_state: f64,
         cue_id: Option<String>,
         language_condition: &str,
-        seed: Option<f64>,
+        seed: JsValue,
     ) -> Result<JsValue, JsError> {
         let init = whole(init_state, "initState")?;
-        let seed = seed.map(|s| whole(s, "seed")).transpose()?;
+        let seed = seed_of(&seed)?;
         let status = self.inner.reset(task, init as usize, cue_id.as_deref(), language_condition, seed).map_err(js_error)?;
         to_js(&status)
     }
@@ -129,6 +130,20 @@ impl VifoDemo {
 }
 
 /// A whole number from JavaScript (indices and seeds arrive as doubles).
+/// A seed given as a whole number or as decimal digits (absent: `None`).
+fn seed_of(value: &JsValue) -> Result<Option<u64>, JsError> {
+    if value.is_undefined() || value.is_null() {
+        return Ok(None);
+    }
+    if let Some(number) = value.as_f64() {
+        return whole(number, "seed").map(Some);
+    }
+    match value.as_string() {
+        Some(text) => demo::parse_seed(&text).map(Some).map_err(js_error),
+        None => Err(js_error("seed must be a whole number or a string of decimal digits".to_string())),
+    }
+}
+
 fn whole(value: f64, name: &str) -> Result<u64, JsError> {
     if value.is_finite() && value >= 0.0 && value.fract() == 0.0 && value <= 9_007_199_254_740_991.0 {
         Ok(value as u64)

@@ -20,9 +20,19 @@ function showError(err) {
   $("error").textContent = err ? String(err.message ?? err) : "";
 }
 
+// URL presets that match no option, reported once the page is up.
+const unmatched = [];
+
 function fill(select, items, value) {
   select.replaceChildren(...items.map(([v, text]) => new Option(text, v)));
   if (value !== undefined && items.some(([v]) => v === value)) select.value = value;
+}
+
+// Presets a picker from the URL parameter `name`, noting a value it does not offer.
+function preset(select, items, name, fallback) {
+  const wanted = params.get(name);
+  fill(select, items, wanted ?? fallback);
+  if (wanted !== null && select.value !== wanted) unmatched.push(`${name}=${wanted} is not one of the choices; showing ${select.value}`);
 }
 
 function fillCues(preset) {
@@ -60,8 +70,9 @@ function reset() {
   showError(null);
   ensureDemo();
   demo.setPolicy($("policy").value);
+  // As text: a benchmark seed needs all 64 bits, more than a JavaScript number holds.
   const seedText = $("seed").value.trim();
-  const seed = seedText === "" ? undefined : Number(seedText);
+  const seed = seedText === "" ? undefined : seedText;
   const condition = $("condition").value;
   const cue = condition === "original" ? null : $("variant").value || null;
   // Until this reset succeeds there is no episode to step: a refused one (an init state out of
@@ -106,6 +117,7 @@ function showStatus() {
   $("language-success").textContent = flag(status.language_success);
   $("done").textContent = status.done ? "yes" : "no";
   $("state-hash").textContent = status.state_hash;
+  $("seed-shown").textContent = status.seed;
   $("step-ms").textContent = stepMs.count ? (stepMs.total / stepMs.count).toFixed(1) : "–";
   $("predicates").replaceChildren(...status.predicates.map((p) => {
     const li = document.createElement("li");
@@ -139,6 +151,7 @@ function tick() {
 function setPlaying(on) {
   playing = on;
   $("play").textContent = on ? "Pause" : "Play";
+  if (!on) $("fps").textContent = "0";
   fpsWindow = { start: performance.now(), frames: 0 };
   if (on) requestAnimationFrame(tick);
 }
@@ -157,10 +170,11 @@ function guarded(f) {
 async function main() {
   await init();
   const taskList = tasks();
-  fill($("task"), taskList.map((t) => [t.key, `${t.key}: ${t.instruction}`]), params.get("task") ?? "libero_goal/0");
-  fill($("condition"), languageConditions().map((c) => [c, c]), params.get("condition") ?? "authorized");
-  fill($("policy"), policies().map((p) => [p, p]), params.get("policy") ?? "expert-cue");
-  if (params.has("size")) $("size").value = params.get("size");
+  preset($("task"), taskList.map((t) => [t.key, `${t.key}: ${t.instruction}`]), "task", "libero_goal/0");
+  preset($("condition"), languageConditions().map((c) => [c, c]), "condition", "authorized");
+  preset($("policy"), policies().map((p) => [p, p]), "policy", "expert-cue");
+  const sizes = [...$("size").options].map((o) => [o.value, o.text]);
+  preset($("size"), sizes, "size", "128");
   if (params.get("wrist") === "0") $("wrist").checked = false;
   if (params.has("init")) $("init").value = params.get("init");
   if (params.has("seed")) $("seed").value = params.get("seed");
@@ -168,12 +182,15 @@ async function main() {
   $("task").onchange = guarded(() => { fillCues(); reset(); });
   $("family").onchange = guarded(() => { fillVariants(); reset(); });
   for (const id of ["variant", "condition", "init", "seed", "size", "wrist"]) $(id).onchange = guarded(reset);
-  $("policy").onchange = guarded(() => demo.setPolicy($("policy").value));
+  $("policy").onchange = guarded(() => { demo.setPolicy($("policy").value); if (status) status = demo.status(); });
   $("reset").onclick = guarded(() => { setPlaying(false); reset(); });
   $("step").onclick = guarded(() => { setPlaying(false); if (status && !status.done) stepOnce(); });
   $("play").onclick = guarded(() => setPlaying(!playing && status !== null && !status.done));
+  for (const b of document.querySelectorAll("button")) b.disabled = false;
+  $("loading").hidden = true;
   reset();
-  if (!cueFound) showError(`cue ${params.get("cue")} is not an instance of ${$("task").value}; showing ${$("variant").value}`);
+  if (!cueFound) unmatched.push(`cue ${params.get("cue")} is not an instance of ${$("task").value}; showing ${$("variant").value}`);
+  if (unmatched.length > 0) showError(unmatched.join("; "));
   document.body.dataset.ready = "1";
   if (params.get("autoplay") === "1") setPlaying(true);
 }

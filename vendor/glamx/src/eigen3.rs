@@ -98,12 +98,16 @@ macro_rules! impl_symmetric_eigen3 {
                     } else if r >= 1.0 {
                         0.0
                     } else {
-                        r.acos() / 3.0
+                        <$Real as simba::scalar::ComplexField>::acos(r) / 3.0
                     };
 
+                    // LIBERO-VIFO patch: `acos`/`cos` through simba's `ComplexField`, which with
+                    // `libm_force` (on through glamx's `libm` feature) is the `libm` crate on every
+                    // target. The inherent `f64::acos`/`cos` call glibc natively but `libm` in
+                    // wasm32, and differ in the last bit on some inputs (vendor/README.md).
                     // The eigenvalues satisfy eigen3 <= eigen2 <= eigen1
-                    let eigen1 = q + 2.0 * p * phi.cos();
-                    let eigen3 = q + 2.0 * p * (phi + 2.0 * pi / 3.0).cos();
+                    let eigen1 = q + 2.0 * p * <$Real as simba::scalar::ComplexField>::cos(phi);
+                    let eigen3 = q + 2.0 * p * <$Real as simba::scalar::ComplexField>::cos(phi + 2.0 * pi / 3.0);
                     let eigen2 = 3.0 * q - eigen1 - eigen3; // trace(mat) = eigen1 + eigen2 + eigen3
                     <$Vec3>::new(eigen3, eigen2, eigen1)
                 }

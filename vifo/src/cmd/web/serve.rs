@@ -1,5 +1,7 @@
 //! `vifo web serve`: a tiny static file server for the built site. Plain HTTP/1.1, GET and HEAD,
 //! one thread per connection, bound to 127.0.0.1 by default; paths cannot leave the folder.
+//! Text and WebAssembly go gzipped to clients that accept it, as static hosts send them (the
+//! module is 8.7 MB raw, about 3.2 MB gzipped).
 //! Enough for the demo and its browser test; put the folder on any static host for real use.
 
 use std::io::{BufRead, BufReader, Write};
@@ -9,6 +11,8 @@ use std::time::Duration;
 
 use anyhow::{Context, bail};
 use clap::Args as ClapArgs;
+use flate2::Compression;
+use flate2::write::GzEncoder;
 
 #[derive(ClapArgs)]
 pub struct Args {
@@ -49,9 +53,11 @@ fn answer(stream: TcpStream, root: &Path) -> std::io::Result<()> {
     let mut reader = BufReader::new(stream.try_clone()?);
     let mut request = String::new();
     reader.read_line(&mut request)?;
-    // Headers are read and ignored (no ranges, no keep-alive).
+    // Of the headers only Accept-Encoding counts (no ranges, no keep-alive).
     let mut line = String::new();
+    let mut gzip = false;
     while reader.read_line(&mut line)? > 2 {
+        gzip |= accepts_gzip(&line);
         line.clear();
     }
     let mut parts = request.split_whitespace();
@@ -64,14 +70,38 @@ fn answer(stream: TcpStream, root: &Path) -> std::io::Result<()> {
         return reply(&mut out, "404 Not Found", "text/plain", b"not found\n", true);
     };
     match std::fs::read(&path) {
-        Ok(body) => reply(&mut out, "200 OK", content_type(&path), &body, method == "GET"),
+        Ok(body) => {
+            let kind = content_type(&path);
+            if gzip && compressible(kind) {
+                let mut encoder = GzEncoder::new(Vec::new(), Compression::default());
+                encoder.write_all(&body)?;
+                return reply_encoded(&mut out, "200 OK", kind, &encoder.finish()?, method == "GET", Some("gzip"));
+            }
+            reply(&mut out, "200 OK", kind, &body, method == "GET")
+        }
         Err(_) => reply(&mut out, "404 Not Found", "text/plain", b"not found\n", true),
     }
 }
 
+/// Whether a request header line says the client takes gzip.
+fn accepts_gzip(header: &str) -> bool {
+    let Some((name, value)) = header.split_once(':') else { return false };
+    name.trim().eq_ignore_ascii_case("accept-encoding") && value.split(',').any(|v| v.split(';').next().is_some_and(|e| e.trim().eq_ignore_ascii_case("gzip")))
+}
+
+/// Types worth compressing (images are compressed already).
+fn compressible(kind: &str) -> bool {
+    kind.starts_with("text/") || kind == "application/wasm" || kind == "application/json" || kind == "image/svg+xml"
+}
+
 fn reply(out: &mut TcpStream, status: &str, kind: &str, body: &[u8], with_body: bool) -> std::io::Result<()> {
+    reply_encoded(out, status, kind, body, with_body, None)
+}
+
+fn reply_encoded(out: &mut TcpStream, status: &str, kind: &str, body: &[u8], with_body: bool, encoding: Option<&str>) -> std::io::Result<()> {
+    let encoding = encoding.map_or(String::new(), |e| format!("Content-Encoding: {e}\r\nVary: Accept-Encoding\r\n"));
     let head = format!(
-        "HTTP/1.1 {status}\r\nContent-Type: {kind}\r\nContent-Length: {}\r\nCache-Control: no-cache\r\nConnection: close\r\n\r\n",
+        "HTTP/1.1 {status}\r\nContent-Type: {kind}\r\n{encoding}Content-Length: {}\r\nCache-Control: no-cache\r\nConnection: close\r\n\r\n",
         body.len()
     );
     out.write_all(head.as_bytes())?;
@@ -141,5 +171,13 @@ mod tests {
         assert_eq!(resolve(root, "http://x/"), None);
         assert_eq!(resolve(root, "/%zz"), None);
         assert_eq!(content_type(Path::new("m.wasm")), "application/wasm");
+    }
+
+    #[test]
+    fn gzip_goes_to_clients_that_accept_it() {
+        assert!(accepts_gzip("Accept-Encoding: gzip, deflate, br\r\n"));
+        assert!(accepts_gzip("accept-encoding: br;q=1.0, gzip;q=0.8\r\n"));
+        assert!(!accepts_gzip("Accept-Encoding: br\r\n") && !accepts_gzip("X-Gzip: gzip\r\n"));
+        assert!(compressible("application/wasm") && compressible("text/javascript; charset=utf-8") && !compressible("image/png"));
     }
 }

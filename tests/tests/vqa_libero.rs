@@ -195,3 +195,17 @@ fn sign_grounding_questions_ask_what_the_sign_refers_to() {
         assert!(q.question.ends_with("refer to?") || q.question.ends_with("refer to as the first one to handle?"), "{}: {}", q.id, q.question);
     }
 }
+
+/// Distractors come from the scene before generic names: a scene object beside another true
+/// step's source in the candidate list was left out with it (libero_10/7's step 2 offered a
+/// "metal tray" and a "blue towel", which that scene does not have, and not its tomato sauce).
+/// That scene has two objects besides the task's: one generic name is still needed.
+#[test]
+fn distractors_use_the_scene_before_generic_names() {
+    let questions = vifo_protocols::benchmark::instances::questions(vifo_cues::SetName::Paper, vifo_protocols::spec::CueForm::Overlay).unwrap();
+    let q = questions.iter().find(|q| q.id == "libero_10/7/F2/dashed_path_cyan@2/semantic").expect("the question");
+    let options = q.options.join(" | ");
+    let generic = ["red cup", "green apple", "blue towel", "wooden spoon", "metal tray", "paper box"];
+    let generic_used = generic.iter().filter(|g| options.contains(*g)).count();
+    assert!(options.contains("tomato sauce") && options.contains("ketchup") && generic_used == 1, "{options}");
+}

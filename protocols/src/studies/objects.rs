@@ -118,8 +118,10 @@ pub struct Table {
     pub rows: Vec<Row>,
 }
 
-/// The table of the policies that have object-form episodes in `records` (repeated records of
-/// one episode: the last completed one counts, as in the main report).
+/// The table of the policies that have object-form episodes in `records` or object-form VQA
+/// scores in `vqa` (repeated records of one episode: the last completed one counts, as in the
+/// main report), and with two policies or more an Avg. row over them (the paper's §4.2 figures
+/// are such averages over its models).
 pub fn build(records: &[EpisodeRecord], vqa: &FormVqa) -> Table {
     let sets: BTreeSet<_> = records.iter().map(|r| r.set).collect();
     let name = |r: &EpisodeRecord| if sets.len() > 1 { format!("{} [{}]", r.policy, r.set) } else { r.policy.clone() };
@@ -130,12 +132,15 @@ pub fn build(records: &[EpisodeRecord], vqa: &FormVqa) -> Table {
             by_policy.entry(name(r)).or_insert_with(|| (r.policy.clone(), Vec::new())).1.push(r.clone());
         }
     }
+    by_policy.retain(|_, (_, rs)| rs.iter().any(|r| r.spec.cue_form == CueForm::Object));
+    for (policy, form) in vqa.keys() {
+        if *form == CueForm::Object && !by_policy.values().any(|(p, _)| p == policy) {
+            by_policy.insert(policy.clone(), (policy.clone(), Vec::new()));
+        }
+    }
     let mut table = Table::default();
     for (row_name, (policy, rs)) in by_policy {
         let episodes: Vec<EpisodeRecord> = final_records(rs).into_values().collect();
-        if !episodes.iter().any(|r| r.spec.cue_form == CueForm::Object) {
-            continue;
-        }
         let mut rows = Vec::new();
         for family in OBJECT_FAMILIES {
             let of_family: Vec<&EpisodeRecord> =
@@ -173,8 +178,25 @@ pub fn build(records: &[EpisodeRecord], vqa: &FormVqa) -> Table {
         table.rows.extend(rows);
         table.rows.push(avg);
     }
+    let averages: Vec<&Row> = table.rows.iter().filter(|r| r.family.is_none()).collect();
+    if averages.len() > 1 {
+        let mean = |f: fn(&Row) -> &Pair| Pair::mean(&averages.iter().map(|r| f(r)).collect::<Vec<_>>());
+        let all = Row {
+            policy: ALL_POLICIES.to_string(),
+            family: None,
+            vqa: mean(|r| &r.vqa),
+            avf: mean(|r| &r.avf),
+            uvi: mean(|r| &r.uvi),
+            episodes: averages.iter().map(|r| r.episodes).sum(),
+            errors: averages.iter().map(|r| r.errors).sum(),
+        };
+        table.rows.push(all);
+    }
     table
 }
+
+/// The policy column of the Avg. row over every policy's Avg.
+pub const ALL_POLICIES: &str = "all policies";
 
 fn pct(v: Option<f64>) -> String {
     v.map_or_else(|| "–".to_string(), |p| format!("{p:.1}"))
@@ -341,7 +363,8 @@ mod tests {
             record("p", f6, Protocol::NoLanguage, CueForm::Object, 0, Some(true)),
             // F6's AVF only as an overlay: the Avg. row leaves it out of both sides.
             record("p", f6, Protocol::Authorized, CueForm::Overlay, 0, Some(false)),
-            // A policy without object episodes has no row; conflict episodes are not counted.
+            // A policy without object episodes (or object-form VQA scores) has no row; conflict
+            // episodes are not counted.
             record("q", f1, Protocol::Authorized, CueForm::Overlay, 0, Some(true)),
             record("p", f1, Protocol::Conflict, CueForm::Overlay, 0, Some(false)),
         ];
@@ -364,6 +387,24 @@ mod tests {
         assert!(table.csv().lines().count() == 5);
         assert!(table.chart().unwrap().starts_with(b"\x89PNG"));
         rs.retain(|r| r.spec.cue_form == CueForm::Overlay);
-        assert!(build(&rs, &vqa).rows.is_empty());
+        assert!(build(&rs, &FormVqa::new()).rows.is_empty());
+        // VQA scores in the object form make rows without episodes (a VLM-only evaluation).
+        let vqa_only = build(&rs, &vqa);
+        assert_eq!((vqa_only.rows.len(), vqa_only.rows[0].vqa.object, vqa_only.rows[0].avf.object), (4, Some(75.0), None));
+    }
+
+    #[test]
+    fn two_policies_get_an_average_row_over_them() {
+        let f1 = "libero_goal/0/F1/caption_bar";
+        let mut rs = Vec::new();
+        for (policy, object) in [("p", true), ("q", false)] {
+            rs.push(record(policy, f1, Protocol::Authorized, CueForm::Overlay, 0, Some(true)));
+            rs.push(record(policy, f1, Protocol::Authorized, CueForm::Object, 0, Some(object)));
+        }
+        let table = build(&rs, &FormVqa::new());
+        let all = table.rows.last().unwrap();
+        assert_eq!((all.policy.as_str(), all.family), (ALL_POLICIES, None));
+        assert_eq!((all.avf.overlay, all.avf.object, all.avf.change(), all.episodes), (Some(100.0), Some(50.0), Some(-50.0), 4));
+        assert!(build(&rs[..2], &FormVqa::new()).rows.iter().all(|r| r.policy == "p"));
     }
 }

@@ -214,7 +214,10 @@ impl Ctx<'_> {
             // not be in the picture.
             t_alt.retain(|c| wording::fits(c, r) && !FALLBACK_NAMES.contains(&c.as_str()));
             if t_alt.is_empty() {
-                // No other plausible target in the scene: four sources, one target.
+                // No other plausible target in the scene: four sources, one target. A source of
+                // another true step is dropped before the triples are taken, not with every
+                // triple it is in (which left scene objects beside it unused for generic names).
+                let s_alt: Vec<String> = s_alt.into_iter().filter(|c| !true_steps.contains(&render(r, c, Some(t)))).collect();
                 s_alt
                     .windows(3)
                     .map(|w| [render(r, &w[0], Some(t)), render(r, &w[1], Some(t)), render(r, &w[2], Some(t))])
@@ -231,7 +234,8 @@ impl Ctx<'_> {
             s_alt.sort_by_key(|c| !wording::fits(c, r));
             s_alt.iter().map(|s2| [render(r2, s, None), render(r, s2, None), render(r2, s2, None)]).collect()
         } else {
-            let s_alt = self.alternatives(&format!("{salt}|s"), s, step.source_id.as_deref(), &objects, &[]);
+            let mut s_alt = self.alternatives(&format!("{salt}|s"), s, step.source_id.as_deref(), &objects, &[]);
+            s_alt.retain(|c| !true_steps.contains(&render(r, c, None)));
             s_alt.windows(3).map(|w| [render(r, &w[0], None), render(r, &w[1], None), render(r, &w[2], None)]).collect()
         };
         let fits = |c: &[String; 3]| {

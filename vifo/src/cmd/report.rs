@@ -53,8 +53,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for (forms, form) in [(&vqa, CueForm::Overlay), (&vqa_object, CueForm::Object)] {
         by_form.extend(forms.iter().map(|(p, s)| ((p.clone(), form), s.clone())));
     }
-    anyhow::ensure!(!records.is_empty() || !vqa.is_empty(), "nothing to report: {}", match files.len() {
-        0 => "give results files or --vqa scores".to_string(),
+    anyhow::ensure!(!records.is_empty() || !vqa.is_empty() || !vqa_object.is_empty(), "nothing to report: {}", match files.len() {
+        0 => "give results files, --vqa or --vqa-object scores".to_string(),
         1 => format!("{} holds no episode records", files[0].display()),
         _ => format!("{} hold no episode records", files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")),
     });

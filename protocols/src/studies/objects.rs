@@ -165,34 +165,33 @@ pub fn build(records: &[EpisodeRecord], vqa: &FormVqa) -> Table {
                 errors: of_family.iter().filter(|r| matches!(r.outcome, Outcome::Error { .. })).count(),
             });
         }
-        let mean = |f: fn(&Row) -> &Pair| Pair::mean(&rows.iter().map(f).collect::<Vec<_>>());
-        let avg = Row {
-            policy: row_name.clone(),
+        let avg = Row::average(&row_name, &rows.iter().collect::<Vec<_>>());
+        table.rows.extend(rows);
+        table.rows.push(avg);
+    }
+    let averages: Vec<&Row> = table.rows.iter().filter(|r| r.family.is_none()).collect();
+    if averages.len() > 1 {
+        let all = Row::average(ALL_POLICIES, &averages);
+        table.rows.push(all);
+    }
+    table
+}
+
+impl Row {
+    /// The Avg. row of `rows` (a policy's families, or every policy's Avg.): each metric by
+    /// [`Pair::mean`], the counts summed.
+    fn average(policy: &str, rows: &[&Row]) -> Row {
+        let mean = |f: fn(&Row) -> &Pair| Pair::mean(&rows.iter().map(|r| f(r)).collect::<Vec<_>>());
+        Row {
+            policy: policy.to_string(),
             family: None,
             vqa: mean(|r| &r.vqa),
             avf: mean(|r| &r.avf),
             uvi: mean(|r| &r.uvi),
             episodes: rows.iter().map(|r| r.episodes).sum(),
             errors: rows.iter().map(|r| r.errors).sum(),
-        };
-        table.rows.extend(rows);
-        table.rows.push(avg);
+        }
     }
-    let averages: Vec<&Row> = table.rows.iter().filter(|r| r.family.is_none()).collect();
-    if averages.len() > 1 {
-        let mean = |f: fn(&Row) -> &Pair| Pair::mean(&averages.iter().map(|r| f(r)).collect::<Vec<_>>());
-        let all = Row {
-            policy: ALL_POLICIES.to_string(),
-            family: None,
-            vqa: mean(|r| &r.vqa),
-            avf: mean(|r| &r.avf),
-            uvi: mean(|r| &r.uvi),
-            episodes: averages.iter().map(|r| r.episodes).sum(),
-            errors: averages.iter().map(|r| r.errors).sum(),
-        };
-        table.rows.push(all);
-    }
-    table
 }
 
 /// The policy column of the Avg. row over every policy's Avg.

@@ -259,6 +259,20 @@ fn parse_place(instruction: &str, tokens: &[Token<'_>], forced: Option<Relation>
         vec![noun_phrase(instruction, tokens, begin, prep_at)?]
     };
     let target_begin = prep_at + prep_len;
+    // "... on the plate and the mug on the plate": a second placement without its verb would
+    // otherwise be read as part of the target's name.
+    if let Some(at) = (target_begin..tokens.len()).find(|&i| {
+        tokens[i].word == "and"
+            && tokens.get(i + 1).is_some_and(|t| ARTICLES.contains(&t.word))
+            && (i + 2..tokens.len()).any(|j| placement_preposition_at(tokens, j).is_some())
+    }) {
+        return Err(error(
+            instruction,
+            position_at(instruction, tokens, at + 1),
+            &format!("a verb after 'and' to start the next step ('and {verb} the ...')"),
+            &found_at(tokens, at + 1),
+        ));
+    }
     let target = if target_begin == tokens.len() && relation == Relation::In {
         None // "put the bowl inside": into the entity mentioned last
     } else {
@@ -278,6 +292,10 @@ fn split_conjunction(instruction: &str, tokens: &[Token<'_>], begin: usize, end:
         .or_else(|| ands.last().copied());
     match at {
         Some(at) => {
+            // "both" names two things: a third "and <article>" after the split is one too many.
+            if let Some(extra) = (at + 1..end).find(|&i| tokens[i].word == "and" && tokens.get(i + 1).is_some_and(|t| ARTICLES.contains(&t.word))) {
+                return Err(error(instruction, position_at(instruction, tokens, extra), "two objects after 'both'", "a third"));
+            }
             Ok(vec![noun_phrase(instruction, tokens, begin, at)?, noun_phrase(instruction, tokens, at + 1, end)?])
         }
         None => Ok(vec![noun_phrase(instruction, tokens, begin, end)?]),

@@ -88,6 +88,15 @@ pub fn resolve(instruction: &str, clauses: Vec<Clause>) -> Result<Vec<Step>, Par
                     steps.push(step(&previous, Relation::PickUp, None));
                 }
                 for source in &sources {
+                    // "pick up the bowl and put it in them": a thing is never its own target.
+                    if target.as_ref().is_some_and(|t| t.name == source.name && t.qualifier == source.qualifier) {
+                        return Err(ParseError {
+                            instruction: instruction.to_string(),
+                            position: clause.start,
+                            expected: format!("a target other than the {} itself", source.name),
+                            found: format!("the {} as its own target", source.name),
+                        });
+                    }
                     steps.push(step(source, *relation, target.as_ref()));
                 }
                 mentioned.extend(sources);

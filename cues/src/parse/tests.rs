@@ -124,6 +124,11 @@ fn unknown_phrasing_is_a_clear_error() {
         ("put the bowl on the plate and", 29, "a verb after 'and'"),
         ("put the bowl on the plate & close it", 26, "a letter"),
         ("open", 4, "an object name"),
+        // Read wrongly before (target "plate and the mug on the plate", source "mug and the
+        // plate", "bowl -> bowl"), now refused.
+        ("put the bowl on the plate and the mug on the plate", 30, "a verb after 'and'"),
+        ("put both the bowl and the mug and the plate in the basket", 30, "two objects after 'both'"),
+        ("pick up the bowl and put it in them", 21, "a target other than the bowl"),
     ];
     for (instruction, position, expected) in cases {
         let err = parse(instruction).expect_err(instruction);

@@ -8,7 +8,9 @@ Serves a site built by `vifo web build` with `vifo web serve` on 127.0.0.1, then
      each final state hash with `vifo web episode` (the same episode, native);
   3. plays agentview alone at 256² and reads the fps counter;
   4. feeds malformed tasks, cues, conditions and action arrays from JavaScript: each must
-     throw an Error with a message, and the page must keep working (no wasm trap).
+     throw an Error with a message, and the page must keep working (no wasm trap);
+  5. drives the arm from the keyboard (one arrow press, one step of its own action) and opens a
+     URL with an unknown task, which the page must report.
 Prints the measured figures as GATE lines (gates are reported, not asserted) and exits non-zero
 when a behaviour check fails. Without chromium, chromedriver or selenium it prints SKIPPED with
 the reason and exits 0.
@@ -207,6 +209,32 @@ def run_checks(browser, url, args, failures):
             failures.append(f"bad {name} gave {message!r}, not a clear JavaScript Error")
     if not bad["still_works"]:
         failures.append("after the bad calls the demo no longer steps")
+
+    # A person drives the arm: with the keyboard policy, a key press while paused is one step
+    # of that key's action (not the hold action).
+    from selenium.webdriver.common.action_chains import ActionChains
+    from selenium.webdriver.common.keys import Keys
+
+    page(browser, url, "task=libero_goal/0&condition=original&policy=keyboard&size=64&wrist=0")
+    ActionChains(browser).send_keys(Keys.ARROW_UP).perform()
+    driven = browser.execute_script("return window.vifo.status")
+    held = browser.execute_script(
+        """const demo = window.vifo.demo;
+           demo.reset("libero_goal/0", 0, null, "original");
+           return demo.stepAction([0, 0, 0, 0, 0, 0, -1]);""")
+    print(f"  keyboard: one arrow press gave {driven['steps']} step(s), hash {driven['state_hash']} (holding: {held['state_hash']})")
+    if driven["steps"] != 1 or driven["state_hash"] == held["state_hash"]:
+        failures.append("an arrow key with the keyboard policy did not take one step of its own action")
+
+    # A URL preset that matches no choice is reported, not silently replaced.
+    browser.get(f"{url}?task=libero_goal/99")
+    deadline = time.time() + 60
+    while time.time() < deadline and browser.execute_script("return document.body.dataset.ready || ''") != "1":
+        time.sleep(0.05)
+    said = text(browser, "error")
+    print(f"  unknown task preset: {said!r}")
+    if "task=libero_goal/99 is not one of the choices" not in said:
+        failures.append(f"an unknown task preset was not reported: {said!r}")
 
 
 if __name__ == "__main__":

@@ -15,6 +15,7 @@ let firstFrameShown = false;
 // fps: frames drawn in the current one-second window; ms per step: mean wasm step + draw time.
 let fpsWindow = { start: 0, frames: 0 };
 let stepMs = { total: 0, count: 0 };
+let lastStep = 0;
 
 function showError(err) {
   $("error").textContent = err ? String(err.message ?? err) : "";
@@ -66,10 +67,51 @@ function ensureDemo() {
   $("wrist-figure").style.display = wrist ? "" : "none";
 }
 
+// "keyboard": the person at the page drives the arm; the module's policies do the rest.
+const KEYBOARD = "keyboard";
+
+// Keys held down, and the end-effector delta action they make: arrows move in the table plane
+// (x forward, y left), R/F up and down, Q/E turn about z; G toggles the gripper. While Play runs
+// the held keys drive every step; paused, each key press is one step.
+const held = new Set();
+let gripper = -1;
+const KEYS = { ArrowUp: [0, 1], ArrowDown: [0, -1], ArrowLeft: [1, 1], ArrowRight: [1, -1], r: [2, 1], f: [2, -1], q: [5, 1], e: [5, -1] };
+
+function keyboardAction() {
+  const action = [0, 0, 0, 0, 0, 0, gripper];
+  for (const key of held) {
+    const [axis, sign] = KEYS[key];
+    action[axis] += 0.5 * sign;
+  }
+  return action;
+}
+
+function listenToKeys() {
+  const typing = (e) => ["INPUT", "SELECT", "TEXTAREA"].includes(e.target.tagName);
+  window.addEventListener("keydown", (e) => {
+    if ($("policy").value !== KEYBOARD || typing(e)) return;
+    const key = e.key.length === 1 ? e.key.toLowerCase() : e.key;
+    if (key === "g") gripper = -gripper;
+    else if (key in KEYS) held.add(key);
+    else return;
+    e.preventDefault();
+    if (!playing && status && !status.done) guarded(stepOnce)();
+  });
+  window.addEventListener("keyup", (e) => held.delete(e.key.length === 1 ? e.key.toLowerCase() : e.key));
+  window.addEventListener("blur", () => held.clear());
+}
+
+function setPolicy() {
+  const keyboard = $("policy").value === KEYBOARD;
+  $("keys").hidden = !keyboard;
+  // The module holds still for the keyboard: stepAction carries the person's action.
+  demo.setPolicy(keyboard ? "zero" : $("policy").value);
+}
+
 function reset() {
   showError(null);
   ensureDemo();
-  demo.setPolicy($("policy").value);
+  setPolicy();
   // As text: a benchmark seed needs all 64 bits, more than a JavaScript number holds.
   const seedText = $("seed").value.trim();
   const seed = seedText === "" ? undefined : seedText;
@@ -129,16 +171,22 @@ function showStatus() {
 
 function stepOnce() {
   const t0 = performance.now();
-  status = demo.step();
+  status = $("policy").value === KEYBOARD ? demo.stepAction(keyboardAction()) : demo.step();
+  lastStep = t0;
   draw();
   stepMs.total += performance.now() - t0;
   stepMs.count += 1;
 }
 
-// One control step per animation frame while playing.
+// One control step per animation frame while playing, or per 50 ms of wall time (the 20 Hz of
+// LIBERO's control) with "real time".
 function tick() {
   if (!playing) return;
   try {
+    if ($("realtime").checked && performance.now() - lastStep < 50) {
+      requestAnimationFrame(tick);
+      return;
+    }
     stepOnce();
     if (status.done) setPlaying(false);
     else requestAnimationFrame(tick);
@@ -172,7 +220,8 @@ async function main() {
   const taskList = tasks();
   preset($("task"), taskList.map((t) => [t.key, `${t.key}: ${t.instruction}`]), "task", "libero_goal/0");
   preset($("condition"), languageConditions().map((c) => [c, c]), "condition", "authorized");
-  preset($("policy"), policies().map((p) => [p, p]), "policy", "expert-cue");
+  preset($("policy"), [...policies().map((p) => [p, p]), [KEYBOARD, "keyboard (you drive)"]], "policy", "expert-cue");
+  listenToKeys();
   const sizes = [...$("size").options].map((o) => [o.value, o.text]);
   preset($("size"), sizes, "size", "128");
   if (params.get("wrist") === "0") $("wrist").checked = false;
@@ -182,7 +231,7 @@ async function main() {
   $("task").onchange = guarded(() => { fillCues(); reset(); });
   $("family").onchange = guarded(() => { fillVariants(); reset(); });
   for (const id of ["variant", "condition", "init", "seed", "size", "wrist"]) $(id).onchange = guarded(reset);
-  $("policy").onchange = guarded(() => { demo.setPolicy($("policy").value); if (status) status = demo.status(); });
+  $("policy").onchange = guarded(() => { setPolicy(); if (status) status = demo.status(); });
   $("reset").onclick = guarded(() => { setPlaying(false); reset(); });
   $("step").onclick = guarded(() => { setPlaying(false); if (status && !status.done) stepOnce(); });
   $("play").onclick = guarded(() => setPlaying(!playing && status !== null && !status.done));

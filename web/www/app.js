@@ -88,16 +88,17 @@ function keyboardAction() {
 
 function listenToKeys() {
   const typing = (e) => ["INPUT", "SELECT", "TEXTAREA"].includes(e.target.tagName);
+  const keyOf = (e) => (e.key.length === 1 ? e.key.toLowerCase() : e.key);
   window.addEventListener("keydown", (e) => {
     if ($("policy").value !== KEYBOARD || typing(e)) return;
-    const key = e.key.length === 1 ? e.key.toLowerCase() : e.key;
+    const key = keyOf(e);
     if (key === "g") gripper = -gripper;
     else if (key in KEYS) held.add(key);
     else return;
     e.preventDefault();
     if (!playing && status && !status.done) guarded(stepOnce)();
   });
-  window.addEventListener("keyup", (e) => held.delete(e.key.length === 1 ? e.key.toLowerCase() : e.key));
+  window.addEventListener("keyup", (e) => held.delete(keyOf(e)));
   window.addEventListener("blur", () => held.clear());
 }
 

@@ -61,12 +61,7 @@ pub fn apply(sim: &mut Sim, start: &EpisodeStart) -> Result<(), StateError> {
         .map(|f| {
             let fixture = sim.model().entity(&f.name).filter(|(_, e)| !e.movable()).map(|(i, _)| i);
             let entity = fixture.ok_or_else(|| StateError::UnknownObject(f.name.clone()))?;
-            if f.pos.iter().chain(&f.quat_wxyz).any(|v| !v.is_finite()) {
-                return Err(StateError::NotFinite { what: format!("of fixture {}", f.name) });
-            }
-            if f.quat_wxyz == [0.0; 4] {
-                return Err(StateError::ZeroQuaternion { what: format!("of fixture {}", f.name) });
-            }
+            crate::sim::check_pose(&f.pos, &f.quat_wxyz, || format!("of fixture {}", f.name))?;
             Ok((entity, Pose::from_wxyz(f.pos, f.quat_wxyz)))
         })
         .collect::<Result<Vec<_>, _>>()?;

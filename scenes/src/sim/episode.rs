@@ -311,17 +311,28 @@ fn free_joint_velocity(at: &Pose, origin: [f64; 3], body_frame: [f64; 3], local_
     (Vec3::from(origin) + angular.cross(&(at.rot * local_com)), angular)
 }
 
+/// A pose a state writes: finite, and a quaternion that is a rotation. `what` names it in the
+/// error ("of object plate_1").
+pub(crate) fn check_pose(pos: &[f64; 3], quat_wxyz: &[f64; 4], what: impl Fn() -> String) -> Result<(), StateError> {
+    if pos.iter().chain(quat_wxyz).any(|v| !v.is_finite()) {
+        return Err(StateError::NotFinite { what: what() });
+    }
+    if *quat_wxyz == [0.0; 4] {
+        return Err(StateError::ZeroQuaternion { what: what() });
+    }
+    Ok(())
+}
+
 fn check_values(state: &InitState) -> Result<(), StateError> {
     let bad = |what: &str| Err(StateError::NotFinite { what: what.to_string() });
     if state.arm_qpos.iter().chain(&state.arm_qvel).chain(&state.gripper_qpos).chain(&state.gripper_qvel).any(|v| !v.is_finite()) {
         return bad("of the robot");
     }
     for o in &state.objects {
-        if o.pos.iter().chain(&o.quat_wxyz).chain(&o.lin_vel).chain(&o.ang_vel).any(|v| !v.is_finite()) {
-            return bad(&format!("of object {}", o.name));
-        }
-        if o.quat_wxyz == [0.0; 4] {
-            return Err(StateError::ZeroQuaternion { what: format!("of object {}", o.name) });
+        let what = || format!("of object {}", o.name);
+        check_pose(&o.pos, &o.quat_wxyz, what)?;
+        if o.lin_vel.iter().chain(&o.ang_vel).any(|v| !v.is_finite()) {
+            return bad(&what());
         }
     }
     for j in &state.joints {

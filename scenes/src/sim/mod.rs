@@ -14,6 +14,7 @@ mod predicates;
 mod robot;
 
 pub use episode::{RegionBox, Sim, SimSnapshot, StateError};
+pub(crate) use episode::check_pose;
 pub use guard::{Extremes, MAX_ANGULAR_SPEED, MAX_DISTANCE, MAX_LINEAR_SPEED, MAX_PENETRATION};
 pub use model::{ARENA_CATEGORIES, BuildError, RegionPlace, SceneEntity, SceneModel, SceneRegion};
 pub use placement::{FixturePlacement, sample_fixtures};

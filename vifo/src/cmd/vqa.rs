@@ -215,26 +215,25 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// The look an export's images were drawn with, as records store it (empty: built-in), from
 /// its `look.txt`; exports written before it existed drew the built-in look.
 fn export_look(dir: &Path) -> anyhow::Result<String> {
-    let path = dir.join("look.txt");
-    let look = match std::fs::read_to_string(&path) {
-        Ok(text) => text.trim().to_string(),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(String::new()),
-        Err(e) => return Err(e).with_context(|| path.display().to_string()),
-    };
+    let look = export_note(dir, "look.txt")?.unwrap_or_default();
     Ok(if look == vifo_scenes::look::BUILT_IN { String::new() } else { look })
+}
+
+/// The trimmed text of one of an export folder's notes (`look.txt`, `form.txt`, `set.txt`);
+/// `None` where the file is absent (a folder exported before it was written).
+fn export_note(dir: &Path, name: &str) -> anyhow::Result<Option<String>> {
+    let path = dir.join(name);
+    match std::fs::read_to_string(&path) {
+        Ok(text) => Ok(Some(text.trim().to_string())),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(e).with_context(|| path.display().to_string()),
+    }
 }
 
 /// The cue form and instance set an export folder records (`form.txt`, `set.txt`); `None`
 /// where a file is absent (a folder exported before they were written).
 fn export_form_and_set(dir: &Path) -> anyhow::Result<(Option<CueForm>, Option<SetName>)> {
-    let read = |name: &str| -> anyhow::Result<Option<String>> {
-        let path = dir.join(name);
-        match std::fs::read_to_string(&path) {
-            Ok(text) => Ok(Some(text.trim().to_string())),
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
-            Err(e) => Err(e).with_context(|| path.display().to_string()),
-        }
-    };
+    let read = |name: &str| export_note(dir, name);
     let form = read("form.txt")?.map(|f| parse_form(&f).map_err(|e| anyhow::anyhow!("{}: {e}", dir.join("form.txt").display()))).transpose()?;
     let set = read("set.txt")?.map(|s| s.parse::<SetName>().map_err(|e| anyhow::anyhow!("{}: {e}", dir.join("set.txt").display()))).transpose()?;
     Ok((form, set))

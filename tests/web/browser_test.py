@@ -9,8 +9,10 @@ Serves a site built by `vifo web build` with `vifo web serve` on 127.0.0.1, then
   3. plays agentview alone at 256² and reads the fps counter;
   4. feeds malformed tasks, cues, conditions and action arrays from JavaScript: each must
      throw an Error with a message, and the page must keep working (no wasm trap);
-  5. drives the arm from the keyboard (one arrow press, one step of its own action) and opens a
-     URL with an unknown task, which the page must report.
+  5. drives the arm from the keyboard (one arrow press, one step of its own action), then on a
+     phone-sized window checks that the page fits its width and that a tap on the on-screen pad
+     steps the same way (screenshot web-demo-phone.png), and opens a URL with an unknown task,
+     which the page must report.
 Prints the measured figures as GATE lines (gates are reported, not asserted) and exits non-zero
 when a behaviour check fails. Without chromium, chromedriver or selenium it prints SKIPPED with
 the reason and exits 0.
@@ -225,6 +227,26 @@ def run_checks(browser, url, args, failures):
     print(f"  keyboard: one arrow press gave {driven['steps']} step(s), hash {driven['state_hash']} (holding: {held['state_hash']})")
     if driven["steps"] != 1 or driven["state_hash"] == held["state_hash"]:
         failures.append("an arrow key with the keyboard policy did not take one step of its own action")
+
+    # On a phone the page fits the screen's width, and the pad's buttons drive the arm.
+    browser.set_window_size(390, 844)
+    page(browser, url, "task=libero_goal/0&condition=original&policy=keyboard&size=256&wrist=1")
+    fit = browser.execute_script(
+        """const r = (id) => document.getElementById(id).getBoundingClientRect();
+           return { page: document.documentElement.scrollWidth, window: window.innerWidth,
+                    agentview: r("agentview").right, wrist: r("wristview").right };""")
+    print(f"  phone (390 px wide window): page {fit['page']} px wide in {fit['window']} px, agentview ends at {fit['agentview']:.0f} px, wrist at {fit['wrist']:.0f} px")
+    if max(fit["page"], fit["agentview"], fit["wrist"]) > fit["window"]:
+        failures.append(f"on a 390 px wide window the page is wider than the screen: {fit}")
+    ActionChains(browser).click(browser.find_element("css selector", '#pad button[data-key="ArrowUp"]')).perform()
+    tapped = browser.execute_script("return window.vifo.status")
+    print(f"  pad: one tap on the forward button gave {tapped['steps']} step(s), hash {tapped['state_hash']}")
+    if tapped["steps"] != 1 or tapped["state_hash"] != driven["state_hash"]:
+        failures.append("a tap on the pad's forward button did not take the arrow key's step")
+    phone_shot = Path(args.artifacts) / "web-demo-phone.png"
+    browser.save_screenshot(str(phone_shot))
+    print(f"  phone screenshot: {phone_shot}")
+    browser.set_window_size(1400, 1100)
 
     # A URL preset that matches no choice is reported, not silently replaced.
     browser.get(f"{url}?task=libero_goal/99")

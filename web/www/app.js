@@ -86,25 +86,44 @@ function keyboardAction() {
   return action;
 }
 
+// A key (or its button on the page's pad) goes down: G toggles the gripper, the others are
+// held; paused, it is one step. Returns false for keys that drive nothing.
+function press(key) {
+  if (key === "g") gripper = -gripper;
+  else if (key in KEYS) held.add(key);
+  else return false;
+  if (!playing && status && !status.done) guarded(stepOnce)();
+  return true;
+}
+
 function listenToKeys() {
   const typing = (e) => ["INPUT", "SELECT", "TEXTAREA"].includes(e.target.tagName);
   const keyOf = (e) => (e.key.length === 1 ? e.key.toLowerCase() : e.key);
   window.addEventListener("keydown", (e) => {
     if ($("policy").value !== KEYBOARD || typing(e)) return;
-    const key = keyOf(e);
-    if (key === "g") gripper = -gripper;
-    else if (key in KEYS) held.add(key);
-    else return;
-    e.preventDefault();
-    if (!playing && status && !status.done) guarded(stepOnce)();
+    if (press(keyOf(e))) e.preventDefault();
   });
   window.addEventListener("keyup", (e) => held.delete(keyOf(e)));
   window.addEventListener("blur", () => held.clear());
+  // The pad's buttons are the same keys for a touch screen: held while the finger is down.
+  for (const button of document.querySelectorAll("#pad button")) {
+    const key = button.dataset.key;
+    button.addEventListener("pointerdown", (e) => {
+      e.preventDefault();
+      button.setPointerCapture?.(e.pointerId);
+      press(key);
+    });
+    for (const up of ["pointerup", "pointercancel", "lostpointercapture"]) {
+      button.addEventListener(up, () => held.delete(key));
+    }
+    button.addEventListener("contextmenu", (e) => e.preventDefault());
+  }
 }
 
 function setPolicy() {
   const keyboard = $("policy").value === KEYBOARD;
   $("keys").hidden = !keyboard;
+  $("pad").hidden = !keyboard;
   // The module holds still for the keyboard: stepAction carries the person's action.
   demo.setPolicy(keyboard ? "zero" : $("policy").value);
 }

@@ -6,13 +6,14 @@
 //! [`Value`]s with calls (`REDUCE`) and objects (`NEWOBJ` + `BUILD`) kept symbolic, and
 //! [`tensor`] then recognises the two array layouts by their globals (numpy's
 //! `_reconstruct` with a `numpy.dtype`, torch's `_rebuild_tensor_v2`); anything else is an
-//! error saying what the value is. Copies through the memo are budgeted, so a hostile pickle
-//! cannot exhaust memory.
+//! error saying what the value is. Copies through the memo are budgeted, and the memo holds only
+//! the entries put (any index, as `pickle.py`'s memo dict), so a hostile pickle cannot exhaust memory.
 //!
 //! Written by hand (no crate reads torch's nested legacy `torch.save` stream or numpy's
 //! protocol-2 layout); the opcodes and layouts follow CPython's `pickletools` documentation,
 //! numpy's `ndarray.__reduce__` and torch's `Tensor.__reduce_ex__` / `TypedStorage.__reduce__`.
 
+use std::collections::BTreeMap;
 use std::fmt;
 
 /// A pickled value, symbolically.
@@ -82,7 +83,7 @@ impl fmt::Display for Value {
 /// Reads one pickle from the start of `bytes`; returns the value and the bytes after it.
 pub fn read(bytes: &[u8]) -> Result<(Value, &[u8]), String> {
     let mut r =
-        Reader { data: bytes, pos: 0, stack: Vec::new(), marks: Vec::new(), memo: Vec::new(), budget: COPY_BUDGET };
+        Reader { data: bytes, pos: 0, stack: Vec::new(), marks: Vec::new(), memo: BTreeMap::new(), budget: COPY_BUDGET };
     let v = r.run()?;
     Ok((v, &bytes[r.pos..]))
 }
@@ -106,7 +107,8 @@ struct Reader<'a> {
     pos: usize,
     stack: Vec<Value>,
     marks: Vec<usize>,
-    memo: Vec<Option<Value>>,
+    /// By index, like `pickle.py`'s memo dict: a `PUT` of index 4 billion costs one entry.
+    memo: BTreeMap<usize, Value>,
     budget: usize,
 }
 
@@ -202,18 +204,12 @@ impl Reader<'_> {
     fn memo_put(&mut self, i: usize) -> Result<(), String> {
         let v = self.stack.last().cloned().ok_or("pickle: memoize on an empty stack")?;
         self.charge(&v)?;
-        if i > 1 << 24 {
-            return Err(format!("pickle: memo index {i} too large"));
-        }
-        if self.memo.len() <= i {
-            self.memo.resize(i + 1, None);
-        }
-        self.memo[i] = Some(v);
+        self.memo.insert(i, v);
         Ok(())
     }
 
     fn memo_get(&mut self, i: usize) -> Result<(), String> {
-        let v = self.memo.get(i).cloned().flatten().ok_or_else(|| format!("pickle: memo {i} is empty"))?;
+        let v = self.memo.get(&i).cloned().ok_or_else(|| format!("pickle: memo {i} is empty"))?;
         self.charge(&v)?;
         self.stack.push(v);
         Ok(())
@@ -423,6 +419,7 @@ impl Reader<'_> {
                     self.stack.push(Value::PersistentId(Box::new(id)));
                 }
                 0x94 => {
+                    // MEMOIZE: the next index is the memo's size, as in Python.
                     let i = self.memo.len();
                     self.memo_put(i)?;
                 }
@@ -864,6 +861,11 @@ pub(crate) mod tests {
         }
         bomb.push(b'.');
         assert!(read_all(&bomb).unwrap_err().contains("copies too much"));
+        // A pickle that puts at index 2^32 - 2 (a memo sized to its largest index takes
+        // gigabytes: CPython's C unpickler raises MemoryError) is read as Python's own
+        // `pickle._loads` reads it, and MEMOIZE then takes the memo's size, 1, as its index.
+        let far = [0x80, 3, b'J', 7, 0, 0, 0, b'r', 0xfe, 0xff, 0xff, 0xff, 0x94, b'0', b'j', 0xfe, 0xff, 0xff, 0xff, b'h', 1, 0x86, b'.'];
+        assert_eq!(read_all(&far).unwrap(), Value::Tuple(vec![Value::Int(7), Value::Int(7)]));
         assert_eq!(f16_to_f64(0x3c00), 1.0);
         assert_eq!(f16_to_f64(0xc000), -2.0);
     }

@@ -71,6 +71,7 @@ pub const TARGETS: &[Target] = &[
     Target { name: "msgpack", kind: Kind::Parser, seeds: msgpack_seeds, generate: msgpack_generate, dictionary: MSGPACK_TOKENS, run: msgpack_run },
     Target { name: "results", kind: Kind::File, seeds: results_seeds, generate: results_generate, dictionary: JSON_TOKENS, run: results_run },
     Target { name: "vqa", kind: Kind::Parser, seeds: vqa_seeds, generate: vqa_generate, dictionary: VQA_WORDS, run: vqa_run },
+    Target { name: "mesh-files", kind: Kind::File, seeds: mesh_seeds, generate: mesh_generate, dictionary: MESH_TOKENS, run: mesh_run },
     Target {
         name: "served-replies",
         kind: Kind::Parser,
@@ -693,4 +694,96 @@ fn served_run(bytes: &[u8]) -> bool {
     let internvla = internvla::parse(bytes).is_ok();
     let oft = openvla_oft::parse(&text(bytes)).is_ok();
     pickled || xiaomi || lerobot || internvla || oft
+}
+
+// Mesh files of LIBERO's look (`.msh`, `.obj`, `.stl`): a damaged one must give an error naming
+// it, never a panic or a giant allocation.
+
+const MESH_TOKENS: &[&[u8]] = &[
+    b"v ", b"vt ", b"vn ", b"f ", b"/", b"//", b" -1", b" 0", b" 4294967295", b" 1e38", b" nan", b" inf", b"\n", b"o ", b"g ", b"mtllib x\n",
+    b"solid ", b"facet normal ", b"outer loop\n", b"vertex ", b"endloop\n", b"endfacet\n", b"endsolid",
+    b"\xff\xff\xff\x7f", b"\x00\x00\x00\x80", b"\x00\x00\xc0\x7f", b"\x03\x00\x00\x00", b"\x01\x00\x00\x00",
+];
+
+/// The smallest few mesh files of each format in `../shared` (when present), and generated ones.
+fn mesh_seeds() -> Vec<Vec<u8>> {
+    let mut seeds = Vec::new();
+    for ext in [".msh", ".obj", ".stl"] {
+        let mut files: Vec<Vec<u8>> = shared_files("libero", ext).into_iter().filter(|f| f.len() <= 64 * 1024).collect();
+        files.sort_by_key(Vec::len);
+        seeds.extend(files.into_iter().take(4));
+    }
+    let mut rng = rand_pcg::Pcg64::new(5, 5);
+    seeds.extend((0..6).map(|_| mesh_generate(&mut rng)));
+    seeds
+}
+
+/// A small mesh in one of the three formats: a few triangles with indices that may point past
+/// the vertices, and counts that may disagree with the data.
+fn mesh_generate(rng: &mut dyn Rng) -> Vec<u8> {
+    let (nv, nf) = (rng.random_range(0..8u32), rng.random_range(0..6u32));
+    let coord = |rng: &mut dyn Rng| [0.0f32, 1.0, -0.5, 1e30, f32::NAN][rng.random_range(0..5)];
+    let index = |rng: &mut dyn Rng| rng.random_range(0..nv + 2);
+    match rng.random_range(0..4) {
+        0 => {
+            let mut out = Vec::new();
+            let claimed = |rng: &mut dyn Rng, n: u32| if rng.random_range(0..4) == 0 { rng.random_range(0..=u32::MAX) } else { n };
+            for n in [nv, if rng.random_range(0..2) == 0 { nv } else { 0 }, 0, nf] {
+                out.extend(claimed(rng, n).to_le_bytes());
+            }
+            for _ in 0..3 * nv {
+                out.extend(coord(rng).to_le_bytes());
+            }
+            for _ in 0..3 * nf {
+                out.extend(index(rng).to_le_bytes());
+            }
+            out
+        }
+        1 => {
+            let mut out = String::new();
+            for _ in 0..nv {
+                out += &format!("v {} {} {}\n", coord(rng), coord(rng), coord(rng));
+            }
+            for _ in 0..nf {
+                let corners = rng.random_range(2..6);
+                out += "f";
+                for _ in 0..corners {
+                    out += &format!(" {}", index(rng) as i64 - 1);
+                }
+                out += "\n";
+            }
+            out.into_bytes()
+        }
+        2 => {
+            let mut out = String::from("solid fuzz\n");
+            for _ in 0..nf {
+                out += "facet normal 0 0 1\nouter loop\n";
+                for _ in 0..3 {
+                    out += &format!("vertex {} {} {}\n", coord(rng), coord(rng), coord(rng));
+                }
+                out += "endloop\nendfacet\n";
+            }
+            (out + "endsolid fuzz\n").into_bytes()
+        }
+        _ => {
+            let mut out = vec![0u8; 80];
+            out.extend(nf.to_le_bytes());
+            for _ in 0..nf {
+                for _ in 0..12 {
+                    out.extend(coord(rng).to_le_bytes());
+                }
+                out.extend([0, 0]);
+            }
+            out
+        }
+    }
+}
+
+/// The three mesh readers the look uses, on the same bytes.
+fn mesh_run(bytes: &[u8]) -> bool {
+    use vifo_render::assets::{parse_msh, parse_obj, parse_stl};
+    let msh = parse_msh(bytes, "fuzz.msh").is_ok();
+    let obj = parse_obj(bytes, "fuzz.obj").is_ok();
+    let stl = parse_stl(bytes, "fuzz.stl").is_ok();
+    msh || obj || stl
 }

@@ -4,14 +4,16 @@
 //!   packages; robosuite for the robot).
 //! - [`AssetTree`]: one upstream file found by path, or by blob hash under another name.
 //! - [`Look`]: every catalog category's and Panda body's visual parts loaded once (meshes and
-//!   textures shared by `Arc`), with a report per category and body and a content hash; those
-//!   whose files are missing or broken keep the built-in procedural look.
+//!   textures shared by `Arc`; categories side by side on up to four threads, the same look
+//!   whatever the count), with a report per category and body and a content hash; those whose
+//!   files are missing or broken keep the built-in procedural look.
 //!
 //! The visual facts (which mesh and material each part has, at which pose and scale) are written
 //! in `facts.rs`, generated from LIBERO's XMLs by `scenes/tools/gen_look_facts.py`.
 
 mod discover;
 mod facts;
+mod parallel;
 mod parts;
 mod store;
 mod tree;

@@ -6,7 +6,7 @@
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, PoisonError};
 
 use serde::Serialize;
 use sha1::{Digest, Sha1};
@@ -18,6 +18,7 @@ use vifo_render::{Material, Mesh, Texture};
 use super::discover::Roots;
 use super::{ARM, MOUNT};
 use super::facts::{CATEGORIES, PANDA, SCENES};
+use super::parallel::{self, Once};
 use super::parts::{MaterialFact, PartFact, Shape};
 use super::tree::{AssetTree, Located, blob_sha1};
 use crate::catalog::{self, ObjectKind, Recipe};
@@ -26,7 +27,7 @@ use crate::task::ProblemClass;
 use crate::view::MeshCache;
 
 /// One visual part ready to draw: where it sits on its body, its mesh and its material.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct LoadedPart {
     /// The body it moves with: a catalog body name (`main`, `cabinet_top`) or a robot body name
     /// (`link3`, `leftfinger`).
@@ -102,15 +103,7 @@ fn lods_of(mesh: &Mesh, scale: [f64; 3], textured: bool) -> Lods {
     };
     // The simplifier is about two thirds of loading all 40 tasks' assets, and the chains do not
     // depend on each other: where the machine has threads they run side by side (the same copies).
-    let chains: Vec<Vec<(f32, Arc<Mesh>)>> = if std::thread::available_parallelism().is_ok_and(|n| n.get() > 1) {
-        std::thread::scope(|scope| {
-            let running: Vec<_> = LOD_CHAINS.iter().map(|c| scope.spawn(move || chain(c))).collect();
-            running.into_iter().map(|r| r.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic))).collect()
-        })
-    } else {
-        LOD_CHAINS.iter().map(chain).collect()
-    };
-    chains.concat().into()
+    parallel::map(&LOD_CHAINS, parallel::threads(), chain).concat().into()
 }
 
 /// Whether a category is drawn from LIBERO's files.
@@ -165,53 +158,44 @@ pub struct Look {
     report: Vec<CategoryReport>,
 }
 
-/// Meshes and textures by file, so a file shared by several parts is read once.
+/// Meshes and textures by file, so that a file shared by several parts (or asked for by several
+/// threads at once) is read once.
 #[derive(Default)]
 struct Loaded {
-    meshes: BTreeMap<PathBuf, Result<Arc<Mesh>, String>>,
+    meshes: Once<PathBuf, FromFile<Arc<Mesh>>>,
     /// Coarser copies by file, scale bits, whether the mesh was given constant UVs (see
     /// `load_part`) and whether it is textured (see `lods_of`).
-    lods: BTreeMap<(PathBuf, [u64; 3], bool, bool), Lods>,
+    lods: Once<(PathBuf, [u64; 3], bool, bool), Lods>,
     /// Copies of UV-less meshes with every UV at the origin, by file (see `constant_uv_mesh`).
-    constant_uv_meshes: BTreeMap<PathBuf, Arc<Mesh>>,
-    textures: BTreeMap<PathBuf, Result<LoadedTexture, String>>,
+    constant_uv_meshes: Once<PathBuf, Result<Arc<Mesh>, String>>,
+    textures: Once<PathBuf, FromFile<LoadedTexture>>,
     /// (upstream path, blob hash) of every file read.
-    hashes: BTreeMap<&'static str, String>,
+    hashes: Mutex<BTreeMap<&'static str, String>>,
+    /// The primitives' procedural meshes.
+    shapes: Mutex<MeshCache>,
 }
 
+/// What was made of a file, and the file's blob hash where it could be read.
+type FromFile<T> = (Option<String>, Result<T, String>);
+
 impl Loaded {
-    fn mesh(&mut self, rel: &'static str, at: &Located) -> Result<Arc<Mesh>, String> {
-        let hashes = &mut self.hashes;
-        self.meshes
-            .entry(at.path.clone())
-            .or_insert_with(|| {
-                let bytes = std::fs::read(&at.path).map_err(|e| format!("{}: cannot read: {e}", at.path.display()))?;
-                hashes.insert(rel, blob_sha1(&bytes));
-                load_mesh(&at.path).map(|m| Arc::new(m.clustered())).map_err(|e| e.to_string())
-            })
-            .clone()
+    fn mesh(&self, rel: &'static str, at: &Located) -> Result<Arc<Mesh>, String> {
+        let made = self.meshes.get_or_make(&at.path, || {
+            read(at, |_, _| load_mesh(&at.path).map(|m| Arc::new(m.clustered())).map_err(|e| e.to_string()))
+        });
+        self.hashed(rel, made)
     }
 
     /// `rel`'s mesh with every UV at the origin, made once per file. A textured mesh without UVs
     /// is drawn with one texel (see `material`), which needs UVs to be sampled at all.
-    fn constant_uv_mesh(&mut self, rel: &'static str, at: &Located) -> Result<Arc<Mesh>, String> {
-        if let Some(mesh) = self.constant_uv_meshes.get(&at.path) {
-            return Ok(mesh.clone());
-        }
-        let flat = Arc::new(self.mesh(rel, at)?.with_zero_uvs());
-        self.constant_uv_meshes.insert(at.path.clone(), flat.clone());
-        Ok(flat)
+    fn constant_uv_mesh(&self, rel: &'static str, at: &Located) -> Result<Arc<Mesh>, String> {
+        self.constant_uv_meshes.get_or_make(&at.path, || Ok(Arc::new(self.mesh(rel, at)?.with_zero_uvs())))
     }
 
-    fn texture(&mut self, rel: &'static str, at: &Located) -> Result<LoadedTexture, String> {
-        let hashes = &mut self.hashes;
-        self.textures
-            .entry(at.path.clone())
-            .or_insert_with(|| {
-                let name = at.path.display().to_string();
-                let bytes = std::fs::read(&at.path).map_err(|e| format!("{name}: cannot read: {e}"))?;
-                hashes.insert(rel, blob_sha1(&bytes));
-                let (mut w, mut h, mut rgba) = decode_png_rgba(&bytes, &name).map_err(|e| e.to_string())?;
+    fn texture(&self, rel: &'static str, at: &Located) -> Result<LoadedTexture, String> {
+        let made = self.textures.get_or_make(&at.path, || {
+            read(at, |name, bytes| {
+                let (mut w, mut h, mut rgba) = decode_png_rgba(bytes, name).map_err(|e| e.to_string())?;
                 let texel = mean_rgb(&rgba).map(|c| (c * 255.0).round().clamp(0.0, 255.0) as u8);
                 let mean = Texture::from_rgba8(1, 1, &[texel[0], texel[1], texel[2], 255]).expect("a 1 x 1 RGBA image is a valid texture");
                 while w.max(h) > MAX_TEXTURE_SIDE && w % 2 == 0 && h % 2 == 0 {
@@ -220,7 +204,26 @@ impl Loaded {
                 let texture = Texture::from_rgba8(w, h, &rgba).map_err(|e| format!("{name}: {e}"))?;
                 Ok(LoadedTexture { full: Arc::new(texture), mean: Arc::new(mean) })
             })
-            .clone()
+        });
+        self.hashed(rel, made)
+    }
+
+    /// Notes `rel`'s blob hash for the look's hash (each path asked for, whichever thread read
+    /// the file), and passes on what was made.
+    fn hashed<T>(&self, rel: &'static str, (blob, made): FromFile<T>) -> Result<T, String> {
+        if let Some(blob) = blob {
+            self.hashes.lock().unwrap_or_else(PoisonError::into_inner).insert(rel, blob);
+        }
+        made
+    }
+}
+
+/// Reads the file at `at` and makes something of its bytes (`make` gets the file's name too).
+fn read<T>(at: &Located, make: impl FnOnce(&str, &[u8]) -> Result<T, String>) -> FromFile<T> {
+    let name = at.path.display().to_string();
+    match std::fs::read(&at.path) {
+        Ok(bytes) => (Some(blob_sha1(&bytes)), make(&name, &bytes)),
+        Err(e) => (None, Err(format!("{name}: cannot read: {e}"))),
     }
 }
 
@@ -297,70 +300,60 @@ fn material(fact: &MaterialFact, texture: Option<LoadedTexture>, has_uvs: bool) 
 }
 
 impl Look {
-    /// Loads every category's and robot body's parts found under `roots`.
+    /// Loads every category's and robot body's parts found under `roots`, on a few threads
+    /// where the machine has them.
     pub fn load(roots: Roots) -> Look {
-        let mut loaded = Loaded::default();
-        let mut shapes = MeshCache::default();
-        let mut report = Vec::new();
+        Look::load_on(roots, parallel::threads())
+    }
+
+    /// [`Look::load`] on up to `threads` threads: the same look whatever the count.
+    pub(super) fn load_on(roots: Roots, threads: usize) -> Look {
         let tree = AssetTree::new(&roots.libero);
-        let mut parts = BTreeMap::new();
-        for (category, _xml, facts) in CATEGORIES.iter() {
-            // Every fact category is in the catalog (tested); skip rather than panic if not.
-            let Ok(model) = catalog::object(category) else { continue };
-            let kind = if model.kind == ObjectKind::Movable { PartKind::Object } else { PartKind::Fixture };
-            let (line, ok) = load_group(category.to_string(), kind, facts.iter(), &tree, &mut loaded, &mut shapes);
-            report.push(line);
-            if let Some(ok) = ok {
-                parts.insert(*category, ok);
-            }
-        }
         let robot_tree = AssetTree::with_known(roots.robot.as_slice(), &[]);
-        let mut robot = BTreeMap::new();
-        let mut bodies: Vec<&'static str> = PANDA.iter().map(|p| p.body).collect();
-        bodies.dedup();
-        for body in bodies {
-            let facts = PANDA.iter().filter(|p| p.body == body);
-            let (line, ok) = load_group(format!("robot0_{body}"), PartKind::Robot, facts, &robot_tree, &mut loaded, &mut shapes);
-            report.push(line);
-            if let Some(ok) = ok {
-                robot.insert(body, ok);
+        let loaded = Loaded::default();
+        let jobs = jobs();
+        let done = parallel::map(&jobs, threads, |job| match *job {
+            Job::Parts { group, kind, ref facts } => {
+                let tree = if matches!(group, Group::Robot(_)) { &robot_tree } else { &tree };
+                let (line, ok) = load_group(group.name(), kind, facts.iter().copied(), tree, &loaded);
+                (line, Done::Parts(ok))
             }
-        }
-        let mut arena_textures = BTreeMap::new();
-        let classes = || ProblemClass::ALL.iter().filter_map(|&p| scene_class(p));
-        let mut arena_files: Vec<(&'static str, &'static str)> = classes()
-            .map(|c| ("floor", c.floor.texture))
-            .chain(classes().filter_map(|c| Some(("table", c.table?.texture?))))
-            .chain(classes().map(|c| ("walls", c.wall_texture)))
-            .collect();
-        arena_files.sort_unstable();
-        arena_files.dedup();
-        for (piece, file) in arena_files {
-            let found = tree.find(file);
-            let loaded = found.clone().ok_or_else(|| format!("{file}: not found in any asset folder")).and_then(|at| loaded.texture(file, &at));
-            let (status, problem) = match loaded {
-                Ok(texture) => {
-                    arena_textures.insert(file, texture.full);
-                    (Status::Assets, None)
-                }
-                Err(e) => (Status::BuiltIn, Some(e)),
-            };
-            report.push(CategoryReport { category: format!("{piece} {file}"), kind: PartKind::Arena, status, files: vec![FileReport { file, found }], problem });
-        }
-        let mut decor = BTreeMap::new();
-        for (scene, facts) in SCENES.iter().filter(|(_, facts)| !facts.is_empty()) {
-            let (line, ok) = load_group(format!("decor {scene}"), PartKind::Arena, facts.iter(), &tree, &mut loaded, &mut shapes);
+            Job::Arena { piece, file } => {
+                let found = tree.find(file);
+                let texture = found.clone().ok_or_else(|| format!("{file}: not found in any asset folder")).and_then(|at| loaded.texture(file, &at));
+                let (status, problem, texture) = match texture {
+                    Ok(texture) => (Status::Assets, None, Some(texture.full)),
+                    Err(e) => (Status::BuiltIn, Some(e), None),
+                };
+                let line = CategoryReport { category: format!("{piece} {file}"), kind: PartKind::Arena, status, files: vec![FileReport { file, found }], problem };
+                (line, Done::Arena(texture))
+            }
+        });
+        let (mut parts, mut robot, mut decor, mut arena_textures) = (BTreeMap::new(), BTreeMap::new(), BTreeMap::new(), BTreeMap::new());
+        let mut report = Vec::new();
+        for (job, (line, done)) in jobs.iter().zip(done) {
             report.push(line);
-            if let Some(ok) = ok {
-                decor.insert(*scene, ok);
+            match (job, done) {
+                (Job::Parts { group, .. }, Done::Parts(Some(ok))) => {
+                    let _ = match *group {
+                        Group::Category(name) => parts.insert(name, ok),
+                        Group::Robot(name) => robot.insert(name, ok),
+                        Group::Decor(name) => decor.insert(name, ok),
+                    };
+                }
+                (&Job::Arena { file, .. }, Done::Arena(Some(texture))) => {
+                    arena_textures.insert(file, texture);
+                }
+                _ => {}
             }
         }
         let mut h = Sha1::new();
         h.update(DRAWING.as_bytes());
-        for (rel, blob) in &loaded.hashes {
+        let hashes = loaded.hashes.into_inner().unwrap_or_else(PoisonError::into_inner);
+        for (rel, blob) in &hashes {
             h.update(format!("{rel} {blob}\n").as_bytes());
         }
-        let hash = if loaded.hashes.is_empty() { String::new() } else { h.finalize().iter().take(8).map(|b| format!("{b:02x}")).collect() };
+        let hash = if hashes.is_empty() { String::new() } else { h.finalize().iter().take(8).map(|b| format!("{b:02x}")).collect() };
         Look { roots, hash, parts, robot, arena_textures, decor, report }
     }
 
@@ -455,6 +448,71 @@ impl Look {
     }
 }
 
+/// One line of `vifo assets`, loaded as a piece of work of its own.
+enum Job {
+    /// All the visual parts of a category, robot body or scene's decor.
+    Parts { group: Group, kind: PartKind, facts: Vec<&'static PartFact> },
+    /// A floor, table or wall texture of a scene class.
+    Arena { piece: &'static str, file: &'static str },
+}
+
+/// Whose parts a [`Job::Parts`] loads.
+#[derive(Clone, Copy)]
+enum Group {
+    Category(&'static str),
+    Robot(&'static str),
+    /// A scene XML's decor.
+    Decor(&'static str),
+}
+
+impl Group {
+    /// Its line's name in the report.
+    fn name(self) -> String {
+        match self {
+            Group::Category(c) => c.to_string(),
+            Group::Robot(body) => format!("robot0_{body}"),
+            Group::Decor(scene) => format!("decor {scene}"),
+        }
+    }
+}
+
+/// What a [`Job`] loaded, where every file it needs loaded.
+enum Done {
+    Parts(Option<Vec<LoadedPart>>),
+    Arena(Option<Arc<Texture>>),
+}
+
+/// The report's lines in order: the catalog's categories, the Panda's bodies, the scene classes'
+/// floor, table and wall textures, the scenes' decor.
+fn jobs() -> Vec<Job> {
+    let mut jobs = Vec::new();
+    for (category, _xml, facts) in CATEGORIES.iter() {
+        // Every fact category is in the catalog (tested); skip rather than panic if not.
+        let Ok(model) = catalog::object(category) else { continue };
+        let kind = if model.kind == ObjectKind::Movable { PartKind::Object } else { PartKind::Fixture };
+        jobs.push(Job::Parts { group: Group::Category(category), kind, facts: facts.iter().collect() });
+    }
+    let mut bodies: Vec<&'static str> = PANDA.iter().map(|p| p.body).collect();
+    bodies.dedup();
+    for body in bodies {
+        let facts = PANDA.iter().filter(|p| p.body == body).collect();
+        jobs.push(Job::Parts { group: Group::Robot(body), kind: PartKind::Robot, facts });
+    }
+    let classes = || ProblemClass::ALL.iter().filter_map(|&p| scene_class(p));
+    let mut arena_files: Vec<(&'static str, &'static str)> = classes()
+        .map(|c| ("floor", c.floor.texture))
+        .chain(classes().filter_map(|c| Some(("table", c.table?.texture?))))
+        .chain(classes().map(|c| ("walls", c.wall_texture)))
+        .collect();
+    arena_files.sort_unstable();
+    arena_files.dedup();
+    jobs.extend(arena_files.into_iter().map(|(piece, file)| Job::Arena { piece, file }));
+    for (scene, facts) in SCENES.iter().filter(|(_, facts)| !facts.is_empty()) {
+        jobs.push(Job::Parts { group: Group::Decor(scene), kind: PartKind::Arena, facts: facts.iter().collect() });
+    }
+    jobs
+}
+
 /// The look label of the procedural scenes.
 pub const BUILT_IN: &str = "built-in";
 
@@ -464,14 +522,13 @@ fn load_group<'a>(
     kind: PartKind,
     facts: impl Iterator<Item = &'a PartFact>,
     tree: &AssetTree,
-    loaded: &mut Loaded,
-    shapes: &mut MeshCache,
+    loaded: &Loaded,
 ) -> (CategoryReport, Option<Vec<LoadedPart>>) {
     let mut files = Vec::new();
     let mut problem = None;
     let mut out = Vec::new();
     for fact in facts {
-        match load_part(fact, tree, loaded, shapes, &mut files) {
+        match load_part(fact, tree, loaded, &mut files) {
             Ok(p) => out.push(p),
             Err(e) => {
                 problem.get_or_insert(e);
@@ -486,8 +543,7 @@ fn load_group<'a>(
 fn load_part(
     fact: &PartFact,
     tree: &AssetTree,
-    loaded: &mut Loaded,
-    shapes: &mut MeshCache,
+    loaded: &Loaded,
     files: &mut Vec<FileReport>,
 ) -> Result<LoadedPart, String> {
     let mut find = |rel: &'static str| -> Result<Located, String> {
@@ -507,11 +563,11 @@ fn load_part(
             }
             let textured = fact.material.texture.is_some();
             let key = (at.path.clone(), scale.map(f64::to_bits), constant_uvs, textured);
-            let lods = loaded.lods.entry(key).or_insert_with(|| lods_of(&mesh, scale, textured)).clone();
+            let lods = loaded.lods.get_or_make(&key, || lods_of(&mesh, scale, textured));
             (mesh, scale, lods, !constant_uvs)
         }
         Source::Primitive(r) => {
-            let mesh = shapes.get(&r);
+            let mesh = loaded.shapes.lock().unwrap_or_else(PoisonError::into_inner).get(&r);
             let own_uvs = mesh.uvs().is_some();
             (mesh, [1.0; 3], Lods::from([]), own_uvs)
         }

@@ -46,7 +46,11 @@ fn category_files(root: &Path, category: &str) {
 }
 
 fn look_of(root: &Path) -> Look {
-    Look::load(Roots { libero: vec![Root { path: root.to_path_buf(), origin: Origin::Flag }], robot: None, notes: vec![] })
+    Look::load(roots_of(root))
+}
+
+fn roots_of(root: &Path) -> Roots {
+    Roots { libero: vec![Root { path: root.to_path_buf(), origin: Origin::Flag }], robot: None, notes: vec![] }
 }
 
 #[test]
@@ -89,6 +93,28 @@ fn categories_with_all_files_use_them_broken_ones_fall_back_alone() {
     assert!(missing.problem.as_deref().unwrap().contains("not found in any asset folder"));
     assert!(look.is_used());
     assert!(look.label().starts_with("libero-assets:") && look.hash().len() == 16);
+}
+
+#[test]
+fn loading_on_several_threads_gives_the_same_look() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (category, _, _) in CATEGORIES.iter().take(14) {
+        category_files(tmp.path(), category);
+    }
+    let ketchup = tmp.path().join("stable_hope_objects/ketchup/texture_map.png");
+    std::fs::write(&ketchup, b"not a png").unwrap();
+    let one = Look::load_on(roots_of(tmp.path()), 1);
+    let report = |look: &Look| serde_json::to_string(look.report()).unwrap();
+    for threads in [2, 4] {
+        let many = Look::load_on(roots_of(tmp.path()), threads);
+        assert_eq!(report(&many), report(&one), "{threads} threads");
+        assert_eq!(many.hash(), one.hash());
+        for (category, _, _) in CATEGORIES.iter() {
+            assert_eq!(many.parts(category), one.parts(category), "{category}, {threads} threads");
+        }
+    }
+    assert!(one.report().iter().filter(|r| r.status == Status::Assets).count() >= 10, "{}", report(&one));
+    assert!(one.report().iter().any(|r| r.problem.as_deref().is_some_and(|p| p.contains("texture_map.png"))));
 }
 
 #[test]

@@ -44,7 +44,12 @@ impl LookArgs {
             eprintln!("look: built-in (--builtin-look)");
             None
         } else {
-            let look = self.load()?;
+            let roots = look::discover(self.assets.as_deref(), self.robot_assets.as_deref())?;
+            if !roots.libero.is_empty() {
+                // Loading takes seconds (the meshes' coarser copies); say so before the wait.
+                eprintln!("look: loading LIBERO's meshes and textures (once per process)...");
+            }
+            let look = Look::load(roots);
             announce(&look);
             look.is_used().then(|| Arc::new(look))
         };

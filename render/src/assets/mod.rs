@@ -49,14 +49,27 @@ fn read(path: &Path) -> Result<Vec<u8>, AssetError> {
 pub fn load_mesh(path: impl AsRef<Path>) -> Result<Mesh, AssetError> {
     let path = path.as_ref();
     let name = path.display().to_string();
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    let parse: fn(&[u8], &str) -> Result<Mesh, AssetError> = match ext.as_deref() {
-        Some("msh") => parse_msh,
-        Some("obj") => parse_obj,
-        Some("stl") => parse_stl,
-        _ => return Err(AssetError::new(&name, "unknown mesh format: expected a .msh, .obj or .stl file")),
-    };
+    let parse = parser_for(&name)?;
     parse(&read(path)?, &name)
+}
+
+/// Parses a mesh file's bytes, choosing the format by the extension of its `name` (`.msh`,
+/// `.obj`, `.stl`).
+pub fn parse_mesh(bytes: &[u8], name: &str) -> Result<Mesh, AssetError> {
+    parser_for(name)?(bytes, name)
+}
+
+/// A mesh format's parser: bytes and the file's name to the mesh.
+type MeshParser = fn(&[u8], &str) -> Result<Mesh, AssetError>;
+
+fn parser_for(name: &str) -> Result<MeshParser, AssetError> {
+    let ext = Path::new(name).extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("msh") => Ok(parse_msh),
+        Some("obj") => Ok(parse_obj),
+        Some("stl") => Ok(parse_stl),
+        _ => Err(AssetError::new(name, "unknown mesh format: expected a .msh, .obj or .stl file")),
+    }
 }
 
 /// Decodes a PNG texture (any PNG colour type; converted to RGBA8).

@@ -10,7 +10,7 @@ use std::sync::{Arc, Mutex, PoisonError};
 
 use serde::Serialize;
 use sha1::{Digest, Sha1};
-use vifo_render::assets::load_mesh;
+use vifo_render::assets::parse_mesh;
 use vifo_render::imageio::decode_png_rgba;
 use vifo_render::glam::Vec2;
 use vifo_render::{Material, Mesh, Texture};
@@ -181,7 +181,7 @@ type FromFile<T> = (Option<String>, Result<T, String>);
 impl Loaded {
     fn mesh(&self, rel: &'static str, at: &Located) -> Result<Arc<Mesh>, String> {
         let made = self.meshes.get_or_make(&at.path, || {
-            read(at, |_, _| load_mesh(&at.path).map(|m| Arc::new(m.clustered())).map_err(|e| e.to_string()))
+            read(at, |name, bytes| parse_mesh(bytes, name).map(|m| Arc::new(m.clustered())).map_err(|e| e.to_string()))
         });
         self.hashed(rel, made)
     }

@@ -25,6 +25,7 @@ pub mod imageio;
 mod mesh;
 pub mod metrics;
 mod num;
+pub mod pack;
 mod raster;
 mod scene;
 mod shapes;

@@ -85,11 +85,19 @@ impl Mesh {
         uvs: Option<Vec<Vec2>>,
         triangles: Vec<[u32; 3]>,
     ) -> Result<Mesh, MeshError> {
+        Mesh::check(&positions, &normals, uvs.as_deref(), &triangles)?;
+        let (bounds, half_extent) = bounding_sphere(&positions);
+        let points = Points::of(&positions, &triangles);
+        Ok(Mesh { positions, normals, uvs, triangles, bounds, half_extent, clusters: Clusters::default(), points })
+    }
+
+    /// What [`Mesh::new`] checks: one normal and UV per position, finite values, indices in range.
+    pub(crate) fn check(positions: &[Vec3], normals: &[Vec3], uvs: Option<&[Vec2]>, triangles: &[[u32; 3]]) -> Result<(), MeshError> {
         let n = positions.len();
         if normals.len() != n {
             return Err(MeshError::LengthMismatch { what: "normals", positions: n, count: normals.len() });
         }
-        if let Some(uv) = &uvs {
+        if let Some(uv) = uvs {
             if uv.len() != n {
                 return Err(MeshError::LengthMismatch { what: "UVs", positions: n, count: uv.len() });
             }
@@ -108,9 +116,21 @@ impl Mesh {
                 return Err(MeshError::IndexOutOfRange { triangle: t, index, vertices: n });
             }
         }
+        Ok(())
+    }
+
+    /// A mesh from fields already checked together (see [`crate::pack`]). The bounds do not
+    /// depend on the vertices' order, so they are the same bits as the packed mesh's.
+    pub(crate) fn from_parts(
+        positions: Vec<Vec3>,
+        normals: Vec<Vec3>,
+        uvs: Option<Vec<Vec2>>,
+        triangles: Vec<[u32; 3]>,
+        clusters: Clusters,
+        points: Points,
+    ) -> Mesh {
         let (bounds, half_extent) = bounding_sphere(&positions);
-        let points = Points::of(&positions, &triangles);
-        Ok(Mesh { positions, normals, uvs, triangles, bounds, half_extent, clusters: Clusters::default(), points })
+        Mesh { positions, normals, uvs, triangles, bounds, half_extent, clusters, points }
     }
 
     /// Builds a mesh whose normals are the area-weighted average of the adjacent face normals

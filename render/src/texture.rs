@@ -118,6 +118,11 @@ impl Texture {
         self.levels[0].height
     }
 
+    /// The full-size level: width, height, texels (see [`crate::pack`]).
+    pub(crate) fn full_level(&self) -> (u32, u32, &[[u8; 4]]) {
+        (self.levels[0].width, self.levels[0].height, &self.levels[0].texels)
+    }
+
     /// The filter used when sampling.
     pub fn filter(&self) -> Filter {
         self.filter

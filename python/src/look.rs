@@ -74,6 +74,7 @@ fn choose_locked(key: LookKey, python: &OsStr) -> PyResult<(String, Vec<String>)
             "chosen": describe(&key),
             "roots": look.roots(),
             "categories": look.report(),
+            "cache": look.cache(),
         });
         (Some(look), info)
     };

@@ -175,3 +175,53 @@ fn the_static_layer_draws_an_expert_episode_as_whole_frames() {
         assert!(reused >= 44 * 20, "look {}: only {reused} instances came from the layer in 45 frames", look.is_some());
     }
 }
+
+/// What the look's disk cache gives back is what LIBERO's files give: every part of every
+/// category, robot body and scene's decor (meshes, coarser copies, textures), the arena
+/// textures, the report, the hash and the frames drawn with them. Loaded here without the cache
+/// and through a new one, so both ways run whatever the user's cache holds.
+#[test]
+fn the_look_read_from_its_cache_is_the_look_made_from_the_files() {
+    use vifo_scenes::look::PartKind;
+    use vifo_scenes::task::ProblemClass;
+    let roots = look::discover(None, None).unwrap();
+    if roots.libero.is_empty() || roots.robot.is_none() {
+        println!("SKIPPED the_look_read_from_its_cache_is_the_look_made_from_the_files: no LIBERO asset wheels or robosuite installed ({:?})", roots.notes);
+        return;
+    }
+    let cache = tempfile::tempdir().unwrap();
+    let fresh = Look::load_with_cache(roots.clone(), None);
+    let first = Look::load_with_cache(roots.clone(), Some(cache.path()));
+    let cached = Look::load_with_cache(roots, Some(cache.path()));
+    assert_eq!(fresh.cache().dir, None);
+    assert!(first.cache().made > 100 && first.cache().problem.is_none(), "{:?}", first.cache());
+    assert_eq!((cached.cache().read, cached.cache().made), (first.cache().read + first.cache().made, 0));
+    assert_eq!(cached.hash(), fresh.hash());
+    assert_eq!(serde_json::to_string(cached.report()).unwrap(), serde_json::to_string(fresh.report()).unwrap());
+    let mut coarser = 0;
+    for line in fresh.report() {
+        let name = line.category.as_str();
+        match line.kind {
+            PartKind::Object | PartKind::Fixture => {
+                assert_eq!(cached.parts(name), fresh.parts(name), "{name}");
+                coarser += fresh.parts(name).map_or(0, |p| p.iter().map(|p| p.lods.len()).sum::<usize>());
+            }
+            PartKind::Robot => {
+                let body = name.trim_start_matches("robot0_");
+                assert_eq!(cached.robot_parts("panda", body, false), fresh.robot_parts("panda", body, false), "{name}");
+            }
+            PartKind::Arena => {
+                if let Some((_, file)) = name.split_once(' ').filter(|(piece, _)| ["floor", "table", "walls"].contains(piece)) {
+                    assert_eq!(cached.arena_texture(file), fresh.arena_texture(file), "{name}");
+                }
+            }
+        }
+    }
+    assert!(coarser > 50, "coarser copies compared: {coarser}");
+    for problem in ProblemClass::ALL {
+        assert_eq!(cached.decor(problem), fresh.decor(problem), "{problem:?}");
+    }
+    for camera in [CameraName::AgentView, CameraName::EyeInHand] {
+        assert_eq!(png_sha1("libero_10/3", camera, Some(&cached)), png_sha1("libero_10/3", camera, Some(&fresh)), "{camera}");
+    }
+}

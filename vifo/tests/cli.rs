@@ -183,3 +183,37 @@ fn vqa_scores_of_no_matching_prediction_are_refused() {
     let out = score("{\"id\":\"libero_spatial/0/F1/caption_bar/detection\",\"prediction\":\"C\"}\n");
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+/// `vifo assets` says where the look's disk cache is and what it did: a second run reads what
+/// the first made, and a cache folder that cannot be written is said, and costs nothing else.
+#[test]
+fn vifo_assets_says_what_the_looks_cache_did() {
+    let tree = tempfile::tempdir().unwrap();
+    let floor = tree.path().join("textures/light-gray-floor-tile.png");
+    std::fs::create_dir_all(floor.parent().unwrap()).unwrap();
+    // An asset tree (its marker folder) and a robot folder without meshes.
+    std::fs::create_dir(tree.path().join("scenes")).unwrap();
+    std::fs::create_dir_all(tree.path().join("robots/panda/meshes")).unwrap();
+    std::fs::write(&floor, vifo_render::imageio::encode_png(&vifo_render::RgbImage::filled(4, 4, [90, 90, 90])).unwrap()).unwrap();
+    let cache = tempfile::tempdir().unwrap();
+    let assets = |cache: &std::path::Path| {
+        let out = Command::new(env!("CARGO_BIN_EXE_vifo"))
+            .args(["assets", "--assets", tree.path().to_str().unwrap(), "--robot-assets", tree.path().to_str().unwrap()])
+            .env("VIFO_LOOK_CACHE", cache)
+            // Only this tree: no `VIFO_LIBERO_ASSETS`, and no `python3` to name installed wheels.
+            .env_remove("VIFO_LIBERO_ASSETS")
+            .env("PATH", "")
+            .output()
+            .expect("run vifo");
+        let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+        assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
+        stdout.lines().find(|l| l.starts_with("cache: ")).unwrap_or_else(|| panic!("no cache line: {stdout}")).to_string()
+    };
+    let made = assets(cache.path());
+    assert!(made.contains(" (entries read from it: 0, made from the files: 1)") && made.contains(&cache.path().display().to_string()), "{made}");
+    assert!(assets(cache.path()).contains(" (entries read from it: 1, made from the files: 0)"));
+    let file = cache.path().join("a-file");
+    std::fs::write(&file, b"x").unwrap();
+    let refused = assets(&file);
+    assert!(refused.contains("entries read from it: 0, made from the files: 1; not kept: cannot create") && refused.contains("a-file"), "{refused}");
+}

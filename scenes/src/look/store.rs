@@ -5,16 +5,19 @@
 //! file. One bad file never affects another category.
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::convert::Infallible;
+use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, PoisonError};
 
 use serde::Serialize;
 use sha1::{Digest, Sha1};
 use vifo_render::assets::parse_mesh;
+use vifo_render::pack::{PackError, Packer, Unpacker};
 use vifo_render::imageio::decode_png_rgba;
 use vifo_render::glam::Vec2;
 use vifo_render::{Material, Mesh, Texture};
 
+use super::cache::{CACHE_VAR, CacheReport, DiskCache};
 use super::discover::Roots;
 use super::{ARM, MOUNT};
 use super::facts::{CATEGORIES, PANDA, SCENES};
@@ -156,6 +159,7 @@ pub struct Look {
     /// The scene XMLs' decor meshes (body `main` = the world) by scene XML name.
     decor: BTreeMap<&'static str, Vec<LoadedPart>>,
     report: Vec<CategoryReport>,
+    cache: CacheReport,
 }
 
 /// Meshes and textures by file, so that a file shared by several parts (or asked for by several
@@ -173,6 +177,8 @@ struct Loaded {
     hashes: Mutex<BTreeMap<&'static str, String>>,
     /// The primitives' procedural meshes.
     shapes: Mutex<MeshCache>,
+    /// What earlier processes made of the same files.
+    cache: DiskCache,
 }
 
 /// What was made of a file, and the file's blob hash where it could be read.
@@ -181,7 +187,12 @@ type FromFile<T> = (Option<String>, Result<T, String>);
 impl Loaded {
     fn mesh(&self, rel: &'static str, at: &Located) -> Result<Arc<Mesh>, String> {
         let made = self.meshes.get_or_make(&at.path, || {
-            read(at, |name, bytes| parse_mesh(bytes, name).map(|m| Arc::new(m.clustered())).map_err(|e| e.to_string()))
+            read(at, |name, bytes, blob| {
+                let make = || parse_mesh(bytes, name).map(|m| Arc::new(m.clustered())).map_err(|e| e.to_string());
+                // The format is chosen by the name's extension, so it is part of the key.
+                let format = at.path.extension().map(|x| x.to_string_lossy().to_lowercase()).unwrap_or_default();
+                self.cache.get_or_make(&format!("mesh {format} {blob}"), make, |m, p| p.mesh(m), |u| u.mesh().map(Arc::new))
+            })
         });
         self.hashed(rel, made)
     }
@@ -194,7 +205,7 @@ impl Loaded {
 
     fn texture(&self, rel: &'static str, at: &Located) -> Result<LoadedTexture, String> {
         let made = self.textures.get_or_make(&at.path, || {
-            read(at, |name, bytes| {
+            read(at, |name, bytes, blob| self.cache.get_or_make(&format!("texture {blob}"), || {
                 let (mut w, mut h, mut rgba) = decode_png_rgba(bytes, name).map_err(|e| e.to_string())?;
                 let texel = mean_rgb(&rgba).map(|c| (c * 255.0).round().clamp(0.0, 255.0) as u8);
                 let mean = Texture::from_rgba8(1, 1, &[texel[0], texel[1], texel[2], 255]).expect("a 1 x 1 RGBA image is a valid texture");
@@ -203,9 +214,33 @@ impl Loaded {
                 }
                 let texture = Texture::from_rgba8(w, h, &rgba).map_err(|e| format!("{name}: {e}"))?;
                 Ok(LoadedTexture { full: Arc::new(texture), mean: Arc::new(mean) })
-            })
+            }, |t, p| {
+                p.texture(&t.full);
+                p.texture(&t.mean);
+            }, |u| Ok(LoadedTexture { full: Arc::new(u.texture()?), mean: Arc::new(u.texture()?) })))
         });
         self.hashed(rel, made)
+    }
+
+    /// The coarser copies of `mesh` (the file `rel`, drawn at `scale`), made once per process
+    /// and kept in the disk cache.
+    fn lods(&self, rel: &'static str, at: &Located, mesh: &Mesh, scale: [f64; 3], constant_uvs: bool, textured: bool) -> Lods {
+        let key = (at.path.clone(), scale.map(f64::to_bits), constant_uvs, textured);
+        self.lods.get_or_make(&key, || {
+            // The mesh was read, so its blob hash is known.
+            let blob = self.hashes.lock().unwrap_or_else(PoisonError::into_inner).get(rel).cloned().unwrap_or_default();
+            let pack = |lods: &Lods, p: &mut Packer| {
+                p.u32(lods.len() as u32);
+                for (pixel, m) in lods.iter() {
+                    p.f32(*pixel);
+                    p.mesh(m);
+                }
+            };
+            let unpack = |u: &mut Unpacker| (0..u.u32()?).map(|_| Ok((u.f32()?, Arc::new(u.mesh()?)))).collect::<Result<Vec<_>, PackError>>().map(Lods::from);
+            let made = || Ok::<_, Infallible>(lods_of(mesh, scale, textured));
+            let Ok(lods) = self.cache.get_or_make(&format!("lods {blob} {:?} {constant_uvs} {textured}", key.1), made, pack, unpack);
+            lods
+        })
     }
 
     /// Notes `rel`'s blob hash for the look's hash (each path asked for, whichever thread read
@@ -218,11 +253,16 @@ impl Loaded {
     }
 }
 
-/// Reads the file at `at` and makes something of its bytes (`make` gets the file's name too).
-fn read<T>(at: &Located, make: impl FnOnce(&str, &[u8]) -> Result<T, String>) -> FromFile<T> {
+/// Reads the file at `at` and makes something of its bytes (`make` gets the file's name and blob
+/// hash too).
+fn read<T>(at: &Located, make: impl FnOnce(&str, &[u8], &str) -> Result<T, String>) -> FromFile<T> {
     let name = at.path.display().to_string();
     match std::fs::read(&at.path) {
-        Ok(bytes) => (Some(blob_sha1(&bytes)), make(&name, &bytes)),
+        Ok(bytes) => {
+            let blob = blob_sha1(&bytes);
+            let made = make(&name, &bytes, &blob);
+            (Some(blob), made)
+        }
         Err(e) => (None, Err(format!("{name}: cannot read: {e}"))),
     }
 }
@@ -302,15 +342,24 @@ fn material(fact: &MaterialFact, texture: Option<LoadedTexture>, has_uvs: bool) 
 impl Look {
     /// Loads every category's and robot body's parts found under `roots`, on a few threads
     /// where the machine has them.
+    /// What loading makes of each file is kept in the disk cache (`cache.rs`), which the next
+    /// process reads instead.
     pub fn load(roots: Roots) -> Look {
-        Look::load_on(roots, parallel::threads())
+        Look::load_on(roots, parallel::threads(), DiskCache::from_env())
     }
 
-    /// [`Look::load`] on up to `threads` threads: the same look whatever the count.
-    pub(super) fn load_on(roots: Roots, threads: usize) -> Look {
+    /// [`Look::load`] with the disk cache in `cache` (`None`: none) whatever the environment
+    /// says: for programs that choose the folder themselves.
+    pub fn load_with_cache(roots: Roots, cache: Option<&Path>) -> Look {
+        Look::load_on(roots, parallel::threads(), DiskCache::at(cache.map(Path::to_path_buf)))
+    }
+
+    /// [`Look::load`] on up to `threads` threads with `cache`: the same look whatever the count
+    /// and whatever the cache holds.
+    pub(super) fn load_on(roots: Roots, threads: usize, cache: DiskCache) -> Look {
         let tree = AssetTree::new(&roots.libero);
         let robot_tree = AssetTree::with_known(roots.robot.as_slice(), &[]);
-        let loaded = Loaded::default();
+        let loaded = Loaded { cache, ..Loaded::default() };
         let jobs = jobs();
         let done = parallel::map(&jobs, threads, |job| match *job {
             Job::Parts { group, kind, ref facts } => {
@@ -354,12 +403,18 @@ impl Look {
             h.update(format!("{rel} {blob}\n").as_bytes());
         }
         let hash = if hashes.is_empty() { String::new() } else { h.finalize().iter().take(8).map(|b| format!("{b:02x}")).collect() };
-        Look { roots, hash, parts, robot, arena_textures, decor, report }
+        let cache = loaded.cache.report();
+        Look { roots, hash, parts, robot, arena_textures, decor, report, cache }
     }
 
     /// The parts of `category`, when it is drawn from the asset files.
     pub fn parts(&self, category: &str) -> Option<&[LoadedPart]> {
         self.parts.get(category).map(Vec::as_slice)
+    }
+
+    /// What the disk cache did while this look loaded.
+    pub fn cache(&self) -> &CacheReport {
+        &self.cache
     }
 
     /// Where files were looked for.
@@ -443,6 +498,9 @@ impl Look {
         )];
         for r in self.report.iter().filter(|r| r.status != Status::Assets) {
             lines.push(format!("{} keeps the built-in look: {}", r.category, r.problem.as_deref().unwrap_or("no parts")));
+        }
+        if let Some(problem) = &self.cache.problem {
+            lines.push(format!("the look's cache is not kept ({problem}): the next process loads as slowly; set {CACHE_VAR} to another folder, or to `off`"));
         }
         lines
     }
@@ -562,8 +620,7 @@ fn load_part(
                 mesh = loaded.constant_uv_mesh(file, &at)?;
             }
             let textured = fact.material.texture.is_some();
-            let key = (at.path.clone(), scale.map(f64::to_bits), constant_uvs, textured);
-            let lods = loaded.lods.get_or_make(&key, || lods_of(&mesh, scale, textured));
+            let lods = loaded.lods(file, &at, &mesh, scale, constant_uvs, textured);
             (mesh, scale, lods, !constant_uvs)
         }
         Source::Primitive(r) => {

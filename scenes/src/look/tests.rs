@@ -4,20 +4,26 @@
 use std::path::Path;
 
 use super::facts::CATEGORIES;
+use super::cache::DiskCache;
 use super::parts::Shape;
 use super::*;
 
 /// Writes a valid one-triangle `.msh` with UVs at `path`.
 fn msh(path: &Path) {
+    msh_of(path, &[[0., 0., 0.], [1., 0., 0.], [0., 1., 0.]], &[], &[[0., 0.], [1., 0.], [0., 1.]], &[[0, 1, 2]]);
+}
+
+/// Writes a `.msh` (MuJoCo's binary mesh: counts, positions, normals, UVs, faces) at `path`.
+fn msh_of(path: &Path, positions: &[[f32; 3]], normals: &[[f32; 3]], uvs: &[[f32; 2]], faces: &[[u32; 3]]) {
     let mut b = Vec::new();
-    for c in [3i32, 0, 3, 1] {
-        b.extend_from_slice(&c.to_le_bytes());
+    for c in [positions.len(), normals.len(), uvs.len(), faces.len()] {
+        b.extend_from_slice(&(c as i32).to_le_bytes());
     }
-    for f in [0f32, 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 1.] {
+    for f in positions.iter().flatten().chain(normals.iter().flatten()).chain(uvs.iter().flatten()) {
         b.extend_from_slice(&f.to_le_bytes());
     }
-    for i in [0i32, 1, 2] {
-        b.extend_from_slice(&i.to_le_bytes());
+    for i in faces.iter().flatten() {
+        b.extend_from_slice(&(*i as i32).to_le_bytes());
     }
     write(path, &b);
 }
@@ -45,8 +51,9 @@ fn category_files(root: &Path, category: &str) {
     }
 }
 
+/// The look of `root`, loaded without the disk cache (tests never write to the user's).
 fn look_of(root: &Path) -> Look {
-    Look::load(roots_of(root))
+    Look::load_on(roots_of(root), 2, DiskCache::default())
 }
 
 fn roots_of(root: &Path) -> Roots {
@@ -103,10 +110,10 @@ fn loading_on_several_threads_gives_the_same_look() {
     }
     let ketchup = tmp.path().join("stable_hope_objects/ketchup/texture_map.png");
     std::fs::write(&ketchup, b"not a png").unwrap();
-    let one = Look::load_on(roots_of(tmp.path()), 1);
+    let one = Look::load_on(roots_of(tmp.path()), 1, DiskCache::default());
     let report = |look: &Look| serde_json::to_string(look.report()).unwrap();
     for threads in [2, 4] {
-        let many = Look::load_on(roots_of(tmp.path()), threads);
+        let many = Look::load_on(roots_of(tmp.path()), threads, DiskCache::default());
         assert_eq!(report(&many), report(&one), "{threads} threads");
         assert_eq!(many.hash(), one.hash());
         for (category, _, _) in CATEGORIES.iter() {
@@ -115,6 +122,41 @@ fn loading_on_several_threads_gives_the_same_look() {
     }
     assert!(one.report().iter().filter(|r| r.status == Status::Assets).count() >= 10, "{}", report(&one));
     assert!(one.report().iter().any(|r| r.problem.as_deref().is_some_and(|p| p.contains("texture_map.png"))));
+}
+
+#[test]
+fn a_look_read_from_the_cache_is_the_look_made_from_the_files() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (category, _, _) in CATEGORIES.iter().take(14) {
+        category_files(tmp.path(), category);
+    }
+    // The plate's mesh dense enough for coarser copies: a 3 cm sphere with UVs.
+    let (_, _, plate) = CATEGORIES.iter().find(|(c, _, _)| *c == "plate").unwrap();
+    let file = plate.iter().find_map(|f| if let Shape::Mesh { file, .. } = f.shape { Some(file) } else { None }).expect("the plate has a mesh");
+    let sphere = vifo_render::Mesh::sphere(0.03, 96);
+    let uvs: Vec<[f32; 2]> = sphere.positions().iter().map(|p| [p.x * 10.0 + 0.5, p.y * 10.0 + 0.5]).collect();
+    let vec3s = |v: &[vifo_render::glam::Vec3]| v.iter().map(|p| p.to_array()).collect::<Vec<_>>();
+    msh_of(&tmp.path().join(file), &vec3s(sphere.positions()), &vec3s(sphere.normals()), &uvs, sphere.triangles());
+    std::fs::write(tmp.path().join("stable_hope_objects/ketchup/texture_map.png"), b"not a png").unwrap();
+    let cache = tempfile::tempdir().unwrap();
+    let fresh = look_of(tmp.path());
+    let first = Look::load_on(roots_of(tmp.path()), 2, DiskCache::at(Some(cache.path().to_path_buf())));
+    let second = Look::load_on(roots_of(tmp.path()), 2, DiskCache::at(Some(cache.path().to_path_buf())));
+    let report = |look: &Look| serde_json::to_string(look.report()).unwrap();
+    // Files of equal content share entries, so the first load already reads some.
+    let asked = first.cache().made + first.cache().read;
+    assert!(first.cache().made >= 4 && first.cache().problem.is_none(), "{:?}", first.cache());
+    assert_eq!((second.cache().read, second.cache().made), (asked, 0), "everything made the first time is read the second");
+    for look in [&first, &second] {
+        assert_eq!(report(look), report(&fresh));
+        assert_eq!(look.hash(), fresh.hash());
+        for (category, _, _) in CATEGORIES.iter() {
+            assert_eq!(look.parts(category), fresh.parts(category), "{category}");
+        }
+        assert!(look.announcement("x").iter().all(|l| !l.contains("cache")));
+    }
+    assert!(second.parts("plate").unwrap().iter().any(|p| p.lods.len() >= 2), "the plate has coarser copies, read from the cache");
+    assert!(report(&second).contains("texture_map.png"), "a broken file is still reported when the rest comes from the cache");
 }
 
 #[test]

@@ -26,6 +26,7 @@ pub fn run(args: &AssetsArgs) -> Result<()> {
             "robot": roots.robot,
             "notes": roots.notes,
             "categories": look.report(),
+            "cache": look.cache(),
         });
         println!("{}", serde_json::to_string_pretty(&value)?);
         return Ok(());
@@ -69,6 +70,11 @@ pub fn run(args: &AssetsArgs) -> Result<()> {
         }
     }
     println!();
+    let cache = look.cache();
+    match &cache.dir {
+        Some(dir) => println!("cache: {} (entries read from it: {}, made from the files: {}{})", dir.display(), cache.read, cache.made, cache.problem.as_ref().map_or(String::new(), |p| format!("; not kept: {p}"))),
+        None => println!("cache: off ({} is `off`, or no home folder)", vifo_scenes::look::CACHE_VAR),
+    }
     println!("look: {}", look.label());
     Ok(())
 }

@@ -72,6 +72,7 @@ pub const TARGETS: &[Target] = &[
     Target { name: "results", kind: Kind::File, seeds: results_seeds, generate: results_generate, dictionary: JSON_TOKENS, run: results_run },
     Target { name: "vqa", kind: Kind::Parser, seeds: vqa_seeds, generate: vqa_generate, dictionary: VQA_WORDS, run: vqa_run },
     Target { name: "mesh-files", kind: Kind::File, seeds: mesh_seeds, generate: mesh_generate, dictionary: MESH_TOKENS, run: mesh_run },
+    Target { name: "look-cache", kind: Kind::File, seeds: packed_seeds, generate: packed_generate, dictionary: PACKED_TOKENS, run: packed_run },
     Target {
         name: "served-replies",
         kind: Kind::Parser,
@@ -786,4 +787,96 @@ fn mesh_run(bytes: &[u8]) -> bool {
     let obj = parse_obj(bytes, "fuzz.obj").is_ok();
     let stl = parse_stl(bytes, "fuzz.stl").is_ok();
     msh || obj || stl
+}
+
+// ---------------------------------------------------------------- the look's cache entries
+
+const PACKED_TOKENS: &[&[u8]] = &[
+    b"\0\0\0\0", b"\x01\0\0\0", b"\xff\xff\xff\xff", b"\0\0\xc0\x7f", b"\0\0\x80\x7f", b"\0\0\0\0\0\0\0\0",
+    b"\x03\0\0\0\0\0\0\0", b"\xff\xff\xff\xff\xff\xff\xff\x7f",
+];
+
+/// Packed meshes and textures as the look's cache keeps them: procedural meshes, clustered and
+/// simplified ones, small textures.
+fn packed_seeds() -> Vec<Vec<u8>> {
+    use vifo_render::pack::Packer;
+    use vifo_render::{Mesh, Texture};
+    let sphere = Mesh::sphere(0.05, 12).clustered();
+    let coarse = Mesh::sphere(0.05, 24).clustered().simplified(0.004).expect("a 24-segment sphere simplifies at 4 mm");
+    let mut seeds: Vec<Vec<u8>> = [Mesh::cuboid(vifo_render::glam::Vec3::splat(0.1)), Mesh::sphere(0.05, 6), sphere, coarse]
+        .iter()
+        .map(|m| {
+            let mut p = Packer::new();
+            p.mesh(m);
+            p.finish()
+        })
+        .collect();
+    for (w, h) in [(1, 1), (3, 2)] {
+        let mut p = Packer::new();
+        p.texture(&Texture::from_rgba8(w, h, &vec![7; (w * h * 4) as usize]).expect("a valid size"));
+        seeds.push(p.finish());
+    }
+    seeds
+}
+
+/// A small packed mesh (or texture) whose lengths, indices and values may disagree.
+fn packed_generate(rng: &mut dyn Rng) -> Vec<u8> {
+    use vifo_render::pack::Packer;
+    fn coord(rng: &mut dyn Rng) -> f32 {
+        [0.0f32, 1.0, -0.5, 1e30, f32::NAN][rng.random_range(0..5)]
+    }
+    fn v3s(rng: &mut dyn Rng, n: usize) -> Vec<[f32; 3]> {
+        (0..n).map(|_| [coord(rng), coord(rng), coord(rng)]).collect()
+    }
+    fn words<const N: usize>(rng: &mut dyn Rng, n: usize, below: u32) -> Vec<[u32; N]> {
+        (0..n).map(|_| std::array::from_fn(|_| rng.random_range(0..below.max(1)))).collect()
+    }
+    let mut p = Packer::new();
+    let n = rng.random_range(0..6usize);
+    let near = |rng: &mut dyn Rng| if rng.random_range(0..4) == 0 { n + 1 } else { n };
+    if rng.random_range(0..4) == 0 {
+        let (w, h) = (rng.random_range(0..4u32), rng.random_range(0..4u32));
+        p.u32(w);
+        p.u32(h);
+        p.u32(rng.random_range(0..3));
+        let texels = (w * h) as usize + rng.random_range(0..2);
+        p.slice(&words::<1>(rng, texels, 256));
+        return p.finish();
+    }
+    let tris = rng.random_range(0..5usize);
+    let (v, nv) = (v3s(rng, n), near(rng));
+    p.slice(&v);
+    p.slice(&v3s(rng, nv));
+    p.u32(rng.random_range(0..2));
+    let nu = near(rng);
+    p.slice(&(0..nu).map(|_| [coord(rng), coord(rng)]).collect::<Vec<_>>());
+    p.slice(&words::<3>(rng, tris, n as u32 + 1));
+    let np = near(rng);
+    p.slice(&v3s(rng, np));
+    let of_vertex = near(rng);
+    p.slice(&words::<1>(rng, of_vertex, np as u32 + 1));
+    p.slice(&words::<3>(rng, tris, np as u32 + 1));
+    let clusters = rng.random_range(0..3);
+    p.slice(&words::<15>(rng, clusters, (tris + 2) as u32));
+    let (points, order) = (near(rng), near(rng));
+    p.slice(&words::<1>(rng, points, np as u32 + 1));
+    p.slice(&words::<1>(rng, order, n as u32 + 1));
+    p.finish()
+}
+
+/// Reads the bytes as a packed mesh and as a packed texture; an accepted mesh is drawn, so a
+/// mesh that passes the checks but would break the rasterizer is found too.
+fn packed_run(bytes: &[u8]) -> bool {
+    use vifo_render::pack::Unpacker;
+    use vifo_render::{Camera, Instance, Renderer, Scene, Transform};
+    let mut u = Unpacker::new(bytes);
+    let mesh = u.mesh().ok().filter(|_| u.finish().is_ok());
+    let mut t = Unpacker::new(bytes);
+    let texture = t.texture().is_ok() && t.finish().is_ok();
+    if let Some(mesh) = &mesh {
+        let scene = Scene { instances: vec![Instance::new(std::sync::Arc::new(mesh.clone()), Transform::IDENTITY, 1)], ..Scene::default() };
+        let eye = vifo_render::glam::Vec3::new(0.3, -0.2, 0.4);
+        let _ = Renderer::default().render(&scene, &Camera::look_at(eye, vifo_render::glam::Vec3::ZERO, vifo_render::glam::Vec3::Z, 45.0, 16, 16));
+    }
+    mesh.is_some() || texture
 }

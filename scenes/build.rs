@@ -1,7 +1,8 @@
 //! Names the code that makes the look's cached entries (`src/look/cache.rs`): a hash of the
-//! look's and the renderer's sources and of the workspace's lock file (the simplifier's and
-//! decoders' versions), so that a change to any of them starts a new cache folder instead of
-//! reading what older code made.
+//! look's and the renderer's sources, of the workspace's lock file (the simplifier's and
+//! decoders' versions) and of the target (a home folder shared by machines of two kinds keeps
+//! each one's own entries), so that a change to any of them starts a new cache folder instead of
+//! reading what other code made.
 
 use std::hash::{DefaultHasher, Hash, Hasher};
 use std::path::{Path, PathBuf};
@@ -20,6 +21,7 @@ fn main() {
     files.sort();
     // SipHash with fixed keys: the same sources give the same name in every build.
     let mut h = DefaultHasher::new();
+    std::env::var("TARGET").unwrap_or_default().hash(&mut h);
     for f in &files {
         f.hash(&mut h);
         std::fs::read(f).unwrap_or_default().hash(&mut h);

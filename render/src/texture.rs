@@ -268,7 +268,8 @@ fn check(width: u32, height: u32, channels: u32, data: &[u8]) -> Result<&[u8], T
     if width == 0 || height == 0 {
         return Err(TextureError::Empty { width, height });
     }
-    let expected = width as usize * height as usize * channels as usize;
+    // Saturated where the size does not fit: no slice is that long, so it is refused as well.
+    let expected = (width as usize).saturating_mul(height as usize).saturating_mul(channels as usize);
     if data.len() != expected {
         return Err(TextureError::WrongLength { width, height, channels, expected, got: data.len() });
     }
@@ -312,6 +313,8 @@ mod tests {
     #[test]
     fn rejects_wrong_sizes() {
         assert!(matches!(Texture::from_rgba8(2, 2, &[0; 15]), Err(TextureError::WrongLength { .. })));
+        // A size whose byte count does not fit a `usize` (found by the look-cache fuzz target).
+        assert!(matches!(Texture::from_rgba8(u32::MAX, u32::MAX, &[0; 4]), Err(TextureError::WrongLength { .. })));
         assert!(matches!(Texture::from_rgb8(0, 2, &[]), Err(TextureError::Empty { .. })));
     }
 

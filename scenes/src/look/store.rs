@@ -227,8 +227,9 @@ impl Loaded {
     fn lods(&self, rel: &'static str, at: &Located, mesh: &Mesh, scale: [f64; 3], constant_uvs: bool, textured: bool) -> Lods {
         let key = (at.path.clone(), scale.map(f64::to_bits), constant_uvs, textured);
         self.lods.get_or_make(&key, || {
-            // The mesh was read, so its blob hash is known.
-            let blob = self.hashes.lock().unwrap_or_else(PoisonError::into_inner).get(rel).cloned().unwrap_or_default();
+            let make = || lods_of(mesh, scale, textured);
+            // The mesh was read, so its blob hash is known; without it there is no key to keep them by.
+            let Some(blob) = self.hashes.lock().unwrap_or_else(PoisonError::into_inner).get(rel).cloned() else { return make() };
             let pack = |lods: &Lods, p: &mut Packer| {
                 p.u32(lods.len() as u32);
                 for (pixel, m) in lods.iter() {
@@ -237,8 +238,7 @@ impl Loaded {
                 }
             };
             let unpack = |u: &mut Unpacker| (0..u.u32()?).map(|_| Ok((u.f32()?, Arc::new(u.mesh()?)))).collect::<Result<Vec<_>, PackError>>().map(Lods::from);
-            let made = || Ok::<_, Infallible>(lods_of(mesh, scale, textured));
-            let Ok(lods) = self.cache.get_or_make(&format!("lods {blob} {:?} {constant_uvs} {textured}", key.1), made, pack, unpack);
+            let Ok(lods) = self.cache.get_or_make(&format!("lods {blob} {:?} {constant_uvs} {textured}", key.1), || Ok::<_, Infallible>(make()), pack, unpack);
             lods
         })
     }
@@ -342,6 +342,7 @@ fn material(fact: &MaterialFact, texture: Option<LoadedTexture>, has_uvs: bool) 
 impl Look {
     /// Loads every category's and robot body's parts found under `roots`, on a few threads
     /// where the machine has them.
+    ///
     /// What loading makes of each file is kept in the disk cache (`cache.rs`), which the next
     /// process reads instead.
     pub fn load(roots: Roots) -> Look {

@@ -92,6 +92,14 @@ pub trait Policy: Send {
     fn uses_images(&self) -> bool {
         true
     }
+    /// Whether the next [`Policy::act`] looks at the camera images. A policy that plays out an
+    /// action chunk between requests does not, and the rollout then does not draw the cameras
+    /// for that observation (its images stay the last drawn ones, which such a policy ignores).
+    /// Defaults to [`Policy::uses_images`]; a policy that answers `false` and then reads the
+    /// images gets stale ones.
+    fn sees_images_next(&self) -> bool {
+        self.uses_images()
+    }
     /// True once the policy will send the same action at every remaining step of the episode
     /// (a reference policy with nothing left to do). The environment may then fast-forward a
     /// world at rest to the step budget.

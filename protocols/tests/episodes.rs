@@ -46,7 +46,9 @@ fn run(policy: &str, specs: &[EpisodeSpec], path: &Path, threads: usize, resume:
     let config = EnvConfig { size: 64, cameras, ..EnvConfig::default() };
     let options = RunOptions { threads, resume, quiet: true, policy: policy.into(), ..RunOptions::new(path) };
     let make = || builtin(policy).ok_or_else(|| format!("no policy {policy}"));
-    run_episodes(specs, make, config, &RolloutOptions::default(), &options).unwrap();
+    // Drawn at every step, as for a policy that looks at every observation.
+    let rollout = RolloutOptions { draw_every_step: render, ..RolloutOptions::default() };
+    run_episodes(specs, make, config, &rollout, &options).unwrap();
 }
 
 fn records(path: &Path) -> Vec<EpisodeRecord> {

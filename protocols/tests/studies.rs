@@ -17,7 +17,9 @@ fn run(policy: &str, specs: &[EpisodeSpec], path: &Path, threads: usize, render:
     let config = EnvConfig { size: 64, cameras, ..EnvConfig::default() };
     let options = RunOptions { threads, quiet: true, policy: policy.into(), ..RunOptions::new(path) };
     let make = || builtin(policy).ok_or_else(|| format!("no policy {policy}"));
-    run_episodes(specs, make, config, &RolloutOptions::default(), &options).unwrap();
+    // Drawn at every step, as for a policy that looks at every observation.
+    let rollout = RolloutOptions { draw_every_step: render, ..RolloutOptions::default() };
+    run_episodes(specs, make, config, &rollout, &options).unwrap();
     final_records(read_records(path).unwrap().records).into_values().collect()
 }
 

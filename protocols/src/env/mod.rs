@@ -151,6 +151,10 @@ pub struct Env {
     episode: Option<Episode>,
     /// Whether steps render the cameras (see [`Env::set_rendering`]).
     rendering: bool,
+    /// Whether the observation's images show the current state.
+    drawn: bool,
+    /// Times the cameras were drawn since the environment was made.
+    draws: usize,
 }
 
 fn empty_image() -> RgbImage {
@@ -179,6 +183,8 @@ impl Env {
             },
             episode: None,
             rendering: true,
+            drawn: false,
+            draws: 0,
         }
     }
 
@@ -203,6 +209,7 @@ impl Env {
 
     fn start(&mut self, spec: &EpisodeSpec, settle: bool) -> Result<&Observation, EnvError> {
         self.episode = None;
+        self.drawn = false;
         let task = builtin_task(&spec.task)?;
         let study = SuiteCue::of(&spec.task.suite) == SuiteCue::SceneNote;
         let expected = if study { piper::instruction(spec.protocol)? } else { language::instruction(spec.protocol, task)? };
@@ -355,6 +362,7 @@ impl Env {
     /// The running episode's simulation, to perturb it (a push, a forced fault); `None` before
     /// the first reset.
     pub fn sim_mut(&mut self) -> Option<&mut Sim> {
+        self.drawn = false;
         self.episode.as_mut().map(|ep| &mut ep.sim)
     }
 
@@ -419,17 +427,26 @@ impl Env {
     }
 
     /// Whether [`Env::step`] renders the configured cameras (on by default; every reset
-    /// renders). For a caller whose policy does not look at the images and who wants only
-    /// some frames (a clip of every 2nd step): the observation's images then stay those of
-    /// the last rendered step until [`Env::render`].
+    /// renders). For a caller whose policy will not look at the next observation's images (a
+    /// policy playing out an action chunk, or one that reads the simulator): they then stay
+    /// those of the last rendered step until [`Env::render`].
     pub fn set_rendering(&mut self, on: bool) {
         self.rendering = on;
     }
 
-    /// Renders the configured cameras of the current state into the observation.
+    /// The configured cameras of the current state in the observation: rendered unless the
+    /// last step (or render) already drew them.
     pub fn render(&mut self) -> Result<&Observation, EnvError> {
-        self.draw()?;
+        if !self.drawn {
+            self.draw()?;
+        }
         Ok(&self.observation)
+    }
+
+    /// How many times the cameras were drawn since the environment was made (for benchmarks
+    /// and tests).
+    pub fn draws(&self) -> usize {
+        self.draws
     }
 
     /// Proprioception and the configured cameras, with the cue, into the observation.
@@ -437,6 +454,7 @@ impl Env {
         let ep = self.episode.as_mut().ok_or(EnvError::NotStarted)?;
         observe::proprio(&ep.sim, &mut self.observation);
         self.observation.step = ep.steps;
+        self.drawn = false;
         if self.rendering || ep.steps == 0 {
             self.draw()?;
         }
@@ -468,6 +486,8 @@ impl Env {
                 flip_rows(image);
             }
         }
+        self.drawn = true;
+        self.draws += 1;
         Ok(())
     }
 }

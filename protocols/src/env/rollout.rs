@@ -19,11 +19,16 @@ pub struct RolloutOptions {
     pub fast_forward: bool,
     /// The episodes [`run_episodes`] films (none by default).
     pub film: Filming,
+    /// Draw the configured cameras after every step, as LIBERO does (for timing against it).
+    /// Off, only the observations the policy looks at ([`Policy::sees_images_next`]), the
+    /// clip's frames and the episode's last observation are drawn; what the policy sees is the
+    /// same either way.
+    pub draw_every_step: bool,
 }
 
 impl Default for RolloutOptions {
     fn default() -> RolloutOptions {
-        RolloutOptions { fast_forward: true, film: Filming::none() }
+        RolloutOptions { fast_forward: true, film: Filming::none(), draw_every_step: false }
     }
 }
 
@@ -89,18 +94,19 @@ fn run(
     options: &RolloutOptions,
     clip: &mut Option<Clip>,
 ) -> Result<Outcome, String> {
-    // A policy that does not look at the images needs only the clip's frames drawn.
-    let lazy = clip.is_some() && !policy.uses_images();
-    env.set_rendering(!lazy);
     env.reset(spec).map_err(|e| format!("reset: {e}"))?;
-    film(clip, env, lazy, false);
+    film(clip, env, false);
     policy.reset().map_err(|e| e.to_string())?;
     let mut resting = 0;
     loop {
-        let step = policy_step(env, policy)?;
+        let action = policy_action(env, policy)?;
+        // The next observation's images are drawn only if the policy will look at them (or
+        // the clip takes them): between its requests a chunked policy plays out its queue.
+        env.set_rendering(options.draw_every_step || policy.sees_images_next());
+        let step = env.step(&action).map_err(|e| e.to_string())?;
         let (language_success, cue_success, mut steps, done) =
             (step.language_success, step.cue_success, step.steps, step.done);
-        film(clip, env, lazy, done);
+        film(clip, env, done);
         if !done && options.fast_forward && policy.holding_still() && env.at_rest() {
             resting += 1;
         } else {
@@ -108,23 +114,25 @@ fn run(
         }
         if resting >= REST_STEPS {
             steps = env.fast_forward().map_err(|e| e.to_string())?.steps;
-            film(clip, env, lazy, true);
+            film(clip, env, true);
         } else if !done {
             continue;
         }
+        // The episode's last observation is drawn whoever looks at it next.
+        env.render().map_err(|e| e.to_string())?;
         return Ok(Outcome::Completed { language_success, cue_success, steps });
     }
 }
 
-/// Adds the current observation to the clip when it is due, drawing it first where steps are
-/// not drawn (`lazy`); a clip that fails is dropped (see [`rollout_filmed`]).
-fn film(clip: &mut Option<Clip>, env: &mut Env, lazy: bool, last: bool) {
+/// Adds the current observation to the clip when it is due, drawing it first where the step
+/// did not; a clip that fails is dropped (see [`rollout_filmed`]).
+fn film(clip: &mut Option<Clip>, env: &mut Env, last: bool) {
     let Some(c) = clip.as_mut() else { return };
     if !c.due(env.observation().step, last) {
         return;
     }
     let order = env.config().order;
-    let drawn = if lazy { env.render().map_err(|e| e.to_string()) } else { Ok(env.observation()) };
+    let drawn = env.render().map_err(|e| e.to_string());
     let added = drawn.and_then(|obs| c.add(obs, order).map_err(|e| e.to_string()));
     if let Err(e) = added {
         eprintln!("note: clip {} not written: {e}", c.path().display());
@@ -138,9 +146,14 @@ fn film(clip: &mut Option<Clip>, env: &mut Env, lazy: bool, last: bool) {
 /// observation (privileged policies also the episode state) and its action is applied. Errors
 /// of the policy name the step.
 pub fn policy_step<'e>(env: &'e mut Env, policy: &mut dyn Policy) -> Result<StepResult<'e>, String> {
-    let state = env.state().map_err(|e| e.to_string())?;
-    let action = policy.act_with_state(env.observation(), &state).map_err(|e| format!("step {}: {e}", env.observation().step))?;
+    let action = policy_action(env, policy)?;
     env.step(&action).map_err(|e| e.to_string())
+}
+
+/// The policy's action for `env`'s latest observation (see [`policy_step`]).
+fn policy_action(env: &Env, policy: &mut dyn Policy) -> Result<[f64; 7], String> {
+    let state = env.state().map_err(|e| e.to_string())?;
+    policy.act_with_state(env.observation(), &state).map_err(|e| format!("step {}: {e}", env.observation().step))
 }
 
 /// Runs every spec with policies made by `make` (one per worker thread, kept across its

@@ -198,6 +198,11 @@ impl Policy for RemotePolicy {
         }
     }
 
+    /// Only when the queue is empty: the other steps play out the chunk.
+    fn sees_images_next(&self) -> bool {
+        self.queue.is_empty()
+    }
+
     fn act(&mut self, obs: &Observation) -> Result<[f64; 7], PolicyError> {
         if self.queue.is_empty() {
             let reply = self.infer(obs)?;

@@ -231,6 +231,11 @@ impl Policy for ServedPolicy {
         self.transport.reset()
     }
 
+    /// Only when the queue is empty: the other steps play out the chunk.
+    fn sees_images_next(&self) -> bool {
+        self.queue.is_empty()
+    }
+
     fn act(&mut self, obs: &Observation) -> Result<[f64; 7], PolicyError> {
         if self.queue.is_empty() {
             let input = ModelInput::new(&self.profile, obs, self.episode_start)?;

@@ -111,6 +111,8 @@ pub fn run(threads: &[usize], episodes: usize, rendered: bool, rounds: usize, sc
         cameras: if rendered { CameraName::ALL.to_vec() } else { Vec::new() },
         ..EnvConfig::default()
     };
+    // The expert reads the simulator; its frames are drawn as an image policy's would be.
+    let rollout_options = RolloutOptions { draw_every_step: rendered, ..RolloutOptions::default() };
     let make = || builtin(POLICY).ok_or_else(|| format!("no built-in policy {POLICY}"));
     vifo_protocols::runner::create_folder(scratch)?;
     let warm_up = threads.iter().copied().max().unwrap_or(1);
@@ -124,7 +126,7 @@ pub fn run(threads: &[usize], episodes: usize, rendered: bool, rounds: usize, sc
         let spin_seconds = if round.is_some() { spin_seconds(t) } else { 0.0 };
         let base = memory::reset_peak().then(memory::rss_mb).flatten();
         let start = Instant::now();
-        let summary = run_episodes(&sample, make, config.clone(), &RolloutOptions::default(), &options)?;
+        let summary = run_episodes(&sample, make, config.clone(), &rollout_options, &options)?;
         let seconds = start.elapsed().as_secs_f64();
         anyhow::ensure!(summary.errors == 0, "{} of {} episodes ended in errors (see {})", summary.errors, summary.ran, output.display());
         let mb_per_worker = base.zip(memory::peak_rss_mb()).map(|(b, p)| (p - b).max(0.0) / t as f64);

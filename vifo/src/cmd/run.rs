@@ -89,7 +89,9 @@ pub struct Args {
     /// Camera image side in pixels.
     #[arg(long, default_value_t = 256)]
     size: u32,
-    /// Render camera images even for built-in policies, which do not look at them.
+    /// Render both cameras after every step, as LIBERO does, even where the policy will not
+    /// look at them: a built-in policy (it reads the simulator) or a served one between its
+    /// requests (it plays out its action chunk). Changes no result, only the time taken.
     #[arg(long)]
     render_always: bool,
     /// Whose first episode of every cue family is filmed into OUT/report/clips/ (shown by
@@ -388,7 +390,7 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&P
         Some(dir) => report::clips::filming(specs, dir, &file_safe(policy), CLIP_SIZE, CLIP_EVERY),
         None => Filming::none(),
     };
-    let rollout_options = RolloutOptions { fast_forward: !args.no_fast_forward, film };
+    let rollout_options = RolloutOptions { fast_forward: !args.no_fast_forward, film, draw_every_step: args.render_always };
     let served = match builtin(policy) {
         Some(_) => None,
         None => serving_config(policy, args)?,

@@ -11,12 +11,18 @@
 //! - Each entry carries a SHA-1 of its bytes: one that is short, corrupt or unreadable is made
 //!   again and rewritten. Entries are written to a temporary file and renamed into place, so
 //!   processes loading side by side never read a half-written one.
+//! - A process making an entry holds the entry's lock file (`<name>.lock`) until it is written,
+//!   so that processes starting together on a cold cache (Ray workers) make each entry once: the
+//!   others wait for it and read it. A lock held for longer than [`LOCK_WAIT`] (a stuck process)
+//!   is given up on and the entry made anyway; where locks are not supported, nobody waits.
 //! - Where: `VIFO_LOOK_CACHE` (a folder, or `off`), else `$XDG_CACHE_HOME/libero-vifo/look`, else
 //!   `~/.cache/libero-vifo/look`. A folder that cannot be written costs speed only, and is said.
 
+use std::fs::{File, TryLockError};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::OnceLock;
+use std::time::{Duration, Instant};
 
 use sha1::{Digest, Sha1};
 use vifo_render::pack::{PackError, Packer, Unpacker};
@@ -30,6 +36,10 @@ const CODE: &str = env!("VIFO_LOOK_CODE");
 /// Code folders kept: builds used side by side (a Python package and a command-line build of
 /// another commit) keep their own entries.
 const KEEP: usize = 3;
+
+/// How long a process waits for another to make an entry. The slowest entry (a scene's decor)
+/// takes about 2 s to make on one core.
+const LOCK_WAIT: Duration = Duration::from_secs(120);
 
 /// An entry's first bytes.
 const MAGIC: &[u8; 8] = b"VIFOLOOK";
@@ -94,11 +104,17 @@ impl DiskCache {
         key: &str,
         make: impl FnOnce() -> Result<T, E>,
         pack: impl FnOnce(&T, &mut Packer),
-        unpack: impl FnOnce(&mut Unpacker) -> Result<T, PackError>,
+        unpack: impl Fn(&mut Unpacker) -> Result<T, PackError>,
     ) -> Result<T, E> {
         let Some(dir) = &self.dir else { return make() };
         let path = dir.join(entry_name(key));
-        if let Some(found) = read_entry(&path, unpack) {
+        if let Some(found) = read_entry(&path, &unpack) {
+            self.read.fetch_add(1, Ordering::Relaxed);
+            return Ok(found);
+        }
+        // Another process may be making it: wait for its lock, then read what it wrote.
+        let lock = self.prepare(dir).ok().and_then(|()| lock_entry(&path));
+        if lock.is_some() && let Some(found) = read_entry(&path, &unpack) {
             self.read.fetch_add(1, Ordering::Relaxed);
             return Ok(found);
         }
@@ -109,6 +125,7 @@ impl DiskCache {
         if let Err(e) = self.prepare(dir).and_then(|()| write_entry(&path, &packer.finish())) {
             let _ = self.problem.set(e);
         }
+        drop(lock);
         Ok(made)
     }
 
@@ -140,8 +157,22 @@ fn entry_name(key: &str) -> String {
     Sha1::digest(key.as_bytes()).iter().map(|b| format!("{b:02x}")).collect::<String>() + ".bin"
 }
 
+/// The entry's lock file, held (the lock goes with the file when it is dropped). `None` where it
+/// cannot be had: locks unsupported, the folder unwritable, or held past [`LOCK_WAIT`].
+fn lock_entry(path: &Path) -> Option<File> {
+    let file = File::options().write(true).create(true).truncate(false).open(path.with_extension("lock")).ok()?;
+    let deadline = Instant::now() + LOCK_WAIT;
+    loop {
+        match file.try_lock() {
+            Ok(()) => return Some(file),
+            Err(TryLockError::WouldBlock) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(10)),
+            Err(_) => return None,
+        }
+    }
+}
+
 /// The entry at `path`, when it is whole and reads back.
-fn read_entry<T>(path: &Path, unpack: impl FnOnce(&mut Unpacker) -> Result<T, PackError>) -> Option<T> {
+fn read_entry<T>(path: &Path, unpack: impl Fn(&mut Unpacker) -> Result<T, PackError>) -> Option<T> {
     let bytes = std::fs::read(path).ok()?;
     let rest = bytes.strip_prefix(MAGIC)?;
     let (sum, payload) = rest.split_at_checked(20)?;
@@ -220,7 +251,30 @@ mod tests {
         }
         // No temporary file is left behind.
         let names: Vec<String> = std::fs::read_dir(tmp.path().join(CODE)).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
-        assert!(names.iter().all(|n| n.ends_with(".bin")), "{names:?}");
+        assert!(names.iter().all(|n| n.ends_with(".bin") || n.ends_with(".lock")), "{names:?}");
+    }
+
+    #[test]
+    fn a_process_making_an_entry_has_the_others_wait_and_read_it() {
+        let tmp = tempfile::tempdir().unwrap();
+        // Two caches on one folder stand for two processes: each opens its own lock file, and
+        // such locks exclude each other within one process too.
+        let (first, second) = (cache_in(tmp.path()), cache_in(tmp.path()));
+        let (started, making) = std::sync::mpsc::channel();
+        std::thread::scope(|s| {
+            s.spawn(|| {
+                let slow = || {
+                    started.send(()).unwrap();
+                    std::thread::sleep(Duration::from_millis(300));
+                    Ok::<_, String>(7)
+                };
+                assert_eq!(first.get_or_make("a", slow, |v, p| p.u32(*v), |u| u.u32()), Ok(7));
+            });
+            making.recv().unwrap();
+            assert_eq!(get(&second, "a", 8), Ok(7));
+        });
+        assert_eq!((first.report().made, first.report().read), (1, 0));
+        assert_eq!((second.report().made, second.report().read), (0, 1));
     }
 
     #[test]

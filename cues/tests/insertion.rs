@@ -221,6 +221,34 @@ fn same_inputs_give_the_same_bytes() {
     }
 }
 
+/// A kept panel is used again only for the same pictures: a picture changed anywhere (here in
+/// every pixel but each ninth, the ones a sampled fingerprint would read) gives a new panel.
+#[test]
+fn a_changed_picture_is_not_drawn_from_the_kept_panel() {
+    let p = pictures();
+    let mut q = p.clone();
+    let last = q.last_mut().unwrap();
+    for (i, px) in last.data.chunks_exact_mut(4).enumerate() {
+        if i % 9 != 0 {
+            px.copy_from_slice(&[220, 30, 30, 255]);
+        }
+    }
+    let mut kept = Inserter::new();
+    for name in ["goal_inset", "goal_polaroid"] {
+        let spec = spec_for(TASK, variants::find(name).unwrap());
+        let draw = |inserter: &mut Inserter, pictures: &[RgbaImage]| {
+            let mut frame = base(W, W);
+            inserter.insert(&mut frame, &spec, &FrameInputs { pictures, ..FrameInputs::default() }).unwrap();
+            frame
+        };
+        let before = draw(&mut kept, &p);
+        let after = draw(&mut kept, &q);
+        let fresh = draw(&mut Inserter::new(), &q);
+        assert!(before != fresh, "{name}: the change does not show");
+        assert!(after == fresh, "{name}: drawn from the panel of the earlier picture");
+    }
+}
+
 /// A far anchor is clamped where the line from the image centre towards it meets the inset
 /// border, not into the nearest corner (an arrow to it keeps its direction).
 #[test]

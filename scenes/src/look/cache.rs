@@ -113,7 +113,8 @@ impl DiskCache {
             return Ok(found);
         }
         // Another process may be making it: wait for its lock, then read what it wrote.
-        let lock = self.prepare(dir).ok().and_then(|()| lock_entry(&path));
+        let prepared = self.prepare(dir);
+        let lock = prepared.as_ref().ok().and_then(|()| lock_entry(&path));
         if lock.is_some() && let Some(found) = read_entry(&path, &unpack) {
             self.read.fetch_add(1, Ordering::Relaxed);
             return Ok(found);
@@ -122,7 +123,7 @@ impl DiskCache {
         self.made.fetch_add(1, Ordering::Relaxed);
         let mut packer = Packer::new();
         pack(&made, &mut packer);
-        if let Err(e) = self.prepare(dir).and_then(|()| write_entry(&path, &packer.finish())) {
+        if let Err(e) = prepared.and_then(|()| write_entry(&path, &packer.finish())) {
             let _ = self.problem.set(e);
         }
         drop(lock);

@@ -99,6 +99,8 @@ struct Shared {
     fired: AtomicUsize,
     /// Requests answered normally.
     served: AtomicUsize,
+    /// Connections the client ended with a websocket close.
+    closed: AtomicUsize,
     stop: AtomicBool,
 }
 
@@ -121,6 +123,7 @@ impl FaultServer {
             at_request: at_request.max(1),
             fired: AtomicUsize::new(0),
             served: AtomicUsize::new(0),
+            closed: AtomicUsize::new(0),
             stop: AtomicBool::new(false),
         });
         let s = shared.clone();
@@ -150,6 +153,11 @@ impl FaultServer {
     /// Requests answered normally so far.
     pub fn served(&self) -> usize {
         self.shared.served.load(Ordering::Relaxed)
+    }
+
+    /// Connections the client has ended with a websocket close so far.
+    pub fn closed(&self) -> usize {
+        self.shared.closed.load(Ordering::Relaxed)
     }
 }
 
@@ -202,7 +210,13 @@ fn serve(stream: TcpStream, s: &Shared) {
     while !s.stop.load(Ordering::Relaxed) {
         match ws.read() {
             Ok(Message::Binary(_)) => {}
-            Ok(Message::Close(_)) | Err(_) => return,
+            Ok(Message::Close(_)) => {
+                // Our answer to the close, queued by `read`.
+                let _ = ws.flush();
+                s.closed.fetch_add(1, Ordering::Relaxed);
+                return;
+            }
+            Err(_) => return,
             Ok(_) => continue,
         }
         requests += 1;

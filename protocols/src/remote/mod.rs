@@ -156,19 +156,38 @@ impl RemotePolicy {
         // A server that sent something unreadable may be in any state: start afresh.
         let reply = result.and_then(|bytes| parse(&bytes));
         if reply.is_err() {
-            self.conn = None;
+            self.hang_up();
         }
         self.requests += 1;
         reply
     }
 
     fn reconnect(&mut self) -> Result<(), PolicyError> {
-        self.conn = None;
+        self.hang_up();
         let (conn, metadata) = open(&self.uri, &self.config)?;
         self.conn = Some(conn);
         self.metadata = metadata;
         self.idle = false;
         Ok(())
+    }
+
+    /// Ends the connection, if any, with a websocket close handshake, so that the server sees
+    /// a normal close rather than a dropped stream (servers other than openpi's log a
+    /// traceback for each of those). Waits at most [`CLOSE_WAIT`] for the server's answer; a
+    /// connection already broken just goes.
+    fn hang_up(&mut self) {
+        let Some(mut conn) = self.conn.take() else { return };
+        let deadline = Instant::now() + CLOSE_WAIT;
+        if conn.close(None).is_err() {
+            return;
+        }
+        // Until the server's close arrives (`read` then fails with `ConnectionClosed`); an
+        // unread reply in the socket would turn our TCP close into a reset.
+        while let Some(left) = deadline.checked_duration_since(Instant::now()).filter(|d| !d.is_zero()) {
+            if set_timeouts(conn.get_mut(), left).is_err() || conn.read().is_err() {
+                return;
+            }
+        }
     }
 
     /// One request/reply round trip within the request timeout.
@@ -218,6 +237,15 @@ impl Policy for RemotePolicy {
         self.queue.pop_front().ok_or_else(|| PolicyError::Malformed("empty action chunk".into()))
     }
 }
+
+impl Drop for RemotePolicy {
+    fn drop(&mut self) {
+        self.hang_up();
+    }
+}
+
+/// The longest a client waits for the server's answer to its close.
+const CLOSE_WAIT: Duration = Duration::from_millis(500);
 
 /// `ws://host:port[/path]`; a bare `host:port` gets `ws://`. TLS is not built in.
 fn parse_url(url: &str) -> Result<Uri, PolicyError> {

@@ -217,3 +217,44 @@ fn vifo_assets_says_what_the_looks_cache_did() {
     let refused = assets(&file);
     assert!(refused.contains("entries read from it: 0, made from the files: 1; not kept: cannot create") && refused.contains("a-file"), "{refused}");
 }
+
+/// A LeRobot policy server holds one client at a time: two workers would get each other's
+/// action chunks (the scripted server refuses a timestep that goes back). `vifo run` sends such
+/// a server one episode at a time, says so, and the episodes run without errors. Skips, saying
+/// why, where `python3` lacks grpcio and numpy (`.ci/run` installs them).
+#[test]
+fn a_server_that_holds_one_client_gets_one_episode_at_a_time() {
+    use std::io::{BufRead, BufReader};
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+    let ready = Command::new("python3").args(["-c", "import grpc, numpy"]).output();
+    if !ready.is_ok_and(|o| o.status.success()) {
+        println!("SKIPPED a_server_that_holds_one_client_gets_one_episode_at_a_time: python3 with grpcio and numpy is needed");
+        return;
+    }
+    let mut server = Command::new("python3")
+        .arg(root.join("tests/python/format_servers.py"))
+        .args(["lerobot", "--chunk", "10", "--lifetime", "600"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start the scripted LeRobot server");
+    let mut line = String::new();
+    BufReader::new(server.stdout.take().unwrap()).read_line(&mut line).unwrap();
+    let port = line.strip_prefix("PORT ").map(str::trim).unwrap_or_else(|| panic!("server said {line:?}")).to_string();
+    let dir = tempfile::tempdir().unwrap();
+    let url = format!("grpc://127.0.0.1:{port}?policy_type=act&pretrained=stand-in&device=cpu");
+    let out = Command::new(env!("CARGO_BIN_EXE_vifo"))
+        .args(["run", "--builtin-look", "--quiet", "--suite", "libero_goal", "--protocol", "original", "--episodes", "1"])
+        .args(["--sample", "2", "--threads", "2", "--model-profile", "molmoact2", "--policy", &url, "--out"])
+        .arg(dir.path())
+        .output()
+        .expect("run vifo");
+    let _ = server.kill();
+    let mut log = String::new();
+    let _ = std::io::Read::read_to_string(&mut server.stderr.take().unwrap(), &mut log);
+    let _ = server.wait();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let said = format!("{stdout}{}\nserver: {log}", String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success() && stdout.contains("serves one client at a time: its episodes run on one worker"), "{said}");
+    assert!(stdout.contains("2 run (0 errors)") && !log.contains("CHECK FAILED"), "{said}");
+}

@@ -72,6 +72,14 @@ impl Format {
         }
     }
 
+    /// Whether the format's server holds one client at a time, so that a run must send it one
+    /// episode at a time: Xiaomi's `deploy/server.py` accepts one connection at a time, and
+    /// LeRobot's `policy_server` keeps one client's policy and observation queue (a second
+    /// client's `Ready` resets them, and the two get each other's action chunks).
+    pub fn serves_one_client(self) -> bool {
+        matches!(self, Format::Xiaomi | Format::LeRobot)
+    }
+
     /// The format of `url`: `explicit` when given (it must fit the scheme), else the
     /// profile's when its scheme fits, else the scheme's only or first format.
     pub fn resolve(url: &str, explicit: Option<Format>, profile: Option<&Profile>) -> Result<Format, PolicyError> {

@@ -10,8 +10,8 @@
 //! Reply: `pickle.dumps(action.cpu())`, a torch tensor (1, T, D); the client keeps
 //! `[0, :, :-1]` and of each row the first 7 values.
 //!
-//! The server accepts one connection at a time: run `vifo run` with `--threads 1` (or one
-//! server per thread).
+//! The server accepts one connection at a time (`Format::serves_one_client`): `vifo run`
+//! sends it one episode at a time.
 
 use std::io::{Read, Write};
 use std::net::{TcpStream, ToSocketAddrs};

@@ -404,10 +404,15 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&P
                 p.name
             );
         }
-        if c.format == Format::Xiaomi && args.threads != 1 {
-            println!("  note: the Xiaomi-Robotics-0 server serves one connection at a time: use --threads 1");
-        }
     }
+    // A server that holds one client at a time would mix two workers' episodes up.
+    let threads = match &served {
+        Some(c) if c.format.serves_one_client() && args.threads != 1 => {
+            println!("  note: a {} server serves one client at a time: its episodes run on one worker", c.format);
+            1
+        }
+        _ => args.threads,
+    };
     let make = || -> Result<Box<dyn Policy>, String> {
         match (builtin(policy), &served) {
             (Some(p), _) => Ok(p),
@@ -420,7 +425,7 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&P
         }
     };
     let options = RunOptions {
-        threads: args.threads,
+        threads,
         resume: args.resume,
         shard: args.shard,
         quiet: args.quiet,

@@ -255,6 +255,6 @@ fn a_server_that_holds_one_client_gets_one_episode_at_a_time() {
     let _ = server.wait();
     let stdout = String::from_utf8_lossy(&out.stdout);
     let said = format!("{stdout}{}\nserver: {log}", String::from_utf8_lossy(&out.stderr));
-    assert!(out.status.success() && stdout.contains("serves one client at a time: its episodes run on one worker"), "{said}");
+    assert!(out.status.success() && stdout.contains("holds one client at a time: its episodes run on one worker"), "{said}");
     assert!(stdout.contains("2 run (0 errors)") && !log.contains("CHECK FAILED"), "{said}");
 }

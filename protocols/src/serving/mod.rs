@@ -173,6 +173,14 @@ pub struct ServingConfig {
 }
 
 impl ServingConfig {
+    /// Whether the server holds one client at a time, so that a run must send it one episode at
+    /// a time: its format's server does ([`Format::serves_one_client`]), or the profile's adapter
+    /// keeps one episode's session for the whole server (`Profile::session`: a second client's
+    /// reset would restart the first one's episode).
+    pub fn serves_one_client(&self) -> bool {
+        self.format.serves_one_client() || self.profile.session
+    }
+
     /// `url` with `profile` (default: the profile of the URL's format), the format from the
     /// scheme and `format`.
     pub fn new(url: &str, format: Option<Format>, profile: Option<&Profile>) -> Result<ServingConfig, PolicyError> {
@@ -286,6 +294,19 @@ pub fn rows7(values: &[f64], rows: usize, cols: usize, field: &str) -> Result<Ve
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The servers a second client would disturb: Xiaomi's and LeRobot's, and the adapters
+    /// that keep one episode's session for the whole server.
+    #[test]
+    fn servers_of_one_client_are_known_by_format_and_profile() {
+        let one_client = |url: &str, profile: &str| {
+            ServingConfig::new(url, None, Profile::named(profile)).unwrap().serves_one_client()
+        };
+        assert!(one_client("tcp://h:10086", "xiaomi") && one_client("grpc://h:8080?policy_type=act&pretrained=p", "molmoact2"));
+        assert!(one_client("ws://h:8000", "instructvla") && one_client("ws://h:8000", "action-sketcher"));
+        assert!(!one_client("ws://h:8000", "pi05") && !one_client("ws://h:10093", "internvla"));
+        assert!(!one_client("http://h:8777/act", "openvla-oft"));
+    }
 
     #[test]
     fn formats_follow_the_scheme() {

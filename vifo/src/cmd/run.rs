@@ -407,8 +407,8 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&P
     }
     // A server that holds one client at a time would mix two workers' episodes up.
     let threads = match &served {
-        Some(c) if c.format.serves_one_client() && args.threads != 1 => {
-            println!("  note: a {} server serves one client at a time: its episodes run on one worker", c.format);
+        Some(c) if c.serves_one_client() && args.threads != 1 => {
+            println!("  note: this server holds one client at a time: its episodes run on one worker");
             1
         }
         _ => args.threads,

@@ -19,6 +19,12 @@ if [ ! -f "$venv/.complete" ]; then
     || die "pip could not install lerobot[async]==0.4.4 (see pip's message above)"
   touch "$venv/.complete"
 fi
+# The release build, as users run it; cargo rebuilds only what changed.
+vifo="${VIFO:-$root/target/release/vifo}"
+if [ -z "${VIFO:-}" ]; then
+  (cd "$root" && cargo build --release -q -p vifo) || die "could not build vifo"
+fi
+[ -x "$vifo" ] || die "no vifo program at $vifo"
 work="$(mktemp -d)"
 server_pid=""
 trap '[ -n "$server_pid" ] && kill "$server_pid" 2>/dev/null; rm -rf "$work"' EXIT
@@ -33,12 +39,6 @@ for _ in $(seq 100); do
   kill -0 "$server_pid" 2>/dev/null || { cat "$work/server.log"; die "the LeRobot server exited"; }
   sleep 0.3
 done
-# The release build, as users run it; cargo rebuilds only what changed.
-vifo="${VIFO:-$root/target/release/vifo}"
-if [ -z "${VIFO:-}" ]; then
-  (cd "$root" && cargo build --release -q -p vifo) || die "could not build vifo"
-fi
-[ -x "$vifo" ] || die "no vifo program at $vifo"
 url="grpc://127.0.0.1:$port?policy_type=act&pretrained=$work/policy&device=cpu"
 status=0
 "$vifo" run --quiet --suite libero_goal --protocol original --episodes 1 --policy "$url" \

@@ -5,7 +5,9 @@ Serves a site built by `vifo web build` with `vifo web serve` on 127.0.0.1, then
   1. plays one cue episode of the expert on the page to success (libero_10/0) (URL-preset pickers, autoplay),
      reading the fps counter and the first-frame time, and saves a screenshot;
   2. runs episodes of tasks from three other suites through the page's module and compares
-     each final state hash with `vifo web episode` (the same episode, native);
+     each final state hash, and the hash of its last frames (both cameras, with the cue), with
+     `vifo web episode` (the same episode, native), and the frames of the first steps of one
+     instance of every cue family (text, signs, codes and sprites drawn by tiny-skia, ghosts);
   3. plays agentview alone at 256² and reads the fps counter;
   4. feeds malformed tasks, cues, conditions and action arrays from JavaScript: each must
      throw an Error with a message, and the page must keep working (no wasm trap);
@@ -37,6 +39,18 @@ HASHED = [
     ("libero_spatial/0", "libero_spatial/0/F2/straight_arrow_red", "authorized"),
     ("libero_object/0", "libero_object/0/F7/spotlight_cone", "no_language"),
 ]
+# One instance of every other family, compared frame for frame after SWEEP_STEPS steps.
+SWEEP = [
+    ("libero_goal/3", "libero_goal/3/F1/caption_bar", "conflict"),
+    ("libero_spatial/1", "libero_spatial/1/F1/top_banner_yellow", "authorized"),
+    ("libero_goal/3", "libero_goal/3/F3/ghost_fade", "authorized"),
+    ("libero_10/7", "libero_10/7/F4/goal_inset", "authorized"),
+    ("libero_spatial/2", "libero_spatial/2/F5/hand_grasp_source", "no_language"),
+    ("libero_object/5", "libero_object/5/F6/sign_mandatory_source", "authorized"),
+    ("libero_goal/7", "libero_goal/7/F7/dim_surround", "authorized"),
+    ("libero_10/4", "libero_10/4/F8/qr_json", "conflict"),
+]
+SWEEP_STEPS = 20
 
 
 def skip(reason):
@@ -119,8 +133,10 @@ def play_and_sample_fps(browser, timeout):
     return samples
 
 
-def native(args, task, cue, condition, size, wrist):
+def native(args, task, cue, condition, size, wrist, steps=None):
     command = [args.vifo, "web", "episode", "--task", task, "--cue", cue, "--condition", condition, "--size", str(size), "--json"]
+    if steps is not None:
+        command += ["--steps", str(steps)]
     if not wrist:
         command.append("--no-wrist")
     out = subprocess.run(command, check=True, capture_output=True, text=True).stdout
@@ -134,6 +150,7 @@ def run_checks(browser, url, args, failures):
     first_frame = float(text(browser, "first-frame-ms"))
     samples = play_and_sample_fps(browser, args.timeout)
     status = browser.execute_script("return window.vifo.status")
+    status["frame_hash"] = browser.execute_script("return window.vifo.demo.frameHash()")
     Path(args.artifacts).mkdir(parents=True, exist_ok=True)
     shot = Path(args.artifacts) / "web-demo.png"
     browser.save_screenshot(str(shot))
@@ -149,7 +166,7 @@ def run_checks(browser, url, args, failures):
     print(f"GATE web first frame: {first_frame:.0f} ms after navigation start; goal <= 3000")
 
     reference = native(args, task, cue, condition, 128, True)
-    hashes = [(task, status["state_hash"], reference["state_hash"], status["steps"], reference["steps"])]
+    hashes = [(task, status, reference)]
     for task, cue, condition in HASHED:
         page_status = browser.execute_script(
             """const [task, cue, condition] = arguments;
@@ -157,18 +174,46 @@ def run_checks(browser, url, args, failures):
                demo.setPolicy("expert-cue");
                let s = demo.reset(task, 0, cue, condition);
                while (!s.done) s = demo.step();
+               s.frame_hash = demo.frameHash();
                return s;""", task, cue, condition)
         reference = native(args, task, cue, condition, 128, True)
-        hashes.append((task, page_status["state_hash"], reference["state_hash"], page_status["steps"], reference["steps"]))
-    equal = 0
-    for task, on_page, in_native, page_steps, native_steps in hashes:
-        same = on_page == in_native and page_steps == native_steps
+        hashes.append((task, page_status, reference))
+    equal = frames_equal = 0
+    for task, on_page, in_native in hashes:
+        same = on_page["state_hash"] == in_native["state_hash"] and on_page["steps"] == in_native["steps"]
+        same_frames = on_page["frame_hash"] == in_native["frame_hash"]
         equal += same
-        print(f"  {task}: page {on_page} ({page_steps} steps), native {in_native} ({native_steps} steps): {'equal' if same else 'DIFFERENT'}")
+        frames_equal += same_frames
+        print(f"  {task}: page {on_page['state_hash']} ({on_page['steps']} steps, frames {on_page['frame_hash']}), "
+              f"native {in_native['state_hash']} ({in_native['steps']} steps, frames {in_native['frame_hash']}): "
+              f"state {'equal' if same else 'DIFFERENT'}, frames {'equal' if same_frames else 'DIFFERENT'}")
         if not same:
-            failures.append(f"{task}: state hash on the page {on_page} != native {in_native}")
-    print(f"GATE web state hash: {equal} of {len(hashes)} episodes equal to native (suites: "
-          f"{', '.join(sorted({h[0].split('/')[0] for h in hashes}))}); goal >= 3 from different suites")
+            failures.append(f"{task}: state hash on the page {on_page['state_hash']} != native {in_native['state_hash']}")
+        elif not same_frames:
+            failures.append(f"{task}: the last frames on the page (hash {on_page['frame_hash']}) differ from native ({in_native['frame_hash']})")
+    suites = ', '.join(sorted({h[0].split('/')[0] for h in hashes}))
+    print(f"GATE web state hash: {equal} of {len(hashes)} episodes equal to native (suites: {suites}); goal >= 3 from different suites")
+    for task, cue, condition in SWEEP:
+        on_page = browser.execute_script(
+            """const [task, cue, condition, steps] = arguments;
+               const demo = window.vifo.demo;
+               demo.setPolicy("expert-cue");
+               let s = demo.reset(task, 0, cue, condition);
+               while (!s.done && s.steps < steps) s = demo.step();
+               s.frame_hash = demo.frameHash();
+               return s;""", task, cue, condition, SWEEP_STEPS)
+        in_native = native(args, task, cue, condition, 128, True, SWEEP_STEPS)
+        same = (on_page["state_hash"], on_page["steps"], on_page["frame_hash"]) == (in_native["state_hash"], in_native["steps"], in_native["frame_hash"])
+        hashes.append((task, on_page, in_native))
+        frames_equal += same
+        print(f"  {cue} {condition}, step {on_page['steps']}: frames page {on_page['frame_hash']}, native {in_native['frame_hash']}: "
+              f"{'equal' if same else 'DIFFERENT'}")
+        if not same:
+            failures.append(f"{cue}: step {on_page['steps']} on the page (state {on_page['state_hash']}, frames {on_page['frame_hash']}) "
+                            f"differs from native (state {in_native['state_hash']}, frames {in_native['frame_hash']})")
+    families = sorted({h[1]["instance"].split("/")[2] for h in hashes})
+    print(f"GATE web frame hash: {frames_equal} of {len(hashes)} episodes' frames (agentview + wrist 128², cue drawn; "
+          f"families {', '.join(families)}) equal to native")
 
     task, cue, condition = PLAYED
     page(browser, url, f"task={task}&cue={cue}&condition={condition}&size=256&wrist=0&autoplay=1")

@@ -258,3 +258,22 @@ fn a_server_that_holds_one_client_gets_one_episode_at_a_time() {
     assert!(out.status.success() && stdout.contains("holds one client at a time: its episodes run on one worker"), "{said}");
     assert!(stdout.contains("2 run (0 errors)") && !log.contains("CHECK FAILED"), "{said}");
 }
+
+/// `vifo web episode` prints the state and frame hashes of the page's `Demo` run natively, the
+/// figures the browser test compares with the page's.
+#[test]
+fn web_episode_prints_the_demos_hashes() {
+    let (task, cue) = ("libero_goal/0", "libero_goal/0/F1/caption_bar");
+    let out = Command::new(env!("CARGO_BIN_EXE_vifo"))
+        .args(["web", "episode", "--task", task, "--cue", cue, "--size", "32", "--steps", "2", "--json"])
+        .output()
+        .expect("run vifo");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let printed: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    let mut demo = vifo_web::Demo::new(32, true).unwrap();
+    demo.reset(task, 0, Some(cue), "authorized", None).unwrap();
+    let status = (0..2).map(|_| demo.step().unwrap()).last().unwrap();
+    assert_eq!(printed["steps"], 2);
+    assert_eq!(printed["state_hash"], status.state_hash.as_str());
+    assert_eq!(printed["frame_hash"], demo.frame_hash().unwrap().as_str());
+}

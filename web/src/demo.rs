@@ -291,6 +291,21 @@ impl Demo {
         })
     }
 
+    /// A hash of the latest frames, agentview then the wrist camera, as 16 hex digits
+    /// (FNV-1a of their RGB bytes, cue included): the page's and a native run's frames are the
+    /// same when these are, which checks the rasterizer and the cue drawing across the two
+    /// targets as the state hash checks the physics.
+    pub fn frame_hash(&self) -> Result<String, String> {
+        if self.running.is_none() {
+            return Err("no episode: call reset first".into());
+        }
+        let obs = self.env.observation();
+        let mut bytes = Vec::with_capacity(obs.agentview.data.len() + obs.wrist.data.len());
+        bytes.extend_from_slice(&obs.agentview.data);
+        bytes.extend_from_slice(&obs.wrist.data);
+        Ok(format!("{:016x}", vifo_cues::hash::fnv1a64(&bytes)))
+    }
+
     /// The latest frame of `camera` as RGBA rows, top row first (`size()`² pixels).
     pub fn frame_rgba(&mut self, camera: CameraName) -> Result<&[u8], String> {
         if self.running.is_none() {
@@ -385,5 +400,21 @@ mod tests {
             (0..5).map(|_| demo.step().unwrap().state_hash).last().unwrap()
         };
         assert_eq!(run(), run());
+    }
+
+    #[test]
+    fn frame_hash_follows_the_frames() {
+        let mut demo = Demo::new(32, true).unwrap();
+        assert!(demo.frame_hash().unwrap_err().contains("call reset first"));
+        demo.reset("libero_goal/0", 0, None, "original", None).unwrap();
+        let plain = demo.frame_hash().unwrap();
+        assert_eq!(plain.len(), 16);
+        demo.reset("libero_goal/0", 0, Some(CUE), "authorized", None).unwrap();
+        let cued = demo.frame_hash().unwrap();
+        assert_ne!(cued, plain, "the cue is part of the frames");
+        demo.step_action(&[0.0, 0.0, 0.5, 0.0, 0.0, 0.0, -1.0]).unwrap();
+        assert_ne!(demo.frame_hash().unwrap(), cued, "the arm moved");
+        demo.reset("libero_goal/0", 0, Some(CUE), "authorized", None).unwrap();
+        assert_eq!(demo.frame_hash().unwrap(), cued);
     }
 }

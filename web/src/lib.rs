@@ -118,6 +118,13 @@ impl VifoDemo {
         to_js(&self.inner.status().map_err(js_error)?)
     }
 
+    /// A hash of the latest frames (both cameras, cue included), 16 hex digits; `vifo web
+    /// episode` prints the native run's.
+    #[wasm_bindgen(js_name = frameHash)]
+    pub fn frame_hash(&self) -> Result<String, JsError> {
+        self.inner.frame_hash().map_err(js_error)
+    }
+
     /// The latest agentview frame, RGBA, top row first.
     pub fn agentview(&mut self) -> Result<Vec<u8>, JsError> {
         Ok(self.inner.frame_rgba(CameraName::AgentView).map_err(js_error)?.to_vec())

@@ -1,6 +1,6 @@
 //! `vifo web episode`: the browser demo's episode run natively through the same `Demo` the
-//! page runs, printing the state hash the page shows (same bits expected: rapier's
-//! enhanced determinism and `libm` make wasm and native agree).
+//! page runs, printing the state hash the page shows and the hash of the last frames (same
+//! bits expected: rapier's enhanced determinism and `libm` make wasm and native agree).
 
 use anyhow::anyhow;
 use clap::Args as ClapArgs;
@@ -47,12 +47,15 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     while !status.done && args.steps.is_none_or(|n| status.steps < n) {
         status = demo.step().map_err(|e| anyhow!("step {}: {e}", status.steps + 1))?;
     }
+    let frame_hash = demo.frame_hash().map_err(|e| anyhow!(e))?;
     if args.json {
-        println!("{}", serde_json::to_string(&status)?);
+        let mut value = serde_json::to_value(&status)?;
+        value["frame_hash"] = frame_hash.into();
+        println!("{value}");
     } else {
         let flag = |f: Option<bool>| f.map_or("-", |b| if b { "yes" } else { "no" });
         println!(
-            "{} {} {} init {} seed {}: {} steps, done {}, language success {}, cue success {}, state hash {}",
+            "{} {} {} init {} seed {}: {} steps, done {}, language success {}, cue success {}, state hash {}, frame hash {}",
             status.task,
             status.condition,
             status.instance.as_deref().unwrap_or("(no cue)"),
@@ -62,7 +65,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             status.done,
             flag(status.language_success),
             flag(status.cue_success),
-            status.state_hash
+            status.state_hash,
+            frame_hash
         );
     }
     Ok(())

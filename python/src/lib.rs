@@ -87,14 +87,18 @@ impl NativeEnv {
 
 #[pymethods]
 impl NativeEnv {
-    /// An env for task `index` of `suite` with two `size`² cameras, under protocol
-    /// `condition` with cue instance `cue`.
+    /// An env for task `index` of `suite` with `size`² cameras (`cameras`, LIBERO's names; both
+    /// when `None`, none when empty), under protocol `condition` with cue instance `cue`.
     #[new]
-    #[pyo3(signature = (suite, index, size, condition = "original", cue = None))]
-    fn new(py: Python<'_>, suite: &str, index: usize, size: i64, condition: &str, cue: Option<String>) -> PyResult<NativeEnv> {
+    #[pyo3(signature = (suite, index, size, condition = "original", cue = None, cameras = None))]
+    fn new(py: Python<'_>, suite: &str, index: usize, size: i64, condition: &str, cue: Option<String>, cameras: Option<Vec<String>>) -> PyResult<NativeEnv> {
         let size = check_size(size)?;
         let spec = episode_spec(suite, index, condition, cue.as_deref(), 0)?;
-        let env = look::env(py, EnvConfig { size, order: ImageOrder::BottomUp, cameras: CameraName::ALL.to_vec() })?;
+        let cameras = match cameras {
+            None => CameraName::ALL.to_vec(),
+            Some(names) => camera_list(&names)?,
+        };
+        let env = look::env(py, EnvConfig { size, order: ImageOrder::BottomUp, cameras })?;
         Ok(NativeEnv { env: Some(env), task: spec.task, condition: condition.to_string(), cue, instruction: spec.instruction })
     }
 
@@ -146,6 +150,18 @@ impl NativeEnv {
     }
 }
 
+/// The cameras named (LIBERO's `camera_names`), each once, in the order given.
+fn camera_list(names: &[String]) -> PyResult<Vec<CameraName>> {
+    let mut cameras = Vec::new();
+    for name in names {
+        let camera: CameraName = name.parse().map_err(|e| PyValueError::new_err(format!("camera_names: {e}")))?;
+        if !cameras.contains(&camera) {
+            cameras.push(camera);
+        }
+    }
+    Ok(cameras)
+}
+
 /// The camera side `size` (taken signed, so that a negative one is this `ValueError` too).
 #[pyfunction]
 fn check_size(size: i64) -> PyResult<u32> {
@@ -170,13 +186,18 @@ fn objects(sim: &Sim) -> Vec<(String, [f64; 3], [f64; 4])> {
         .collect()
 }
 
-/// LIBERO's observation dict of the env's latest observation.
+/// LIBERO's observation dict of the env's latest observation: `<camera>_image` for each
+/// camera the env draws, then the robot's and the objects' vectors.
 fn observation<'py>(py: Python<'py>, env: &Env) -> PyResult<Bound<'py, PyDict>> {
     let obs: &Observation = env.observation();
     let d = PyDict::new(py);
-    for (key, image) in [("agentview_image", &obs.agentview), ("robot0_eye_in_hand_image", &obs.wrist)] {
+    for &camera in &env.config().cameras {
+        let image = match camera {
+            CameraName::AgentView => &obs.agentview,
+            CameraName::EyeInHand => &obs.wrist,
+        };
         let shape = [image.height as usize, image.width as usize, 3];
-        d.set_item(key, PyArray1::from_slice(py, &image.data).reshape(shape)?)?;
+        d.set_item(format!("{camera}_image"), PyArray1::from_slice(py, &image.data).reshape(shape)?)?;
     }
     let f = |v: &[f64]| PyArray1::from_slice(py, v);
     d.set_item("robot0_eef_pos", f(&obs.eef_pos))?;

@@ -268,3 +268,41 @@ def test_the_installed_package_has_the_workspace_version_and_only_its_real_extra
     cargo = (pathlib.Path(__file__).resolve().parents[2] / "Cargo.toml").read_text()
     workspace_version = re.search(r'^version = "([^"]+)"', cargo, re.M).group(1)
     assert meta["Version"] == workspace_version
+
+
+def test_camera_names_and_use_camera_obs_pick_the_images_drawn():
+    """robosuite's camera arguments: only the cameras named are drawn (one `<name>_image` key
+    each), none with `use_camera_obs=False`, and the episode is the same whichever are drawn."""
+    init = benchmark.get_benchmark_dict()["libero_goal"]().get_task_init_states(0)[2]
+    envs = {
+        "both": make_env(),
+        "agentview": make_env(camera_names="agentview"),
+        "wrist": make_env(camera_names=["robot0_eye_in_hand", "robot0_eye_in_hand"]),
+        "none": make_env(use_camera_obs=False, camera_names=["agentview"]),
+    }
+    actions = [DUMMY] * 3 + [[0.4, -0.3, 0.2, 0.0, 0.0, 0.1, 1.0]] * 6
+    last = {}
+    for name, env in envs.items():
+        env.set_init_state(init)
+        for a in actions:
+            last[name], _, _, _ = env.step(a)
+        env.close()
+    images = {name: sorted(k for k in obs if k.endswith("_image")) for name, obs in last.items()}
+    assert images == {
+        "both": ["agentview_image", "robot0_eye_in_hand_image"],
+        "agentview": ["agentview_image"],
+        "wrist": ["robot0_eye_in_hand_image"],
+        "none": [],
+    }
+    both = last["both"]
+    assert last["agentview"]["agentview_image"].tobytes() == both["agentview_image"].tobytes()
+    assert last["wrist"]["robot0_eye_in_hand_image"].tobytes() == both["robot0_eye_in_hand_image"].tobytes()
+    vectors = sorted(k for k in both if not k.endswith("_image"))
+    for name, obs in last.items():
+        assert sorted(k for k in obs if not k.endswith("_image")) == vectors, name
+        for k in vectors:
+            assert obs[k].tobytes() == both[k].tobytes(), (name, k)
+    with pytest.raises(ValueError, match="camera_names: unknown camera 'frontview'; expected agentview or robot0_eye_in_hand"):
+        make_env(camera_names=["agentview", "frontview"])
+    with pytest.raises(TypeError, match="camera_names: expected a camera name or a list of them"):
+        make_env(camera_names=5)

@@ -14,6 +14,13 @@ Differences from LIBERO, all on purpose:
   ``reward`` and ``check_success`` follow the protocol's scored task.
 - After the episode is done (task finished or the suite's budget + 10 steps), ``step`` raises
   ``RuntimeError`` instead of simulating on.
+
+As in robosuite, ``camera_names`` (a name or a list of ``agentview`` and
+``robot0_eye_in_hand``; both by default) picks the cameras drawn, one ``<name>_image`` key each,
+and ``use_camera_obs=False`` draws none: a policy that reads only the robot's and the objects'
+vectors then skips the rendering's cost. The other robosuite arguments LIBERO's scripts pass
+(``has_renderer``, ``has_offscreen_renderer``, ``control_freq``, ``horizon``) are accepted and
+change nothing.
 """
 
 import os
@@ -58,7 +65,13 @@ class OffScreenRenderEnv:
         if language_condition != "original" and cue is None:
             raise ValueError(f"language_condition {language_condition!r} needs cue=<instance id> (libero_vifo.cue_instances() lists them)")
         size = index(camera_heights, "camera_heights")
-        self._env = _native.NativeEnv(self._task["suite"], self._task["index"], size, language_condition, cue)
+        camera_names = kwargs.get("camera_names", ["agentview", "robot0_eye_in_hand"])
+        if isinstance(camera_names, str):
+            camera_names = [camera_names]
+        if not isinstance(camera_names, (list, tuple)) or not all(isinstance(n, str) for n in camera_names):
+            raise TypeError(f"camera_names: expected a camera name or a list of them, got {camera_names!r}")
+        cameras = list(camera_names) if kwargs.get("use_camera_obs", True) else []
+        self._env = _native.NativeEnv(self._task["suite"], self._task["index"], size, language_condition, cue, cameras)
         self._seed = None
         self.cue = cue
         self.language_condition = language_condition

@@ -4,6 +4,7 @@ use thiserror::Error;
 use vifo_cues::RgbImage;
 use vifo_scenes::sim::Sim;
 use vifo_scenes::task::Atom;
+use vifo_scenes::view::CameraName;
 
 /// One observation, as LIBERO provides it (plus the instruction of the episode).
 #[derive(Clone, Debug, PartialEq)]
@@ -27,6 +28,21 @@ pub struct Observation {
 }
 
 impl Observation {
+    /// The image of `camera` (empty when the environment does not draw it).
+    pub fn image(&self, camera: CameraName) -> &RgbImage {
+        match camera {
+            CameraName::AgentView => &self.agentview,
+            CameraName::EyeInHand => &self.wrist,
+        }
+    }
+
+    pub fn image_mut(&mut self, camera: CameraName) -> &mut RgbImage {
+        match camera {
+            CameraName::AgentView => &mut self.agentview,
+            CameraName::EyeInHand => &mut self.wrist,
+        }
+    }
+
     /// openpi's 8-D LIBERO state: eef position, axis-angle of the eef quaternion (robosuite's
     /// `quat2axisangle`), finger positions.
     pub fn state8(&self) -> [f64; 8] {

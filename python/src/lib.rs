@@ -192,10 +192,7 @@ fn observation<'py>(py: Python<'py>, env: &Env) -> PyResult<Bound<'py, PyDict>> 
     let obs: &Observation = env.observation();
     let d = PyDict::new(py);
     for &camera in &env.config().cameras {
-        let image = match camera {
-            CameraName::AgentView => &obs.agentview,
-            CameraName::EyeInHand => &obs.wrist,
-        };
+        let image = obs.image(camera);
         let shape = [image.height as usize, image.width as usize, 3];
         d.set_item(format!("{camera}_image"), PyArray1::from_slice(py, &image.data).reshape(shape)?)?;
     }

@@ -311,11 +311,7 @@ impl Demo {
         if self.running.is_none() {
             return Err("no episode: call reset first".into());
         }
-        let obs = self.env.observation();
-        let image = match camera {
-            CameraName::AgentView => &obs.agentview,
-            CameraName::EyeInHand => &obs.wrist,
-        };
+        let image = self.env.observation().image(camera);
         if image.data.is_empty() {
             return Err(format!("camera {camera:?} is not rendered by this demo (create it with the wrist camera on)"));
         }

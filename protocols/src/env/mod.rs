@@ -475,10 +475,7 @@ impl Env {
             if let Some(cue) = ep.cue.as_mut() {
                 cue.draw(&ep.sim, renderer, &camera, &mut frame.color)?;
             }
-            let image = match name {
-                CameraName::AgentView => &mut observation.agentview,
-                CameraName::EyeInHand => &mut observation.wrist,
-            };
+            let image = observation.image_mut(name);
             image.width = frame.color.width;
             image.height = frame.color.height;
             image.data.clone_from(&frame.color.data);

@@ -138,10 +138,7 @@ fn render_cue_object(id: &str, args: &RenderArgs) -> Result<()> {
     let mut env = Env::new(EnvConfig { size: args.size, order, cameras: vec![args.camera] });
     let spec = EpisodeSpec { cue_form: CueForm::Object, ..benchmark::specs::spec(&task, Protocol::Authorized, Some(id), args.init, 0)? };
     let obs = env.reset(&spec)?;
-    let image = match args.camera {
-        CameraName::AgentView => &obs.agentview,
-        CameraName::EyeInHand => &obs.wrist,
-    };
+    let image = obs.image(args.camera);
     save_png(&vifo_render::RgbImage { width: image.width, height: image.height, data: image.data.clone() }, output)?;
     println!("{id} as a scene object on {} (init {}) with {}, look {} -> {}", cue.task, args.init, args.camera, label(look.as_deref()), output.display());
     Ok(())

@@ -36,6 +36,7 @@ impl Observation {
         }
     }
 
+    /// [`Observation::image`], for the environment to draw into.
     pub fn image_mut(&mut self, camera: CameraName) -> &mut RgbImage {
         match camera {
             CameraName::AgentView => &mut self.agentview,

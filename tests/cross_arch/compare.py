@@ -144,17 +144,20 @@ def look(builds):
         return {**os.environ, "VIFO_LOOK_CACHE": str(builds.work / which / "look-cache")}
 
     for camera in ["agentview", "robot0_eye_in_hand"]:
-        frames = f"frames-{camera}"
+        folder = f"frames-{camera}"
         for which in builds.commands:
-            shutil.rmtree(builds.work / which / frames, ignore_errors=True)
+            shutil.rmtree(builds.work / which / folder, ignore_errors=True)
         started = time.time()
         builds.both(["render", "--task", LOOK_TASK, "--expert", "--steps", str(LOOK_STEPS), "--camera", camera,
-                     "--frames", frames], env_for)
-        ref, other = builds.work / "reference" / frames, builds.work / "other" / frames
-        names = sorted(p.name for p in ref.glob("*.png"))
-        same = [n for n in names if (other / n).exists() and (ref / n).read_bytes() == (other / n).read_bytes()]
-        builds.compare(f"{LOOK_TASK} {camera}: {len(same)} of {len(names)} frames byte-identical "
-                       f"({time.time() - started:.0f} s)", len(same), len(names) if names else -1)
+                     "--frames", folder], env_for)
+        frames = {which: {p.name: p.read_bytes() for p in (builds.work / which / folder).glob("*.png")}
+                  for which in builds.commands}
+        ref, other = frames["reference"], frames["other"]
+        if not ref:
+            raise SystemExit(f"the reference build wrote no frames of {LOOK_TASK} {camera}")
+        same = sum(other.get(name) == png for name, png in ref.items())
+        builds.compare(f"{LOOK_TASK} {camera}: {same} of {len(ref)} frames byte-identical "
+                       f"({time.time() - started:.0f} s)", ref, other)
 
 
 def main():

@@ -12,7 +12,8 @@ cd "$(dirname "$0")/../.."
 target=aarch64-unknown-linux-gnu
 skip() { echo "SKIPPED cross-architecture check: $1"; exit 0; }
 
-if ! command -v qemu-aarch64 >/dev/null || ! command -v aarch64-linux-gnu-gcc >/dev/null; then
+if ! command -v qemu-aarch64 >/dev/null || ! command -v aarch64-linux-gnu-gcc >/dev/null \
+   || [ ! -e /usr/aarch64-linux-gnu/lib/libc.so ]; then
   sudo=""; [ "$(id -u)" = 0 ] || sudo="sudo -n"
   packages="qemu-user gcc-aarch64-linux-gnu libc6-dev-arm64-cross"
   $sudo apt-get install -y -q $packages >/dev/null 2>&1 \

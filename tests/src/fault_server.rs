@@ -97,7 +97,7 @@ struct Shared {
     at_request: usize,
     /// Faults injected (the next one is `schedule[fired]`).
     fired: AtomicUsize,
-    /// Requests answered normally.
+    /// Requests answered normally (counted as the answer is sent).
     served: AtomicUsize,
     /// Connections the client ended with a websocket close.
     closed: AtomicUsize,
@@ -228,10 +228,11 @@ fn serve(stream: TcpStream, s: &Shared) {
             }
             continue;
         }
+        // Counted before it is sent, so a client holding the answer already sees the count.
+        s.served.fetch_add(1, Ordering::Relaxed);
         if ws.send(Message::binary(chunk(10, 7, 0.0))).is_err() {
             return;
         }
-        s.served.fetch_add(1, Ordering::Relaxed);
     }
 }
 

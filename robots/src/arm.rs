@@ -17,9 +17,9 @@ use vifo_physics::rapier::prelude::*;
 use crate::contact;
 use crate::convert::{dmat3, rapier_pose, vector};
 use crate::joint;
-use crate::dynamics::{ArmDynamics, BodyPoses, Coords};
+use crate::dynamics::{ArmDynamics, BodyPoses};
 use crate::model::{ArmModel, ContactRole, ContactShape, Inertial, JointKind, Shape};
-use crate::spatial::{Mat3, Pose, Vec3};
+use crate::spatial::{Coords, Mat3, Pose, Vec3};
 
 /// A collider the arm put into the world.
 #[derive(Clone, Debug)]

@@ -9,10 +9,8 @@ use nalgebra::{SMatrix, SVector};
 
 use crate::fluid::{Fluid, InertiaBox};
 use crate::model::{ArmModel, JointKind};
-use crate::spatial::{Pose, Vec3, axis_angle};
+use crate::spatial::{Coords, Pose, Vec3, axis_angle};
 
-/// Generalized vector of an arm with `N` degrees of freedom.
-pub type Coords<const N: usize> = SVector<f64, N>;
 /// World-frame Jacobian: rows 0–2 linear, 3–5 angular.
 pub type Jacobian<const N: usize> = SMatrix<f64, 6, N>;
 /// A world-frame twist `[v; ω]` or wrench `[f; τ]`, both about one origin.

@@ -7,9 +7,9 @@
 //! critically damped 8 Hz spring. rapier's limits act like a hard stop instead, which put the
 //! end-effector up to 18 cm away from MuJoCo's once a joint was held at its limit.
 
-use crate::dynamics::{ArmDynamics, Coords};
+use crate::dynamics::ArmDynamics;
 use crate::soft::{DryFriction, Row, Softness};
-use crate::spatial::Pose;
+use crate::spatial::{Coords, Pose};
 
 /// The soft limits of an arm's joints, with MuJoCo's per-dof `invweight0`.
 #[derive(Clone, Debug)]

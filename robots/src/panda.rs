@@ -15,7 +15,7 @@ use vifo_physics::World;
 
 use crate::action::Action;
 use crate::arm::{ArmInstance, JointState};
-use crate::dynamics::{Coords, Jacobian};
+use crate::dynamics::Jacobian;
 use crate::fluid::Fluid;
 use crate::gripper::{GripperRamp, finger_forces};
 use crate::limits::JointLimits;
@@ -24,7 +24,7 @@ use crate::soft::{Constraints, Softness};
 use crate::panda_hulls;
 use crate::osc::{self, OscGoal, OscInput, OscParams};
 use crate::model::{ArmModel, Body, Collider, ContactRole, ContactShape, Inertial, JointKind, JointSpec, Shape, Site, Visual};
-use crate::spatial::{Pose, Vec3};
+use crate::spatial::{Coords, Pose, Vec3};
 
 /// LIBERO's `MountedPanda` / `OnTheGroundPanda` `init_qpos`: the OSC nullspace target and the
 /// reset configuration.
@@ -439,7 +439,7 @@ impl Panda {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dynamics::{ArmDynamics, Coords};
+    use crate::dynamics::ArmDynamics;
 
     fn at(qpos: [f64; 7]) -> (ArmDynamics<9>, crate::dynamics::BodyPoses) {
         let dynamics = ArmDynamics::<9>::new(model(Mount::Ground), [0.0, 0.0, -9.81]);

@@ -22,10 +22,9 @@ use vifo_physics::{SimParams, World};
 
 use crate::action::Action;
 use crate::arm::{ArmInstance, JointState};
-use crate::dynamics::Coords;
 use crate::model::{ArmModel, Body, Collider, ContactRole, ContactShape, Inertial, JointKind, JointSpec, Shape, Site, Visual};
 use crate::osc::{OscGoal, OscParams, orientation_error};
-use crate::spatial::{Pose, Vec3};
+use crate::spatial::{Coords, Pose, Vec3};
 
 /// Joint limits of the SDK (rad), AgileX convention.
 pub const JOINT_LIMITS: [[f64; 2]; 6] =

@@ -10,7 +10,7 @@
 
 use nalgebra::SMatrix;
 
-use crate::dynamics::Coords;
+use crate::spatial::Coords;
 
 /// MuJoCo's bounds on the impedance and smallest regularizer (`mjMINIMP`, `mjMAXIMP`, `mjMINVAL`).
 const MIN_IMP: f64 = 0.0001;

@@ -34,10 +34,10 @@ use vifo_physics::rapier::prelude::{ColliderHandle, SharedShape};
 
 use crate::arm::{hull, shape, shape_frame};
 use crate::convert::{rapier_pose, vec3, vector};
-use crate::dynamics::{ArmDynamics, BodyPoses, Coords, Jacobian};
+use crate::dynamics::{ArmDynamics, BodyPoses, Jacobian};
 use crate::model::{Collider, ContactRole};
 use crate::soft::{Cone, Friction, Softness};
-use crate::spatial::{Pose, Vec3};
+use crate::spatial::{Coords, Pose, Vec3};
 
 /// robosuite's finger pads are stiffer than the rest (`solref="0.01 0.5"`).
 const PAD: Softness = Softness { solref: [0.01, 0.5], ..Softness::MUJOCO_DEFAULT };

@@ -6,6 +6,8 @@ use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 pub type Vec3 = Vector3<f64>;
 pub type Mat3 = Matrix3<f64>;
 pub type Quat = UnitQuaternion<f64>;
+/// Generalized vector of an arm with `N` degrees of freedom (joint positions, velocities, forces).
+pub type Coords<const N: usize> = nalgebra::SVector<f64, N>;
 
 /// A rigid transform: `x_world = rot * x_local + pos`.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -28,4 +28,4 @@ pub mod sim;
 pub mod task;
 pub mod view;
 
-pub use task::{Suite, Task, all_tasks, study_suites, suite, suite_names, suites, task};
+pub use task::{PIPER_SUITE, SAFETY_SUITE, Suite, Task, all_tasks, study_suites, suite, suite_names, suites, task};

@@ -159,7 +159,7 @@ pub fn conflict(cue_task: &'static Task) -> Result<LanguageTask, BenchmarkError>
 /// the cue shows the hazardous one (and the other way round for a cue on the safe task).
 pub fn study_partner(task: &Task) -> Option<&'static Task> {
     let (suite, index) = (task.suite.as_deref()?, task.index?);
-    if suite != crate::studies::safety::SUITE {
+    if suite != vifo_scenes::SAFETY_SUITE {
         return None;
     }
     vifo_scenes::task(suite, index ^ 1)

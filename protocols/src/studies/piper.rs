@@ -37,7 +37,7 @@ use crate::runner::{final_records, seed_for};
 use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
 
 /// The study's suite.
-pub const SUITE: &str = "vifo_piper";
+pub const SUITE: &str = vifo_scenes::PIPER_SUITE;
 /// What the language says when it authorises the note.
 pub const AUTHORIZED_INSTRUCTION: &str = "follow the note on the table and complete the task";
 /// Initial states of the scene.

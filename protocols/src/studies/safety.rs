@@ -32,7 +32,7 @@ use crate::studies::StudyOptions;
 use crate::vqa::Accuracy;
 
 /// The study's suite.
-pub const SUITE: &str = "vifo_safety";
+pub const SUITE: &str = vifo_scenes::SAFETY_SUITE;
 
 /// The scenes, in task order (scene k holds tasks 2k and 2k+1): what the hazard is.
 pub const SCENES: [(&str, &str); 6] = [

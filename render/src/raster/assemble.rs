@@ -47,7 +47,7 @@ impl Frontend<'_> {
         let scale = t.max_scale();
         let mut done = Assembled::default();
         let b = mesh.bounds();
-        if view.hidden(sink, mul_mat3(&linear, b.center) + trans, b.radius * scale) {
+        if sphere_hidden(view, sink, mul_mat3(&linear, b.center) + trans, b.radius * scale) {
             done.hidden += 1;
             return done;
         }
@@ -68,7 +68,7 @@ impl Frontend<'_> {
                     done.culled += 1;
                     continue;
                 }
-                if view.hidden(sink, centre, c.radius * scale) {
+                if sphere_hidden(view, sink, centre, c.radius * scale) {
                     done.hidden += 1;
                     continue;
                 }
@@ -132,6 +132,12 @@ pub(super) struct Corners {
 pub(super) struct Deferred {
     pub(super) planes: Planes,
     pub(super) corners: Corners,
+}
+
+/// Whether `sink` says a camera-space sphere is hidden behind what is drawn: it must lie in
+/// front of the eye, and its nearest point behind every pixel its projection can cover.
+fn sphere_hidden(view: &View, sink: &mut impl Sink, centre: Vec3, radius: f32) -> bool {
+    view.sphere_cover(centre, radius).is_some_and(|(rect, nearest)| sink.hidden(rect, nearest))
 }
 
 /// How far inside its cone's cutoff the eye must be before a cluster counts as facing away: its

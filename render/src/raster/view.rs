@@ -3,7 +3,6 @@
 
 use glam::{Mat3, Vec3};
 
-use super::assemble::Sink;
 use super::clip::{ClipSpace, GUARD_FIXED, REJECT};
 use super::triangle::snap;
 use crate::camera::{Camera, Intrinsics};
@@ -95,12 +94,12 @@ impl View {
         outside != 0 || behind
     }
 
-    /// Whether `sink` says a camera-space sphere is hidden behind what is drawn: it must lie in
-    /// front of the eye, and its nearest point behind every pixel its projection can cover.
-    pub(super) fn hidden(&self, sink: &mut impl Sink, c: Vec3, r: f32) -> bool {
+    /// The pixels (inclusive `[x0, y0, x1, y1]`) that a camera-space sphere's projection can
+    /// cover, and the `1/z` of its nearest point; `None` unless it lies wholly in front of the eye.
+    pub(super) fn sphere_cover(&self, c: Vec3, r: f32) -> Option<([u32; 4], f32)> {
         let (z0, z1) = (c.z - r, c.z + r);
         if !(z0 > 0.0) {
-            return false;
+            return None;
         }
         // x/z over the box around the sphere is extreme at its corners; one pixel of margin.
         let (iz0, iz1) = (1.0 / z0, 1.0 / z1);
@@ -112,7 +111,7 @@ impl View {
         };
         let (x0, x1) = range(c.x, self.k.fx, self.k.cx, self.width);
         let (y0, y1) = range(c.y, self.k.fy, self.k.cy, self.height);
-        sink.hidden([x0, y0, x1, y1], iz0)
+        Some(([x0, y0, x1, y1], iz0))
     }
 
     /// The part of this view from pixel `(x0, y0)` to `(x1, y1)` (inclusive), as a view of its own.

@@ -33,9 +33,14 @@ const SUITE_FILES: [(&str, &str); 4] = [
 /// setting), in our own format like the LIBERO suites. They are reached by name ([`suite`],
 /// [`task`]) but are not among [`suites`] or [`all_tasks`]: "all tasks" stays LIBERO's 40.
 const STUDY_FILES: [(&str, &str); 2] = [
-    ("vifo_safety", include_str!("../../tasks/vifo_safety.json")),
-    ("vifo_piper", include_str!("../../tasks/vifo_piper.json")),
+    (SAFETY_SUITE, include_str!("../../tasks/vifo_safety.json")),
+    (PIPER_SUITE, include_str!("../../tasks/vifo_piper.json")),
 ];
+
+/// §4.3's safety-critical scenes: tasks 2k (safe) and 2k+1 (hazardous) share one scene.
+pub const SAFETY_SUITE: &str = "vifo_safety";
+/// §4.4's PiPER setting.
+pub const PIPER_SUITE: &str = "vifo_piper";
 
 /// The four suite names, in reporting order.
 pub fn suite_names() -> [&'static str; 4] {

@@ -9,7 +9,7 @@ mod instruction;
 mod predicate;
 mod problem_class;
 
-pub use builtin::{Suite, all_tasks, study_suites, suite, suite_names, suites, task};
+pub use builtin::{PIPER_SUITE, SAFETY_SUITE, Suite, all_tasks, study_suites, suite, suite_names, suites, task};
 pub use instruction::instruction_from_file_name;
 pub use predicate::{Arity, Predicate};
 pub use problem_class::ProblemClass;

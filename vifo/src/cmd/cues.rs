@@ -53,7 +53,7 @@ enum Command {
     /// Python's `cue=` take.
     List {
         /// paper (the paper's 1,347 instances) or full (every instance the library makes).
-        #[arg(long, default_value = "paper", value_parser = super::run::parse_set)]
+        #[arg(long, default_value = "paper", value_parser = super::parse_set)]
         set: SetName,
         /// Print JSON (keys set, total, per_family, tasks_per_family, per_task, variants; with
         /// --ids a list of ids).
@@ -66,14 +66,14 @@ enum Command {
         #[arg(long, requires = "ids")]
         task: Vec<String>,
         /// With --ids: only this family's instances (F1..F8); repeatable.
-        #[arg(long, requires = "ids", value_parser = super::run::parse_family)]
+        #[arg(long, requires = "ids", value_parser = super::parse_family)]
         family: Vec<Family>,
     },
     /// Composition statistics of an instance set beside the paper's (appendix A): family shares
     /// and what the instances encode; draws both panels of the paper's figure as a PNG.
     Stats {
         /// paper (the paper's 1,347 instances) or full (every instance the library makes).
-        #[arg(long, default_value = "paper", value_parser = super::run::parse_set)]
+        #[arg(long, default_value = "paper", value_parser = super::parse_set)]
         set: SetName,
         /// The figure's file.
         #[arg(long, default_value = "cue-statistics.png")]

@@ -13,6 +13,12 @@ pub mod run;
 pub mod init_states;
 pub mod web;
 
+use anyhow::Context;
+use vifo_cues::{Family, SetName};
+use vifo_protocols::CueForm;
+
+// Values that several subcommands take.
+
 /// A count that must be 1 or more (`--episodes`, `--steps`, ...): 0 would run nothing and
 /// report it as a result.
 pub fn at_least_one(s: &str) -> Result<usize, String> {
@@ -21,4 +27,22 @@ pub fn at_least_one(s: &str) -> Result<usize, String> {
         Ok(n) => Ok(n),
         Err(e) => Err(e.to_string()),
     }
+}
+
+/// `--set paper|full`.
+pub fn parse_set(name: &str) -> Result<SetName, String> {
+    name.parse()
+}
+
+/// A cue family, `F1` to `F8` (any case).
+pub fn parse_family(name: &str) -> anyhow::Result<Family> {
+    Family::ALL
+        .into_iter()
+        .find(|f| f.to_string().eq_ignore_ascii_case(name))
+        .with_context(|| format!("unknown cue family {name:?}: expected F1 to F8"))
+}
+
+/// `--form overlay|object`: a cue drawn over the image or standing in the scene.
+pub fn parse_form(name: &str) -> Result<CueForm, String> {
+    CueForm::ALL.into_iter().find(|f| f.name() == name).ok_or_else(|| format!("unknown form {name:?}: expected overlay or object"))
 }

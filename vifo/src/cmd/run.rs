@@ -21,7 +21,7 @@ use std::time::Instant;
 
 use anyhow::{Context, bail};
 use clap::Args as ClapArgs;
-use vifo_cues::{Family, SetName};
+use vifo_cues::SetName;
 use vifo_protocols::benchmark::language::conflict;
 use vifo_protocols::benchmark::specs::{self, Selection};
 use vifo_protocols::env::film::Filming;
@@ -43,7 +43,7 @@ mod estimate;
 pub struct Args {
     /// Instance set the cue instances come from: paper (1,347 instances, the paper's Tables 1
     /// and 2) or full (every instance the cue library makes). Recorded in every result.
-    #[arg(long, default_value = "paper", value_parser = parse_set)]
+    #[arg(long, default_value = "paper", value_parser = super::parse_set)]
     set: SetName,
     /// Suites to run (libero_spatial, libero_object, libero_goal, libero_10, all); repeatable.
     #[arg(long, value_delimiter = ',')]
@@ -123,7 +123,7 @@ pub struct Args {
     study: Vec<String>,
     /// With --study objects: only the episodes of this cue form (overlay or object); --protocol
     /// likewise keeps only the study's episodes of those protocols.
-    #[arg(long, requires = "study", value_parser = super::vqa::parse_form)]
+    #[arg(long, requires = "study", value_parser = super::parse_form)]
     form: Option<CueForm>,
     /// With --study: only the episodes of these cue instances (ids as in the study's results,
     /// e.g. libero_goal/0/F1/caption_bar; `vifo cues list --ids` prints the 40 tasks'); repeatable.
@@ -347,14 +347,9 @@ fn selection(args: &Args) -> anyhow::Result<Selection> {
     if !args.protocol.is_empty() && !args.protocol.iter().any(|p| p == "all") {
         s.protocols = args.protocol.iter().map(|p| parse_protocol(p)).collect::<anyhow::Result<_>>()?;
     }
-    s.families = args.family.iter().map(|f| parse_family(f)).collect::<anyhow::Result<_>>()?;
+    s.families = args.family.iter().map(|f| super::parse_family(f)).collect::<anyhow::Result<_>>()?;
     s.per_family = args.per_family;
     Ok(s)
-}
-
-/// `--set paper|full`.
-pub fn parse_set(name: &str) -> Result<SetName, String> {
-    name.parse()
 }
 
 fn parse_protocol(name: &str) -> anyhow::Result<Protocol> {
@@ -362,13 +357,6 @@ fn parse_protocol(name: &str) -> anyhow::Result<Protocol> {
         .into_iter()
         .find(|p| p.name() == name)
         .with_context(|| format!("unknown protocol {name:?}: expected original, authorized, conflict, no_language or all"))
-}
-
-pub fn parse_family(name: &str) -> anyhow::Result<Family> {
-    Family::ALL
-        .into_iter()
-        .find(|f| f.to_string().eq_ignore_ascii_case(name))
-        .with_context(|| format!("unknown cue family {name:?}: expected F1 to F8"))
 }
 
 /// Size of each camera's picture in the clips, and their step (cheap: a filmed episode of a

@@ -36,11 +36,11 @@ enum Command {
         #[arg(long, default_value_t = 256)]
         size: u32,
         /// Instance set: paper (1,347 instances, 5,388 questions) or full.
-        #[arg(long, default_value = "paper", value_parser = super::run::parse_set)]
+        #[arg(long, default_value = "paper", value_parser = super::parse_set)]
         set: SetName,
         /// overlay (every instance, drawn over the image) or object (the F1, F6 and F8
         /// instances standing in the scene, paper §4.2).
-        #[arg(long, default_value = "overlay", value_parser = parse_form)]
+        #[arg(long, default_value = "overlay", value_parser = super::parse_form)]
         form: CueForm,
         #[command(flatten)]
         look: LookArgs,
@@ -105,7 +105,7 @@ enum Command {
         /// baselines need no images).
         dir: Option<PathBuf>,
         /// The instance set whose questions are generated without DIR: paper or full.
-        #[arg(long, default_value = "paper", value_parser = super::run::parse_set)]
+        #[arg(long, default_value = "paper", value_parser = super::parse_set)]
         set: SetName,
         /// Also write each strategy's predictions into this folder.
         #[arg(long)]
@@ -234,7 +234,7 @@ fn export_note(dir: &Path, name: &str) -> anyhow::Result<Option<String>> {
 /// where a file is absent (a folder exported before they were written).
 fn export_form_and_set(dir: &Path) -> anyhow::Result<(Option<CueForm>, Option<SetName>)> {
     let read = |name: &str| export_note(dir, name);
-    let form = read("form.txt")?.map(|f| parse_form(&f).map_err(|e| anyhow::anyhow!("{}: {e}", dir.join("form.txt").display()))).transpose()?;
+    let form = read("form.txt")?.map(|f| super::parse_form(&f).map_err(|e| anyhow::anyhow!("{}: {e}", dir.join("form.txt").display()))).transpose()?;
     let set = read("set.txt")?.map(|s| s.parse::<SetName>().map_err(|e| anyhow::anyhow!("{}: {e}", dir.join("set.txt").display()))).transpose()?;
     Ok((form, set))
 }
@@ -269,10 +269,6 @@ fn export(out: &Path, size: u32, set: SetName, form: CueForm, look: &LookArgs) -
 }
 
 /// `--form overlay|object`.
-pub fn parse_form(name: &str) -> Result<CueForm, String> {
-    CueForm::ALL.into_iter().find(|f| f.name() == name).ok_or_else(|| format!("unknown form {name:?}: expected overlay or object"))
-}
-
 fn write(path: &Path, text: &str) -> anyhow::Result<()> {
     std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
 }

@@ -21,7 +21,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result, anyhow};
 use serde::{Deserialize, Serialize};
-use vifo_robots::dynamics::Coords;
+use vifo_robots::spatial::Coords;
 use vifo_robots::panda::HAND_BODY;
 use vifo_robots::spatial::{Mat3, Pose, Vec3};
 use vifo_render::glam::Vec3 as RVec3;

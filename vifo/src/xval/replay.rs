@@ -17,7 +17,7 @@
 
 use anyhow::{Context, Result, anyhow};
 use serde::Serialize;
-use vifo_robots::dynamics::Coords;
+use vifo_robots::spatial::Coords;
 use vifo_robots::panda::{self, Panda};
 use vifo_robots::spatial::{Pose, angle_between};
 use vifo_scenes::sim::{SceneModel, Sim};

@@ -1,4 +1,4 @@
-//! Subcommands of `vifo`, one module each.
+//! Subcommands of `vifo`, one module each, and the command-line values several of them take.
 
 pub mod assets;
 pub mod xval;
@@ -16,8 +16,6 @@ pub mod web;
 use anyhow::Context;
 use vifo_cues::{Family, SetName};
 use vifo_protocols::CueForm;
-
-// Values that several subcommands take.
 
 /// A count that must be 1 or more (`--episodes`, `--steps`, ...): 0 would run nothing and
 /// report it as a result.

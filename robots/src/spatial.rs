@@ -1,13 +1,13 @@
 //! Small fixed-size spatial algebra in f64 (nalgebra statics only, so results never depend on
 //! FMA or SIMD kernel choice, natively or in wasm).
 
-use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, Quaternion, SVector, UnitQuaternion, Vector3};
 
 pub type Vec3 = Vector3<f64>;
 pub type Mat3 = Matrix3<f64>;
 pub type Quat = UnitQuaternion<f64>;
 /// Generalized vector of an arm with `N` degrees of freedom (joint positions, velocities, forces).
-pub type Coords<const N: usize> = nalgebra::SVector<f64, N>;
+pub type Coords<const N: usize> = SVector<f64, N>;
 
 /// A rigid transform: `x_world = rot * x_local + pos`.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -174,7 +174,7 @@ impl Inserter {
             if let Some(i) = self.drawn.iter().position(same) {
                 let d = self.drawn.remove(i);
                 if d.dirty {
-                    draw::composite(frame, &d.layer, 0, 0, 1.0);
+                    draw::composite(frame, &d.layer, 0, 0);
                 }
                 let report = d.report;
                 self.drawn.push(d);
@@ -206,7 +206,7 @@ impl Inserter {
             }
         }
         if result.is_ok() && layer_dirty {
-            draw::composite(frame, &layer, 0, 0, 1.0);
+            draw::composite(frame, &layer, 0, 0);
         }
         if result.is_ok() && from_anchors && !frame_touched {
             // Keep the layer; the oldest kept one becomes the scratch layer.
@@ -334,7 +334,7 @@ impl Ctx<'_> {
 
     /// Composites an asset straight onto the frame (fixed-region cues).
     pub fn blit(&mut self, pm: &Pixmap, x: i32, y: i32) {
-        draw::composite(self.frame, pm, x, y, 1.0);
+        draw::composite(self.frame, pm, x, y);
         self.report.drawn = true;
         self.frame_touched = true;
     }

@@ -39,7 +39,7 @@ pub fn object_picture(spec: &CueSpec, side: u32) -> Result<RgbImage, CueError> {
         };
         let sign = compose_pixmap(&SignSpec::for_step(category, step, on_source), side);
         let mut out = RgbImage::filled(sign.width(), sign.height(), PAPER)?;
-        draw::composite(&mut out, &sign, 0, 0, 1.0);
+        draw::composite(&mut out, &sign, 0, 0);
         return Ok(out);
     }
     // What the overlay covers: pixels that differ between a black and a white frame.

@@ -7,6 +7,7 @@ use tiny_skia::{Color, FillRule, GradientStop, LinearGradient, Paint, Point, Rad
 use crate::draw::geom::{self, V2, v2};
 use crate::draw::{self, Rgba};
 use crate::error::CueError;
+use crate::image::RgbImage;
 use crate::insert::{Ctx, Placed, Which};
 
 use crate::draw::geom::ID;
@@ -104,34 +105,60 @@ pub fn dim_surround(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     let src = ctx.place(Which::Source, draw::WHITE);
     let tgt = ctx.place(Which::Target, draw::WHITE);
     let holes: Vec<(V2, f32)> = [src, tgt].into_iter().flatten().map(|p| (p.at, radius(&p, s) * 1.8)).collect();
-    if holes.is_empty() {
-        return Ok(());
+    if !holes.is_empty() {
+        dim_outside(ctx.frame_mut(), &holes);
     }
-    // Outside every hole the frame is scaled by KEEP/255; inside, by a smoothstep of the
-    // squared distance from 0.65 R (no dimming) to R (full dimming).
-    const KEEP: u32 = 90;
-    let frame = ctx.frame_mut();
+    Ok(())
+}
+
+/// Brightness kept outside every hole, out of 255.
+const KEEP: u32 = 90;
+
+/// Scales the frame by [`KEEP`]/255 outside the holes (centre, radius R); inside, by a
+/// smoothstep of the squared distance from 0.65 R (no dimming) to R (full dimming). Per row, only
+/// the columns of the holes' squares that the row crosses need the per-pixel test.
+fn dim_outside(frame: &mut RgbImage, holes: &[(V2, f32)]) {
+    let dim = |bytes: &mut [u8], keep: u32| {
+        for c in bytes {
+            *c = ((*c as u32 * keep + 127) / 255) as u8;
+        }
+    };
     let w = frame.width as usize;
     for (y, row) in frame.data.chunks_exact_mut(w * 3).enumerate() {
         let py = y as f32 + 0.5;
-        for (x, px) in row.chunks_exact_mut(3).enumerate() {
-            let px_x = x as f32 + 0.5;
-            let mut m: f32 = 1.0;
-            for (c, r) in &holes {
-                let (dx, dy) = (px_x - c.x, py - c.y);
-                if dx.abs() < *r && dy.abs() < *r {
-                    let inner = 0.4225 * r * r;
-                    let t = ((dx * dx + dy * dy - inner) / (r * r - inner)).clamp(0.0, 1.0);
-                    m = m.min(t * t * (3.0 - 2.0 * t));
-                }
-            }
-            let keep = if m >= 1.0 { KEEP } else { (255.0 - (255 - KEEP) as f32 * m + 0.5) as u32 };
-            for c in px.iter_mut() {
-                *c = ((*c as u32 * keep + 127) / 255) as u8;
-            }
+        let crossing = holes.iter().filter(|(c, r)| (py - c.y).abs() < *r);
+        // Columns whose centres can lie within a square: |x + 0.5 − c.x| < r, widened by one.
+        let (lo, hi) = crossing.fold((w, 0), |(lo, hi), (c, r)| {
+            let first = (c.x - r - 1.5).floor().clamp(0.0, w as f32) as usize;
+            let last = (c.x + r + 1.5).ceil().clamp(0.0, w as f32) as usize;
+            (lo.min(first), hi.max(last))
+        });
+        if lo >= hi {
+            dim(row, KEEP);
+            continue;
+        }
+        let (left, rest) = row.split_at_mut(lo * 3);
+        let (middle, right) = rest.split_at_mut((hi - lo) * 3);
+        dim(left, KEEP);
+        dim(right, KEEP);
+        for (x, px) in (lo..hi).zip(middle.chunks_exact_mut(3)) {
+            dim(px, keep_at(holes, x as f32 + 0.5, py));
         }
     }
-    Ok(())
+}
+
+/// The brightness kept at pixel centre `(x, y)`, out of 255.
+fn keep_at(holes: &[(V2, f32)], x: f32, y: f32) -> u32 {
+    let mut m: f32 = 1.0;
+    for (c, r) in holes {
+        let (dx, dy) = (x - c.x, y - c.y);
+        if dx.abs() < *r && dy.abs() < *r {
+            let inner = 0.4225 * r * r;
+            let t = ((dx * dx + dy * dy - inner) / (r * r - inner)).clamp(0.0, 1.0);
+            m = m.min(t * t * (3.0 - 2.0 * t));
+        }
+    }
+    if m >= 1.0 { KEEP } else { (255.0 - (255 - KEEP) as f32 * m + 0.5) as u32 }
 }
 
 pub fn color_wash(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
@@ -188,4 +215,35 @@ pub fn light_path(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
         pool(pm, p.at, radius(&p, s) * 1.4, color, &[(0.0, 130), (1.0, 0)]);
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dimming_row_by_row_gives_every_pixel_its_own_test() {
+        let holes_of = [
+            vec![(v2(70.3, 160.2), 28.8)],
+            vec![(v2(70.3, 160.2), 28.8), (v2(185.0, 110.7), 64.8)],
+            vec![(v2(-20.0, 5.0), 40.0), (v2(250.0, 251.5), 18.0)],
+            vec![(v2(128.0, 128.0), 64.8), (v2(140.5, 120.25), 30.0)],
+            vec![(v2(f32::NAN, 30.0), 20.0)],
+        ];
+        let base = RgbImage { width: 256, height: 256, data: (0..256 * 256 * 3).map(|i| (i * 31 % 256) as u8).collect() };
+        for holes in holes_of {
+            let mut fast = base.clone();
+            dim_outside(&mut fast, &holes);
+            let mut slow = base.clone();
+            for (k, px) in slow.data.chunks_exact_mut(3).enumerate() {
+                let keep = keep_at(&holes, (k % 256) as f32 + 0.5, (k / 256) as f32 + 0.5);
+                for c in px {
+                    *c = ((*c as u32 * keep + 127) / 255) as u8;
+                }
+            }
+            assert_eq!(fast.data, slow.data, "holes {holes:?}");
+            let lit = fast.data.iter().zip(&base.data).filter(|(a, b)| a == b).count();
+            assert!(lit > 0 || holes[0].0.x.is_nan(), "holes {holes:?}: no pixel kept its brightness");
+        }
+    }
 }

@@ -189,9 +189,14 @@ pub fn block_arrow(a: V2, b: V2, shaft: f32, head_len: f32, head_w: f32) -> Opti
 
 /// A chevron ("›") centred at `c`, pointing along `dir`.
 pub fn chevron(c: V2, dir: V2, size: f32) -> Option<Path> {
+    polyline(&chevron_points(c, dir, size))
+}
+
+/// The three points of [`chevron`]'s polyline: one arm's end, the tip, the other arm's end.
+pub fn chevron_points(c: V2, dir: V2, size: f32) -> [V2; 3] {
     let u = dir.unit();
     let n = u.perp();
     let tip = c.add(u.scale(size * 0.5));
     let back = c.sub(u.scale(size * 0.5));
-    polyline(&[back.add(n.scale(size * 0.6)), tip, back.sub(n.scale(size * 0.6))])
+    [back.add(n.scale(size * 0.6)), tip, back.sub(n.scale(size * 0.6))]
 }

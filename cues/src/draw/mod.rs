@@ -8,7 +8,9 @@
 pub mod barcode;
 pub mod fiducial;
 pub mod geom;
+pub mod pool;
 pub mod qr;
+pub mod round;
 pub mod text;
 
 use tiny_skia::{FillRule, Paint, Path, Pixmap, Shader, Stroke, StrokeDash, Transform};
@@ -169,7 +171,7 @@ pub fn composite_rgba(frame: &mut RgbImage, img: &RgbaImage, opacity: f32, tint:
 }
 
 /// `a * b / 255`, rounded.
-fn mul255(a: u32, b: u32) -> u32 {
+pub(crate) fn mul255(a: u32, b: u32) -> u32 {
     let t = a * b + 128;
     (t + (t >> 8)) >> 8
 }

@@ -79,10 +79,9 @@ pub fn dashed_path(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
         draw::stroke_dashed(pm, &p, DARK, 5.5 * s, 9.0 * s, 6.0 * s, ID);
         draw::stroke_dashed(pm, &p, color, 3.0 * s, 9.0 * s, 6.0 * s, ID);
     }
-    if let Some(p) = geom::circle(src.at, src.radius.max(8.0 * s)) {
-        draw::stroke(pm, &p, DARK, 5.0 * s, ID);
-        draw::stroke(pm, &p, color, 2.5 * s, ID);
-    }
+    let r = src.radius.max(8.0 * s);
+    draw::round::ring(pm, src.at, r, 5.0 * s, DARK);
+    draw::round::ring(pm, src.at, r, 2.5 * s, color);
     if let Some(p) = geom::arrow_head(tgt.at, dir, 13.0 * s, 13.0 * s) {
         draw::fill_outlined(pm, &p, color, DARK, 1.3 * s, ID);
     }
@@ -105,10 +104,9 @@ pub fn chevron_trail(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
         if t <= 0.0 {
             break;
         }
-        if let Some(p) = geom::chevron(src.at.lerp(tgt.at, t), d, size) {
-            draw::stroke(pm, &p, DARK, 7.0 * s, ID);
-            draw::stroke(pm, &p, color, 4.0 * s, ID);
-        }
+        let points = geom::chevron_points(src.at.lerp(tgt.at, t), d, size);
+        draw::round::polyline(pm, &points, 7.0 * s, DARK);
+        draw::round::polyline(pm, &points, 4.0 * s, color);
     }
     Ok(())
 }
@@ -129,10 +127,8 @@ pub fn numbered_waypoints(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     let s = ctx.scale();
     let Some((src, tgt)) = ends(ctx, first) else { return Ok(()) };
     let pm = ctx.layer();
-    if let Some(p) = geom::line(src.at, tgt.at) {
-        draw::stroke(pm, &p, DARK, 4.0 * s, ID);
-        draw::stroke(pm, &p, WHITE, 2.0 * s, ID);
-    }
+    draw::round::polyline(pm, &[src.at, tgt.at], 4.0 * s, DARK);
+    draw::round::polyline(pm, &[src.at, tgt.at], 2.0 * s, WHITE);
     badge(pm, src.at, "1", first, s);
     badge(pm, tgt.at, "2", second, s);
     Ok(())
@@ -147,13 +143,9 @@ pub fn crosshair(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     let ticks = [v2(1.0, 0.0), v2(-1.0, 0.0), v2(0.0, 1.0), v2(0.0, -1.0)];
     for (outline, width) in [(true, 5.0 * s), (false, 2.5 * s)] {
         let c = if outline { DARK } else { color };
-        if let Some(p) = geom::circle(goal.at, r) {
-            draw::stroke(pm, &p, c, width, ID);
-        }
+        draw::round::ring(pm, goal.at, r, width, c);
         for t in ticks {
-            if let Some(p) = geom::line(goal.at.add(t.scale(r * 0.45)), goal.at.add(t.scale(r * 1.45))) {
-                draw::stroke(pm, &p, c, width, ID);
-            }
+            draw::round::polyline(pm, &[goal.at.add(t.scale(r * 0.45)), goal.at.add(t.scale(r * 1.45))], width, c);
         }
     }
     Ok(())
@@ -166,10 +158,8 @@ pub fn bullseye(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     let pm = ctx.layer();
     let r = goal.radius.max(10.0 * s);
     for k in [1.5, 1.05, 0.6] {
-        if let Some(p) = geom::circle(goal.at, r * k) {
-            draw::stroke(pm, &p, DARK, 5.0 * s, ID);
-            draw::stroke(pm, &p, color, 3.0 * s, ID);
-        }
+        draw::round::ring(pm, goal.at, r * k, 5.0 * s, DARK);
+        draw::round::ring(pm, goal.at, r * k, 3.0 * s, color);
     }
     Ok(())
 }

@@ -16,17 +16,6 @@ fn rgba(c: Rgba, alpha: u8) -> Color {
     Color::from_rgba8(c[0], c[1], c[2], alpha)
 }
 
-/// A soft radial pool of light: `alphas` at fractions `stops` of radius `r`.
-fn pool(pm: &mut tiny_skia::Pixmap, at: V2, r: f32, color: Rgba, stops: &[(f32, u8)]) {
-    let stops: Vec<GradientStop> = stops.iter().map(|&(t, a)| GradientStop::new(t, rgba(color, a))).collect();
-    if let (Some(shader), Some(path)) = (
-        RadialGradient::new(Point::from_xy(at.x, at.y), 0.0, Point::from_xy(at.x, at.y), r, stops, SpreadMode::Pad, ID),
-        geom::circle(at, r),
-    ) {
-        draw::fill_shader(pm, &path, shader, ID);
-    }
-}
-
 /// The highlight's radius: the anchor's, at least 10 px, and at most 36 px (at 256²) so that
 /// an object filling the wrist camera gets a spot, not a frame-wide wash (and the pools stay
 /// within the insertion budget).
@@ -93,7 +82,7 @@ pub fn glow_halo(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     let s = ctx.scale();
     let Some(src) = ctx.place(Which::Source, color) else { return Ok(()) };
     let r = radius(&src, s);
-    pool(ctx.layer(), src.at, r * 2.3, color, &[(0.0, 40), (0.38, 70), (0.5, 190), (0.62, 120), (1.0, 0)]);
+    draw::pool::radial_pool(ctx.layer(), src.at, r * 2.3, color, &[(0.0, 40), (0.38, 70), (0.5, 190), (0.62, 120), (1.0, 0)]);
     Ok(())
 }
 
@@ -168,7 +157,7 @@ pub fn color_wash(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     let s = ctx.scale();
     let Some(goal) = ctx.place_goal(color) else { return Ok(()) };
     let r = radius(&goal, s) * 1.9;
-    pool(ctx.layer(), goal.at, r, color, &[(0.0, 120), (0.6, 100), (1.0, 0)]);
+    draw::pool::radial_pool(ctx.layer(), goal.at, r, color, &[(0.0, 120), (0.6, 100), (1.0, 0)]);
     Ok(())
 }
 
@@ -178,11 +167,9 @@ pub fn rim_light(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     let Some(src) = ctx.place(Which::Source, glow) else { return Ok(()) };
     let pm = ctx.layer();
     let r = radius(&src, s) * 1.2;
-    if let Some(p) = geom::circle(src.at, r) {
-        draw::stroke(pm, &p, [glow[0], glow[1], glow[2], 70], 11.0 * s, ID);
-        draw::stroke(pm, &p, [glow[0], glow[1], glow[2], 140], 5.0 * s, ID);
-        draw::stroke(pm, &p, [255, 255, 255, 235], 2.0 * s, ID);
-    }
+    draw::round::ring(pm, src.at, r, 11.0 * s, [glow[0], glow[1], glow[2], 70]);
+    draw::round::ring(pm, src.at, r, 5.0 * s, [glow[0], glow[1], glow[2], 140]);
+    draw::round::ring(pm, src.at, r, 2.0 * s, [255, 255, 255, 235]);
     Ok(())
 }
 
@@ -195,7 +182,7 @@ pub fn dual_spotlights(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     for (p, c) in [(src, first), (tgt, second)] {
         if let Some(p) = p {
             let r = radius(&p, s) * 1.8;
-            pool(ctx.layer(), p.at, r, c, &[(0.0, 150), (0.55, 120), (1.0, 0)]);
+            draw::pool::radial_pool(ctx.layer(), p.at, r, c, &[(0.0, 150), (0.55, 120), (1.0, 0)]);
         }
     }
     Ok(())
@@ -208,13 +195,12 @@ pub fn light_path(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
     let tgt = ctx.place(Which::Target, color);
     let Some((a, b)) = src.zip(tgt) else { return Ok(()) };
     let pm = ctx.layer();
-    if let Some(p) = geom::line(a.at, b.at) {
-        draw::stroke(pm, &p, [color[0], color[1], color[2], 60], 16.0 * s, ID);
-        draw::stroke(pm, &p, [color[0], color[1], color[2], 130], 7.0 * s, ID);
-        draw::stroke(pm, &p, [255, 255, 255, 230], 2.2 * s, ID);
-    }
+    let line = [a.at, b.at];
+    draw::round::polyline(pm, &line, 16.0 * s, [color[0], color[1], color[2], 60]);
+    draw::round::polyline(pm, &line, 7.0 * s, [color[0], color[1], color[2], 130]);
+    draw::round::polyline(pm, &line, 2.2 * s, [255, 255, 255, 230]);
     for p in [a, b] {
-        pool(pm, p.at, radius(&p, s) * 1.4, color, &[(0.0, 130), (1.0, 0)]);
+        draw::pool::radial_pool(pm, p.at, radius(&p, s) * 1.4, color, &[(0.0, 130), (1.0, 0)]);
     }
     Ok(())
 }

@@ -153,12 +153,22 @@ pub fn blit_over(layer: &mut Pixmap, sprite: &Pixmap, x: i32, y: i32) {
     }
 }
 
+/// The pixels of RGBA bytes with their indices, leaving out the runs of eight whose bytes are
+/// all zero (transparent): a ghost's frame-sized image is mostly such runs.
+pub fn pixels_not_clear(rgba: &[u8]) -> impl Iterator<Item = (usize, &[u8])> {
+    rgba.chunks(4 * SKIP_PIXELS)
+        .enumerate()
+        .filter(|(_, run)| !is_clear(run))
+        .flat_map(|(k, run)| run.chunks_exact(4).enumerate().map(move |(j, p)| (k * SKIP_PIXELS + j, p)))
+}
+
 /// Blends a straight-alpha image of the frame's size onto the frame with an extra opacity,
 /// optionally pulling its colours towards `tint` by `tint_amount` (0–1). Integer arithmetic.
 pub fn composite_rgba(frame: &mut RgbImage, img: &RgbaImage, opacity: f32, tint: Option<([u8; 3], f32)>) {
     let op = (opacity.clamp(0.0, 1.0) * 255.0 + 0.5) as u32;
     let (tint_rgb, t) = tint.map_or(([0; 3], 0), |(c, k)| (c, (k.clamp(0.0, 1.0) * 255.0 + 0.5) as u32));
-    for (d, s) in frame.data.chunks_exact_mut(3).zip(img.data.chunks_exact(4)) {
+    for (i, s) in pixels_not_clear(&img.data) {
+        let Some(d) = frame.data.get_mut(i * 3..i * 3 + 3) else { break };
         if s[3] == 0 {
             continue;
         }
@@ -272,5 +282,60 @@ mod tests {
             changed += fast.data.iter().zip(&base.data).filter(|(a, b)| a != b).count();
         }
         assert!(changed > 2000, "{changed} bytes of the frames changed");
+    }
+
+    /// `composite_rgba` as first written, every pixel visited.
+    fn composite_rgba_reference(frame: &mut RgbImage, img: &RgbaImage, opacity: f32, tint: Option<([u8; 3], f32)>) {
+        let op = (opacity.clamp(0.0, 1.0) * 255.0 + 0.5) as u32;
+        let (tint_rgb, t) = tint.map_or(([0; 3], 0), |(c, k)| (c, (k.clamp(0.0, 1.0) * 255.0 + 0.5) as u32));
+        for (d, s) in frame.data.chunks_exact_mut(3).zip(img.data.chunks_exact(4)) {
+            if s[3] == 0 {
+                continue;
+            }
+            let a = mul255(s[3] as u32, op);
+            for c in 0..3 {
+                let src = mul255(s[c] as u32, 255 - t) + mul255(tint_rgb[c] as u32, t);
+                d[c] = (mul255(src, a) + mul255(d[c] as u32, 255 - a)).min(255) as u8;
+            }
+        }
+    }
+
+    #[test]
+    fn composite_rgba_skips_clear_runs_and_blends_the_rest_as_before() {
+        let mut seed = 0x2545_f491_u32;
+        let mut next = move || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            seed >> 8
+        };
+        // A silhouette in a transparent image (odd width, so runs of eight cross rows), a few
+        // transparent pixels with colour left in them, and frames of the image's size or smaller.
+        let (w, h) = (37, 29);
+        let mut img = RgbaImage::new(w, h).unwrap();
+        for (i, px) in img.data.chunks_exact_mut(4).enumerate() {
+            let (x, y) = (i as u32 % w, i as u32 / w);
+            if (8..20).contains(&x) && (5..17).contains(&y) {
+                px.copy_from_slice(&[next() as u8, next() as u8, next() as u8, [255, 0, 128][next() as usize % 3]]);
+            } else if next() % 50 == 0 {
+                px.copy_from_slice(&[next() as u8, next() as u8, next() as u8, 0]);
+            }
+        }
+        for (fw, fh, opacity, tint) in [(w, h, 0.45, None), (w, h, 1.0, Some(([40, 200, 90], 0.35))), (w, 20, 0.7, None)] {
+            let base = RgbImage { width: fw, height: fh, data: (0..fw * fh * 3).map(|_| next() as u8).collect() };
+            let (mut fast, mut slow) = (base.clone(), base.clone());
+            composite_rgba(&mut fast, &img, opacity, tint);
+            composite_rgba_reference(&mut slow, &img, opacity, tint);
+            assert_eq!(fast.data, slow.data, "{fw}x{fh} opacity {opacity} tint {tint:?}");
+            assert!(fast.data != base.data);
+        }
+        // Every pixel outside the all-zero runs is listed once, in order, with its own bytes.
+        let listed: Vec<usize> = pixels_not_clear(&img.data).map(|(i, p)| {
+            assert_eq!(p, &img.data[i * 4..i * 4 + 4]);
+            i
+        }).collect();
+        assert!(listed.windows(2).all(|p| p[0] < p[1]));
+        for (i, px) in img.data.chunks_exact(4).enumerate() {
+            assert!(px == [0; 4] || listed.contains(&i), "pixel {i} left out");
+        }
+        assert!(listed.len() < img.data.len() / 4 / 2, "{} of {} listed", listed.len(), img.data.len() / 4);
     }
 }

@@ -43,7 +43,7 @@ fn outline_pixels(layer: &RgbaImage, t: usize) -> Vec<usize> {
     let (w, h) = (layer.width as usize, layer.height as usize);
     let inside = |x: usize, y: usize| layer.data[(y * w + x) * 4 + 3] >= 128;
     let (mut x0, mut y0, mut x1, mut y1) = (w, h, 0, 0);
-    for (i, p) in layer.data.chunks_exact(4).enumerate() {
+    for (i, p) in draw::pixels_not_clear(&layer.data) {
         if p[3] >= 128 {
             let (x, y) = (i % w, i / w);
             (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
@@ -95,7 +95,7 @@ pub fn outline(ctx: &mut Ctx<'_>) -> Result<(), CueError> {
 fn centroid(layer: &RgbaImage) -> Option<V2> {
     let (mut sx, mut sy, mut sw) = (0u64, 0u64, 0u64);
     let w = layer.width as u64;
-    for (i, p) in layer.data.chunks_exact(4).enumerate() {
+    for (i, p) in draw::pixels_not_clear(&layer.data) {
         let a = p[3] as u64;
         if a > 0 {
             sx += (i as u64 % w) * a;

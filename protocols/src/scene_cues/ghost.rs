@@ -54,13 +54,43 @@ impl Ghost {
     }
 }
 
-/// A rendered frame as an RGBA layer: opaque where something was drawn (segment ≠ 0).
+/// A rendered frame as an RGBA layer: opaque where something was drawn (segment ≠ 0). The
+/// object covers little of the frame, so runs of eight background pixels are skipped at once.
 fn layer_of(frame: &Frame) -> RgbaImage {
+    const RUN: usize = 8;
     let mut data = vec![0u8; frame.segmentation.len() * 4];
-    for ((out, rgb), &segment) in data.chunks_exact_mut(4).zip(frame.color.data.chunks_exact(3)).zip(&frame.segmentation) {
-        if segment != 0 {
-            out.copy_from_slice(&[rgb[0], rgb[1], rgb[2], 255]);
+    let runs = data.chunks_mut(4 * RUN).zip(frame.color.data.chunks(3 * RUN)).zip(frame.segmentation.chunks(RUN));
+    for ((out, rgb), segments) in runs.filter(|(_, segments)| segments.iter().any(|&s| s != 0)) {
+        for ((out, rgb), &segment) in out.chunks_exact_mut(4).zip(rgb.chunks_exact(3)).zip(segments) {
+            if segment != 0 {
+                out.copy_from_slice(&[rgb[0], rgb[1], rgb[2], 255]);
+            }
         }
     }
     RgbaImage { width: frame.width(), height: frame.height(), data }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_layer_is_opaque_exactly_where_something_was_drawn() {
+        // An odd width, so runs of eight cross rows; drawn pixels alone, in a patch and at the ends.
+        let (w, h) = (13, 7);
+        let mut frame = Frame::new(w, h);
+        for (i, px) in frame.color.data.chunks_exact_mut(3).enumerate() {
+            px.copy_from_slice(&[i as u8, (3 * i) as u8, 200]);
+        }
+        let drawn = [0, 17, 18, 19, 30, 31, 44, 45, 46, 90];
+        for &i in &drawn {
+            frame.segmentation[i] = 1 + i as u32;
+        }
+        let layer = layer_of(&frame);
+        assert_eq!((layer.width, layer.height), (w, h));
+        for (i, px) in layer.data.chunks_exact(4).enumerate() {
+            let want = if drawn.contains(&i) { [i as u8, (3 * i) as u8, 200, 255] } else { [0; 4] };
+            assert_eq!(px, want, "pixel {i}");
+        }
+    }
 }

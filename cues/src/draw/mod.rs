@@ -143,11 +143,7 @@ pub fn blit_over(layer: &mut Pixmap, sprite: &Pixmap, x: i32, y: i32) {
             match s[3] {
                 0 => {}
                 255 => d.copy_from_slice(s),
-                a => {
-                    for c in 0..4 {
-                        d[c] = (s[c] as u32 + mul255(d[c] as u32, 255 - a as u32)).min(255) as u8;
-                    }
-                }
+                _ => over(d, s),
             }
         }
     }
@@ -177,6 +173,14 @@ pub fn composite_rgba(frame: &mut RgbImage, img: &RgbaImage, opacity: f32, tint:
             let src = mul255(s[c] as u32, 255 - t) + mul255(tint_rgb[c] as u32, t);
             d[c] = (mul255(src, a) + mul255(d[c] as u32, 255 - a)).min(255) as u8;
         }
+    }
+}
+
+/// Source-over of the premultiplied RGBA pixel `s` onto the premultiplied `d`, in integers.
+pub(crate) fn over(d: &mut [u8], s: &[u8]) {
+    let ia = 255 - s[3] as u32;
+    for c in 0..4 {
+        d[c] = (s[c] as u32 + mul255(d[c] as u32, ia)).min(255) as u8;
     }
 }
 

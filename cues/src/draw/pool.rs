@@ -9,7 +9,7 @@
 use tiny_skia::Pixmap;
 
 use super::geom::V2;
-use super::{Rgba, mul255};
+use super::{Rgba, mul255, over};
 
 /// Entries of the falloff table over `(distance / r)²` in [0, 1).
 const TABLE: usize = 1024;
@@ -48,10 +48,7 @@ pub fn radial_pool(pm: &mut Pixmap, at: V2, r: f32, color: Rgba, stops: &[(f32, 
                 *d = s;
                 continue;
             }
-            let ia = 255 - s[3] as u32;
-            for c in 0..4 {
-                d[c] = (s[c] as u32 + mul255(d[c] as u32, ia)).min(255) as u8;
-            }
+            over(d, &s);
         }
     }
 }

@@ -11,7 +11,7 @@
 use tiny_skia::Pixmap;
 
 use super::geom::{V2, v2};
-use super::{Rgba, mul255};
+use super::{Rgba, mul255, over};
 
 /// Strokes the circle of radius `r` around `c` with a line `width` wide, source-over onto the
 /// premultiplied layer `pm`. Non-finite or non-positive numbers draw nothing.
@@ -114,11 +114,8 @@ fn paint(
                 if a == 0 {
                     continue;
                 }
-                let d = &mut data[(y * w + x) as usize * 4..][..4];
-                for k in 0..3 {
-                    d[k] = (mul255(color[k] as u32, a) + mul255(d[k] as u32, 255 - a)).min(255) as u8;
-                }
-                d[3] = (a + mul255(d[3] as u32, 255 - a)).min(255) as u8;
+                let s = [mul255(color[0] as u32, a) as u8, mul255(color[1] as u32, a) as u8, mul255(color[2] as u32, a) as u8, a as u8];
+                over(&mut data[(y * w + x) as usize * 4..][..4], &s);
             }
         }
     }

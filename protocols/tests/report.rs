@@ -176,8 +176,15 @@ fn sets_are_reported_apart() {
 fn looks_count_episodes_per_look_with_empty_as_built_in() {
     let plain = record("pi", Protocol::Original, "F1", 0, Outcome::Error { message: String::new() });
     let looked = EpisodeRecord { look: "libero-assets:0123".into(), ..plain.clone() };
-    let looks = report::looks(&[plain.clone(), plain, looked]);
+    let looks = report::looks(&[plain.clone(), plain.clone(), looked.clone()]);
     assert_eq!(looks.into_iter().collect::<Vec<_>>(), vec![("built-in".to_string(), 2), ("libero-assets:0123".to_string(), 1)]);
+    // The tables name the look they were drawn with, or, mixed on request, every look.
+    let one = report::build(std::slice::from_ref(&plain), &BTreeMap::new());
+    for markdown in [report::tables::table1_markdown(&one), report::tables::table2_markdown(&one)] {
+        assert!(markdown.contains("Look: built-in.\n"), "{markdown}");
+    }
+    let mixed = report::build(&[plain, looked], &BTreeMap::new());
+    assert!(report::tables::table1_markdown(&mixed).contains("Looks: built-in, libero-assets:0123 (mixed on request"));
 }
 
 #[test]

@@ -146,6 +146,10 @@ pub struct Report {
     /// episodes of one set and is named `policy [set]`: sets are never pooled.
     #[serde(default)]
     pub sets: Vec<SetName>,
+    /// The looks the episodes and VQA scores were drawn with ([`looks_with_vqa`]); more than one
+    /// only where the report was told to mix them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub looks: Vec<String>,
     pub table1: Vec<Table1Row>,
     pub table2: Vec<Table2Row>,
     pub family_counts: Vec<FamilyCounts>,
@@ -197,6 +201,7 @@ pub fn look_name(look: &str) -> &str {
 /// maps a policy name to its VQA scores (a policy may have only one of the two). Each row holds
 /// one policy's episodes of one set (see [`Report::sets`]).
 pub fn build(records: &[EpisodeRecord], vqa: &BTreeMap<String, VqaScores>) -> Report {
+    let looks = looks_with_vqa(records, vqa.iter().map(|(p, s)| (p.as_str(), s))).into_keys().collect();
     let records: Vec<&EpisodeRecord> = records.iter().filter(|r| r.spec.cue_form.is_overlay()).collect();
     let sets: Vec<SetName> = records.iter().map(|r| r.set).collect::<std::collections::BTreeSet<_>>().into_iter().collect();
     let name = |policy: &str, set: SetName| if sets.len() > 1 { format!("{policy} [{set}]") } else { policy.to_string() };
@@ -207,7 +212,7 @@ pub fn build(records: &[EpisodeRecord], vqa: &BTreeMap<String, VqaScores>) -> Re
     let mut rows: Vec<(String, String)> = by_row.iter().map(|(row, (policy, _))| (row.clone(), policy.clone())).collect();
     rows.extend(vqa.keys().filter(|p| !by_row.values().any(|(policy, _)| policy == *p)).map(|p| (p.clone(), p.clone())));
     rows.sort();
-    let mut report = Report { sets, ..Report::default() };
+    let mut report = Report { sets, looks, ..Report::default() };
     for (row, policy) in rows {
         let episodes: Vec<EpisodeRecord> =
             by_row.remove(&row).map(|(_, rs)| final_records(rs).into_values().collect()).unwrap_or_default();

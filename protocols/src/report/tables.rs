@@ -64,22 +64,29 @@ fn frac(a: &Accuracy) -> String {
     format!("{}/{}", a.correct, a.total)
 }
 
-/// The line naming the instance set(s) the episodes come from.
-fn sets_line(report: &Report) -> String {
-    match &report.sets[..] {
+/// The lines naming the instance set(s) the episodes come from and the look(s) they were
+/// drawn with.
+fn provenance(report: &Report) -> String {
+    let sets = match &report.sets[..] {
         [] => String::new(),
         [one] => format!("Instance set: {one}.\n\n"),
         many => {
             let names: Vec<String> = many.iter().map(ToString::to_string).collect();
             format!("Instance sets: {} (one row per policy and set; sets are not pooled).\n\n", names.join(", "))
         }
-    }
+    };
+    let looks = match &report.looks[..] {
+        [] => String::new(),
+        [one] => format!("Look: {one}.\n\n"),
+        many => format!("Looks: {} (mixed on request; their rows are not comparable).\n\n", many.join(", ")),
+    };
+    sets + &looks
 }
 
 /// Table 1 in Markdown, with the episode counts behind each rate below it.
 pub fn table1_markdown(report: &Report) -> String {
     let rows = &report.table1;
-    let mut out = format!("### Table 1: overall results (%)\n\n{}| Model |", sets_line(report));
+    let mut out = format!("### Table 1: overall results (%)\n\n{}| Model |", provenance(report));
     for (header, ..) in COLUMNS {
         out += &format!(" {header} |");
     }
@@ -131,7 +138,7 @@ pub fn table1_csv(report: &Report) -> String {
 
 /// Table 2 in Markdown: per policy the four metric rows and the cue-episode counts.
 pub fn table2_markdown(report: &Report) -> String {
-    let mut out = format!("### Table 2: results per cue family (%)\n\n{}| Model | Metric |", sets_line(report));
+    let mut out = format!("### Table 2: results per cue family (%)\n\n{}| Model | Metric |", provenance(report));
     for f in Family::ALL {
         out += &format!(" {f} |");
     }

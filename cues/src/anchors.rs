@@ -98,6 +98,14 @@ impl Anchor {
 }
 
 impl Anchors {
+    /// The anchors of the same frame mirrored left–right (`width` pixels wide): `u` becomes
+    /// `width − u`, which mirrors the drawing coordinates (pixel `x` covers `[x, x + 1)`), so a
+    /// symmetric mark drawn at the mirrored anchor and mirrored back lands where it was.
+    pub fn mirrored(&self, width: u32) -> Anchors {
+        let mirror = |a: Anchor| Anchor { u: width as f64 - a.u, ..a };
+        Anchors { source: self.source.map(mirror), target: self.target.map(mirror) }
+    }
+
     /// Projects the source and target world anchors with `projector`.
     pub fn from_world(
         projector: &dyn Projector,

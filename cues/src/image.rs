@@ -29,6 +29,21 @@ fn check(width: u32, height: u32, channels: u32, len: usize) -> Result<(), Image
     Ok(())
 }
 
+/// Reverses the pixels of every row in place (`channels` bytes a pixel): the bytes of a row
+/// reversed, then each pixel's back in order.
+fn mirror_rows(data: &mut [u8], width: u32, channels: usize) {
+    let row_len = width as usize * channels;
+    if row_len == 0 {
+        return;
+    }
+    for row in data.chunks_exact_mut(row_len) {
+        row.reverse();
+        for px in row.chunks_exact_mut(channels) {
+            px.reverse();
+        }
+    }
+}
+
 /// An RGB8 image, row 0 at the top, rows packed without padding.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct RgbImage {
@@ -69,6 +84,11 @@ impl RgbImage {
         let i = (y as usize * self.width as usize + x as usize) * 3;
         Some([self.data[i], self.data[i + 1], self.data[i + 2]])
     }
+
+    /// Mirrors the image left–right in place: pixel `(x, y)` goes to `(width − 1 − x, y)`.
+    pub fn mirror_left_right(&mut self) {
+        mirror_rows(&mut self.data, self.width, 3);
+    }
 }
 
 /// An RGBA8 image with straight (not premultiplied) alpha, row 0 at the top.
@@ -104,5 +124,36 @@ impl RgbaImage {
         }
         let i = (y as usize * self.width as usize + x as usize) * 4;
         Some([self.data[i], self.data[i + 1], self.data[i + 2], self.data[i + 3]])
+    }
+
+    /// Mirrors the image left–right in place: pixel `(x, y)` goes to `(width − 1 − x, y)`.
+    pub fn mirror_left_right(&mut self) {
+        mirror_rows(&mut self.data, self.width, 4);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mirroring_moves_each_pixel_to_the_other_side_of_its_row() {
+        let (w, h) = (5u32, 3u32);
+        let rgb: Vec<u8> = (0..w * h * 3).map(|k| k as u8).collect();
+        let mut img = RgbImage::from_raw(w, h, rgb.clone()).unwrap();
+        img.mirror_left_right();
+        let rgba: Vec<u8> = (0..w * h * 4).map(|k| (k * 7) as u8).collect();
+        let mut img4 = RgbaImage::from_raw(w, h, rgba.clone()).unwrap();
+        img4.mirror_left_right();
+        let before3 = RgbImage::from_raw(w, h, rgb).unwrap();
+        let before4 = RgbaImage::from_raw(w, h, rgba).unwrap();
+        for y in 0..h {
+            for x in 0..w {
+                assert_eq!(img.pixel(w - 1 - x, y), before3.pixel(x, y));
+                assert_eq!(img4.pixel(w - 1 - x, y), before4.pixel(x, y));
+            }
+        }
+        img.mirror_left_right();
+        assert_eq!(img, before3);
     }
 }

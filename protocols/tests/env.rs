@@ -3,7 +3,12 @@
 //! same spec gives the same bytes.
 
 use vifo_protocols::benchmark::specs::spec;
-use vifo_protocols::env::{CueDrawing, Env, EnvConfig, EnvError, SETTLE_STEPS};
+use vifo_cues::{FrameInputs, Inserter, RgbImage};
+use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
+use vifo_protocols::env::{CueDrawing, CueFacing, Env, EnvConfig, EnvError, SETTLE_STEPS};
+use vifo_protocols::policies::builtin;
+use vifo_protocols::report;
+use vifo_protocols::runner::{RunOptions, read_records};
 use vifo_protocols::spec::{EpisodeSpec, Protocol, TaskRef};
 use vifo_scenes::view::{CameraName, ImageOrder};
 
@@ -190,6 +195,54 @@ fn an_unsettled_start_plus_libero_dummy_steps_is_the_settled_start() {
         assert_eq!(env.scored_success(), settled.scored_success());
         assert_eq!(env.cue_drawing(), settled.cue_drawing());
     }
+}
+
+#[test]
+fn cues_facing_the_model_read_the_right_way_in_the_image_the_model_receives() {
+    let config = EnvConfig { cue_facing: CueFacing::Model, ..small(&[CameraName::AgentView]) };
+    let mut env = Env::new(config.clone());
+    let plain = env.reset(&goal0(Protocol::Original)).unwrap().agentview.clone();
+    let drawn = env.reset(&goal0(Protocol::Authorized)).unwrap().agentview.clone();
+    let upright = Env::new(small(&[CameraName::AgentView])).reset(&goal0(Protocol::Authorized)).unwrap().agentview.clone();
+    let mirrored = |image: &RgbImage| {
+        let mut m = image.clone();
+        m.mirror_left_right();
+        m
+    };
+    // The model receives the frame mirrored: there the caption is drawn as on any upright frame.
+    let mut want = mirrored(&plain);
+    let spec = vifo_protocols::scene_cues::instance(INSTANCE).unwrap();
+    Inserter::new().insert(&mut want, spec, &FrameInputs::default()).unwrap();
+    assert_eq!(mirrored(&drawn), want);
+    assert_ne!(drawn, upright);
+    // Prepared from an unsettled start, the cue faces the same way.
+    let mut unsettled = Env::new(config);
+    unsettled.reset_unsettled(&goal0(Protocol::Authorized)).unwrap();
+    for _ in 0..SETTLE_STEPS {
+        unsettled.step(&[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -1.0]).unwrap();
+    }
+    assert_eq!(unsettled.observation().agentview, drawn);
+}
+
+#[test]
+fn records_say_when_cues_faced_the_model() {
+    let dir = tempfile::tempdir().unwrap();
+    let record = |facing: CueFacing| {
+        let path = dir.path().join(format!("results-{facing:?}.jsonl"));
+        let config = EnvConfig { cue_facing: facing, ..small(&[CameraName::AgentView]) };
+        let options = RunOptions { threads: 1, quiet: true, policy: "zero".into(), ..RunOptions::new(&path) };
+        let make = || builtin("zero").ok_or_else(|| "no zero policy".to_string());
+        run_episodes(&[goal0(Protocol::Authorized)], make, config, &RolloutOptions::default(), &options).unwrap();
+        read_records(&path).unwrap().records.remove(0)
+    };
+    // Upright cues keep the built-in look's empty label (records as before the option).
+    let (upright, faced) = (record(CueFacing::Upright), record(CueFacing::Model));
+    assert_eq!(upright.look, "");
+    assert_eq!(faced.look, "built-in; cues face the model");
+    // A report does not put the two in one table unless told to.
+    let looks = report::looks_with_vqa(&[upright, faced], []);
+    assert!(report::check_looks(&looks, false, "--mix-looks").unwrap_err().contains("cues face the model"));
+    assert!(report::check_looks(&looks, true, "--mix-looks").is_ok());
 }
 
 /// A camera size no renderer takes is an error at the first reset, not an allocation of

@@ -4,9 +4,9 @@
 
 use std::sync::Arc;
 
-use vifo_cues::{AnchorUse, CueSpec, Family, InsertMode, SetName, parse, variants};
+use vifo_cues::{AnchorUse, CueSpec, Family, FrameInputs, InsertMode, Inserter, SetName, parse, variants};
 use vifo_protocols::scene_cues::{
-    CameraProjector, EpisodeCue, SceneCueError, ScenePoint, anchors, builtin_instances, builtin_set, instance,
+    CameraProjector, CueFacing, EpisodeCue, SceneCueError, ScenePoint, anchors, builtin_instances, builtin_set, instance,
     start::settled_start,
     task_of,
 };
@@ -295,4 +295,50 @@ fn the_camera_projector_matches_the_renderer() {
     let [u, v, d] = CameraProjector(&e.agent).project([p.x, p.y, p.z]).unwrap();
     let q = e.agent.project(vifo_render::glam::Vec3::new(p.x as f32, p.y as f32, p.z as f32)).unwrap();
     assert_eq!((u as f32, v as f32, d as f32), (q.u, q.v, q.depth));
+}
+
+/// `image` mirrored left–right: what a model served with LIBERO's 180° rotation receives.
+fn mirrored(image: &RgbImage) -> vifo_cues::RgbImage {
+    let mut m = vifo_cues::RgbImage::from_raw(image.width, image.height, image.data.clone()).unwrap();
+    m.mirror_left_right();
+    m
+}
+
+#[test]
+fn a_cue_facing_the_model_is_the_upright_cue_on_the_models_image() {
+    let mut renderer = Renderer::default();
+    let e = episode("libero_goal/1");
+    let clean = e.frame(&mut renderer, &e.agent).color;
+    // Text in a fixed region, and a storyboard of goal pictures: what the model receives is the
+    // cue drawn as usual on the image it receives (its pictures mirrored with the scene), also
+    // after the same cue drew an upright frame.
+    for id in ["libero_goal/1/F1/caption_bar", "libero_goal/1/F4/keyframe_storyboard"] {
+        let spec = instance(id).unwrap();
+        let mut cue = e.prepare(&mut renderer, spec).unwrap();
+        let upright = e.with_cue(&mut renderer, &mut cue, &e.agent);
+        cue.set_facing(CueFacing::Model);
+        let seen = mirrored(&e.with_cue(&mut renderer, &mut cue, &e.agent));
+        let mut pictures = cue.pictures().to_vec();
+        pictures.iter_mut().for_each(vifo_cues::RgbaImage::mirror_left_right);
+        let mut want = mirrored(&clean);
+        let inputs = FrameInputs { pictures: &pictures, ..FrameInputs::default() };
+        Inserter::new().insert(&mut want, spec, &inputs).unwrap();
+        assert!(seen == want, "{id}: the model's image is not the upright cue on it");
+        assert!(mirrored(&upright) != want, "{id}: facing changed nothing");
+    }
+    // Marks anchored in the scene and symmetric left–right (a halo, a ghost's images) come out
+    // byte for byte where the upright cue puts them, on both cameras: their anchors and ghost
+    // images are mirrored with the frame. Turning back to upright gives the upright bytes.
+    for id in ["libero_goal/1/F7/glow_halo", "libero_goal/1/F3/ghost_fade"] {
+        let spec = instance(id).unwrap();
+        for camera in [&e.agent, &e.wrist] {
+            let mut cue = e.prepare(&mut renderer, spec).unwrap();
+            let upright = e.with_cue(&mut renderer, &mut cue, camera);
+            assert_ne!(upright, e.frame(&mut renderer, camera).color, "{id}: nothing drawn");
+            cue.set_facing(CueFacing::Model);
+            assert!(e.with_cue(&mut renderer, &mut cue, camera) == upright, "{id}: a symmetric mark moved");
+            cue.set_facing(CueFacing::Upright);
+            assert!(e.with_cue(&mut renderer, &mut cue, camera) == upright, "{id}");
+        }
+    }
 }

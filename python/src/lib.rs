@@ -17,7 +17,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use vifo_cues::SetName;
 use vifo_protocols::benchmark::{BenchmarkError, instances, specs};
-use vifo_protocols::env::{Env, EnvConfig, EnvError};
+use vifo_protocols::env::{CueFacing, Env, EnvConfig, EnvError};
 use vifo_protocols::spec::{EpisodeSpec, Protocol, TaskRef};
 use vifo_protocols::Observation;
 use vifo_scenes::sim::Sim;
@@ -88,17 +88,24 @@ impl NativeEnv {
 #[pymethods]
 impl NativeEnv {
     /// An env for task `index` of `suite` with `size`² cameras (`cameras`, LIBERO's names; both
-    /// when `None`, none when empty), under protocol `condition` with cue instance `cue`.
+    /// when `None`, none when empty), under protocol `condition` with cue instance `cue`, drawn
+    /// facing `cue_facing` (`upright`, or `model`: readable after LIBERO's 180° rotation).
     #[new]
-    #[pyo3(signature = (suite, index, size, condition = "original", cue = None, cameras = None))]
-    fn new(py: Python<'_>, suite: &str, index: usize, size: i64, condition: &str, cue: Option<String>, cameras: Option<Vec<String>>) -> PyResult<NativeEnv> {
+    #[pyo3(signature = (suite, index, size, condition = "original", cue = None, cameras = None, cue_facing = "upright"))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(py: Python<'_>, suite: &str, index: usize, size: i64, condition: &str, cue: Option<String>, cameras: Option<Vec<String>>, cue_facing: &str) -> PyResult<NativeEnv> {
         let size = check_size(size)?;
+        let cue_facing = match cue_facing {
+            "upright" => CueFacing::Upright,
+            "model" => CueFacing::Model,
+            other => return Err(PyValueError::new_err(format!("cue_facing {other:?}: expected 'upright' or 'model'"))),
+        };
         let spec = episode_spec(suite, index, condition, cue.as_deref(), 0)?;
         let cameras = match cameras {
             None => CameraName::ALL.to_vec(),
             Some(names) => camera_list(&names)?,
         };
-        let env = look::env(py, EnvConfig { size, order: ImageOrder::BottomUp, cameras })?;
+        let env = look::env(py, EnvConfig { size, order: ImageOrder::BottomUp, cameras, cue_facing })?;
         Ok(NativeEnv { env: Some(env), task: spec.task, condition: condition.to_string(), cue, instruction: spec.instruction })
     }
 
@@ -264,7 +271,7 @@ fn reference_episode<'py>(
     let size = check_size(size)?;
     let spec = episode_spec(suite, index, condition, cue, init)?;
     let order = if upright { ImageOrder::Upright } else { ImageOrder::BottomUp };
-    let mut env = look::env(py, EnvConfig { size, order, cameras: CameraName::ALL.to_vec() })?;
+    let mut env = look::env(py, EnvConfig { size, order, ..EnvConfig::default() })?;
     py.detach(|| env.reset(&spec).map(|_| ())).map_err(py_err)?;
     let mut out = vec![(observation(py, &env)?, 0.0, false)];
     for action in &actions {
@@ -282,7 +289,7 @@ fn native_steps_per_second(py: Python<'_>, suite: &str, index: usize, size: i64,
     let size = check_size(size)?;
     let task = TaskRef { suite: suite.to_string(), index };
     let spec = specs::spec(&task, Protocol::Original, None, 0, 0).map_err(|e| PyValueError::new_err(e.to_string()))?;
-    let mut env = look::env(py, EnvConfig { size, order: ImageOrder::BottomUp, cameras: CameraName::ALL.to_vec() })?;
+    let mut env = look::env(py, EnvConfig { size, order: ImageOrder::BottomUp, ..EnvConfig::default() })?;
     py.detach(|| {
         env.reset_unsettled(&spec)?;
         let start = std::time::Instant::now();

@@ -8,7 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use vifo_protocols::env::{Env, EnvConfig, EnvError};
 use vifo_protocols::spec::EpisodeSpec;
-use vifo_scenes::view::{CameraName, ImageOrder};
+use vifo_scenes::view::ImageOrder;
 
 use crate::{check_size, episode_spec, py_err};
 
@@ -48,7 +48,7 @@ impl NativeVectorEnv {
         for (suite, index, condition, cue) in &episodes {
             episode_spec(suite, *index, condition, cue.as_deref(), 0)?;
         }
-        let config = EnvConfig { size, order: ImageOrder::Upright, cameras: CameraName::ALL.to_vec() };
+        let config = EnvConfig { size, order: ImageOrder::Upright, ..EnvConfig::default() };
         crate::look::ensure(py)?;
         let envs = episodes.iter().map(|_| Env::new(config.clone())).collect();
         let threads = threads.min(episodes.len());

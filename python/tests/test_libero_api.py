@@ -156,6 +156,24 @@ def test_cue_arguments_are_checked():
     assert len(__import__("libero_vifo").cue_instances("full")) == 1671
 
 
+def test_a_cue_can_face_the_model():
+    """openpi's loop sends ``raw[::-1, ::-1]``: the upright frame mirrored left-right. With
+    ``cue_facing="model"`` the caption reads the right way there; the scene is the same."""
+    caption = "libero_goal/0/F1/caption_bar"
+    with pytest.raises(ValueError, match='cue_facing "sideways"'):
+        make_env(cue=caption, cue_facing="sideways")
+    seen = {}
+    for facing in ("upright", "model"):
+        env = make_env(cue=caption, cue_facing=facing)
+        env.reset()
+        for _ in range(10):
+            obs, _, _, _ = env.step(DUMMY)
+        seen[facing] = obs["agentview_image"][::-1, ::-1]
+    # The caption runs along the bottom of the picture; above it nothing changes.
+    assert not np.array_equal(seen["upright"], seen["model"])
+    assert np.array_equal(seen["upright"][: SIZE // 2], seen["model"][: SIZE // 2])
+
+
 def test_images_are_bottom_up_as_robosuite_returns_them():
     env = make_env()
     env.reset()

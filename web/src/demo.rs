@@ -172,7 +172,7 @@ impl Demo {
         }
         let cameras = if wrist { CameraName::ALL.to_vec() } else { vec![CameraName::AgentView] };
         Ok(Demo {
-            env: Env::new(EnvConfig { size, order: ImageOrder::Upright, cameras }),
+            env: Env::new(EnvConfig { size, order: ImageOrder::Upright, cameras, ..EnvConfig::default() }),
             policy: make_policy(DEFAULT_POLICY)?,
             policy_name: DEFAULT_POLICY.to_string(),
             running: None,

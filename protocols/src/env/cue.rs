@@ -8,7 +8,7 @@ use vifo_scenes::task::Atom;
 use vifo_scenes::view::SceneView;
 
 use super::EnvError;
-use crate::scene_cues;
+use crate::scene_cues::{self, CueFacing};
 
 /// Whether the episode's observations show a cue.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -51,6 +51,14 @@ impl EpisodeCue {
             None
         };
         Ok(EpisodeCue { spec, bridge, in_scene: false })
+    }
+
+    /// The same cue drawn facing `facing` (prepared: [`CueFacing::Upright`]).
+    pub fn facing(mut self, facing: CueFacing) -> EpisodeCue {
+        if let Some(bridge) = self.bridge.as_mut() {
+            bridge.set_facing(facing);
+        }
+        self
     }
 
     /// A cue standing in the scene as an object: nothing is drawn over the frames.

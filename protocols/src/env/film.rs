@@ -53,6 +53,7 @@ impl Filming {
             size: if rendering { run.size } else { self.size },
             order: run.order,
             cameras: CameraName::ALL.to_vec(),
+            cue_facing: run.cue_facing,
         }
     }
 }

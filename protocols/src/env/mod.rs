@@ -50,6 +50,7 @@ use crate::policy::{EpisodeState, Observation};
 use crate::spec::{CueForm, EpisodeSpec, Protocol};
 use crate::studies::SuiteCue;
 use crate::studies::piper::{self, Note, StopJudge};
+pub use crate::scene_cues::CueFacing;
 pub use cue::CueDrawing;
 use cue::EpisodeCue;
 
@@ -67,11 +68,14 @@ pub struct EnvConfig {
     pub order: ImageOrder,
     /// The cameras rendered at every step; the others stay empty (0×0) in observations.
     pub cameras: Vec<CameraName>,
+    /// Which way cues drawn over the frames face: upright, or readable in the mirrored frame that
+    /// LIBERO-trained models receive ([`CueFacing`]).
+    pub cue_facing: CueFacing,
 }
 
 impl Default for EnvConfig {
     fn default() -> EnvConfig {
-        EnvConfig { size: 256, order: ImageOrder::Upright, cameras: CameraName::ALL.to_vec() }
+        EnvConfig { size: 256, order: ImageOrder::Upright, cameras: CameraName::ALL.to_vec(), cue_facing: CueFacing::Upright }
     }
 }
 
@@ -286,7 +290,7 @@ impl Env {
         let cue = match (cue_spec, cue_object) {
             (None, _) => None,
             (Some(c), Some(_)) => Some(EpisodeCue::in_scene(c)),
-            (Some(c), None) if settle => Some(EpisodeCue::prepare(&sim, &view, &mut self.renderer, c, &task.goal, self.config.size, render)?),
+            (Some(c), None) if settle => Some(EpisodeCue::prepare(&sim, &view, &mut self.renderer, c, &task.goal, self.config.size, render)?.facing(self.config.cue_facing)),
             (Some(c), None) => {
                 // What `reset` would prepare it from: the same state after the settle steps.
                 let mut settled = Sim::new(assets.model.clone());
@@ -294,7 +298,7 @@ impl Env {
                 init_states::wait(&mut settled);
                 let mut settled_view = assets.view.clone();
                 settled_view.update(&settled);
-                Some(EpisodeCue::prepare(&settled, &settled_view, &mut self.renderer, c, &task.goal, self.config.size, render)?)
+                Some(EpisodeCue::prepare(&settled, &settled_view, &mut self.renderer, c, &task.goal, self.config.size, render)?.facing(self.config.cue_facing))
             }
         };
         let budget = spec.step_budget()

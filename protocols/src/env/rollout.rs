@@ -83,7 +83,7 @@ fn record(spec: &EpisodeSpec, policy: &dyn Policy, outcome: Outcome, config: &En
         outcome,
         wall_ms: 0.0,
         set: SetName::Paper,
-        look: if config.cameras.is_empty() { String::new() } else { super::scenes::look_label() },
+        look: if config.cameras.is_empty() { String::new() } else { super::scenes::recorded_look(config.cue_facing) },
     }
 }
 
@@ -170,6 +170,7 @@ pub fn run_episodes<M>(
 where
     M: Fn() -> Result<Box<dyn Policy>, String> + Sync,
 {
+    let look = super::scenes::recorded_look(config.cue_facing);
     let workers: Workers<Box<dyn Policy>> = Workers::new(config);
     runner::run(
         specs,
@@ -186,7 +187,7 @@ where
                 outcome: Outcome::Error { message: format!("policy {}: {message}", options.policy) },
                 wall_ms: 0.0,
                 set: options.set,
-                look: super::scenes::look_label(),
+                look: look.clone(),
             })
         },
         options,

@@ -13,7 +13,7 @@ use vifo_scenes::look::Look;
 use vifo_scenes::sim::SceneModel;
 use vifo_scenes::view::SceneView;
 
-use super::EnvError;
+use super::{CueFacing, EnvError};
 
 /// A task's shared parts.
 pub struct SceneAssets {
@@ -74,4 +74,16 @@ fn look() -> Option<&'static Look> {
 /// byte what they were before looks existed), else `libero-assets:<hash>`.
 pub fn look_label() -> String {
     look().map_or_else(String::new, Look::label)
+}
+
+/// What records store as the look of frames whose drawn cues face `facing`: [`look_label`], and
+/// where the cues face the model, that as well, since such rates are not comparable with those of
+/// upright cues (a report refuses to mix the two, as it does looks).
+pub fn recorded_look(facing: CueFacing) -> String {
+    match facing {
+        CueFacing::Upright => look_label(),
+        CueFacing::Model => {
+            format!("{}; cues face the model", look().map_or_else(|| vifo_scenes::look::BUILT_IN.to_string(), Look::label))
+        }
+    }
 }

@@ -17,14 +17,9 @@ pub fn openpi_image(upright: &RgbImage, size: u32) -> RgbImage {
 
 /// `upright[r][W-1-c]`: what `raw[::-1, ::-1]` of a bottom-up robosuite frame is.
 pub fn mirror_left_right(img: &RgbImage) -> RgbImage {
-    let w = img.width as usize;
-    let mut data = Vec::with_capacity(img.data.len());
-    for row in img.data.chunks_exact(w * 3) {
-        for px in row.chunks_exact(3).rev() {
-            data.extend_from_slice(px);
-        }
-    }
-    RgbImage { width: img.width, height: img.height, data }
+    let mut mirrored = img.clone();
+    mirrored.mirror_left_right();
+    mirrored
 }
 
 /// openpi's `image_tools.resize_with_pad`: scale by the larger of the two ratios with PIL's

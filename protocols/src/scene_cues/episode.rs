@@ -15,6 +15,23 @@ use super::SceneCueError;
 /// Ghost poses shown when the spec gives no opacities (whose count would set it).
 pub const DEFAULT_GHOSTS: usize = 4;
 
+/// Which way a cue's own drawing (its text, codes, labels and pictograms) faces.
+///
+/// Every model profile receives LIBERO's "180° rotation" of robosuite's bottom-up frame, which is
+/// the upright frame mirrored left–right (see `serving::profile`). A cue drawn on the upright frame
+/// therefore reaches those models mirrored, text reading backwards, as the scene does.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum CueFacing {
+    /// Drawn on the upright frame: readable there, mirrored in the models' images.
+    #[default]
+    Upright,
+    /// Drawn on the frame as the models receive it (the upright frame mirrored left–right, its
+    /// anchors, ghost layers and goal pictures mirrored with it), then mirrored back: readable in
+    /// the models' images. Marks anchored in the scene stay where they were; a fixed region is
+    /// taken in the models' image, so it lies on the other side of the upright frame.
+    Model,
+}
+
 /// Everything a cue needs that is fixed for the episode — the spec, which scene things its
 /// anchors follow, the ghost's future poses, the F4 pictures — plus the inserter's cache.
 /// Built once at reset from the episode's start, then [`EpisodeCue::apply`] per camera frame.
@@ -25,6 +42,9 @@ pub struct EpisodeCue {
     pictures: Vec<RgbaImage>,
     demo: Option<DemoOutcome>,
     inserter: Inserter,
+    facing: CueFacing,
+    /// The pictures mirrored left–right, where the cue faces the model.
+    mirrored_pictures: Vec<RgbaImage>,
 }
 
 /// F4 variants drawn from the task's steps alone; every other F4 variant shows pictures.
@@ -69,6 +89,8 @@ impl EpisodeCue {
             pictures: Vec::new(),
             demo: None,
             inserter: Inserter::new(),
+            facing: CueFacing::Upright,
+            mirrored_pictures: Vec::new(),
         };
         if !(wants_ghost || wants_pictures) {
             return Ok(cue_state);
@@ -112,7 +134,7 @@ impl EpisodeCue {
     /// Draws the cue into `frame`, an upright frame `camera` rendered of the current state of
     /// `sim` (insert before flipping to robosuite's bottom-up order). Anchors are projected
     /// again on every call; ghost layers are rendered with `renderer` when the camera moved.
-    /// On error the frame is unchanged.
+    /// The cue faces as [`EpisodeCue::set_facing`] set it. On error the frame is unchanged.
     pub fn apply(
         &mut self,
         sim: &Sim,
@@ -134,16 +156,41 @@ impl EpisodeCue {
             InsertMode::SceneAnchored | InsertMode::SimulatorState => self.anchors(sim, camera),
             _ => Anchors::default(),
         };
+        let facing_model = self.facing == CueFacing::Model;
         let ghost_layers = match &mut self.ghost {
             Some(g) => g.layers(renderer, camera)?,
             None => &[],
         };
-        let inputs = FrameInputs { anchors, ghost_layers, pictures: &self.pictures };
+        let inputs = FrameInputs {
+            anchors: if facing_model { anchors.mirrored(frame.width) } else { anchors },
+            ghost_layers,
+            pictures: if facing_model { &self.mirrored_pictures } else { &self.pictures },
+        };
         let mut image =
             vifo_cues::RgbImage { width: frame.width, height: frame.height, data: std::mem::take(&mut frame.data) };
+        if facing_model {
+            image.mirror_left_right();
+        }
         let result = self.inserter.insert(&mut image, &self.spec, &inputs);
+        if facing_model {
+            image.mirror_left_right();
+        }
         frame.data = image.data;
         Ok(result?)
+    }
+
+    /// Which way the cue's drawing faces from now on (at preparation: [`CueFacing::Upright`]).
+    pub fn set_facing(&mut self, facing: CueFacing) {
+        let model = facing == CueFacing::Model;
+        self.mirrored_pictures = Vec::new();
+        if model {
+            self.mirrored_pictures = self.pictures.clone();
+            self.mirrored_pictures.iter_mut().for_each(RgbaImage::mirror_left_right);
+        }
+        if let Some(g) = self.ghost.as_mut() {
+            g.set_mirrored(model);
+        }
+        self.facing = facing;
     }
 
     /// The source and target as `camera` sees them at the current state.

@@ -19,13 +19,23 @@ pub struct Ghost {
     /// Most recently used first.
     kept: Vec<(Camera, Vec<RgbaImage>)>,
     scratch: Frame,
+    /// Layers are made mirrored left–right (for a cue facing the model, [`super::CueFacing`]).
+    mirrored: bool,
 }
 
 impl Ghost {
     /// Ghosts of `entity` at `poses` (in time order), looking as it does in `view`.
     pub fn new(view: &SceneView, sim: &Sim, entity: usize, poses: &[Pose]) -> Ghost {
         let scenes = poses.iter().map(|p| view.entity_scene(sim, entity, p)).collect();
-        Ghost { scenes, kept: Vec::new(), scratch: Frame::default() }
+        Ghost { scenes, kept: Vec::new(), scratch: Frame::default(), mirrored: false }
+    }
+
+    /// Makes the layers mirrored left–right from now on (or not).
+    pub fn set_mirrored(&mut self, mirrored: bool) {
+        if mirrored != self.mirrored {
+            self.kept.clear();
+            self.mirrored = mirrored;
+        }
     }
 
     /// Number of layers.
@@ -44,7 +54,11 @@ impl Ghost {
                 let mut layers = Vec::with_capacity(self.scenes.len());
                 for scene in &self.scenes {
                     renderer.render_into(scene, camera, &mut self.scratch)?;
-                    layers.push(layer_of(&self.scratch));
+                    let mut layer = layer_of(&self.scratch);
+                    if self.mirrored {
+                        layer.mirror_left_right();
+                    }
+                    layers.push(layer);
                 }
                 self.kept.insert(0, (*camera, layers));
                 self.kept.truncate(KEPT);

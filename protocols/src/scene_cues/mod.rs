@@ -24,7 +24,7 @@ pub mod tasks;
 
 pub use anchors::{CuePoints, ScenePoint};
 pub use demo::DemoOutcome;
-pub use episode::{DEFAULT_GHOSTS, EpisodeCue};
+pub use episode::{CueFacing, DEFAULT_GHOSTS, EpisodeCue};
 pub use error::SceneCueError;
 pub use projector::CameraProjector;
 pub use tasks::{builtin_instances, builtin_set, describe, instance, study_instances, task_of, unknown_instance_hint};

@@ -69,16 +69,18 @@ def _task_info(suite, task):
 
 class LiberoVifoEnv(gymnasium.Env):
     """One built-in task with two ``size``² cameras, under the original protocol or, with a
-    cue instance id, under ``language_condition`` (``authorized`` by default)."""
+    cue instance id, under ``language_condition`` (``authorized`` by default). ``cue_facing``:
+    ``"upright"`` draws the cue readable in the upright frame, ``"model"`` readable in the frame
+    LIBERO-trained models receive (the upright one mirrored left-right by LIBERO's 180° rotation)."""
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 20}
 
-    def __init__(self, suite, task, size=256, render_mode=None, cue=None, language_condition=None):
+    def __init__(self, suite, task, size=256, render_mode=None, cue=None, language_condition=None, cue_facing="upright"):
         self._info = _task_info(suite, task)
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode {render_mode!r}: only 'rgb_array'")
         self.render_mode = render_mode
-        self._env = _native.NativeEnv(suite, task, size, _resolve_condition(cue, language_condition), cue)
+        self._env = _native.NativeEnv(suite, task, size, _resolve_condition(cue, language_condition), cue, cue_facing=cue_facing)
         self.language_instruction = self._env.instruction
         self.observation_space = _observation_space(size)
         self.action_space = spaces.Box(-1.0, 1.0, (7,), np.float32)

@@ -135,7 +135,7 @@ fn render_cue_object(id: &str, args: &RenderArgs) -> Result<()> {
     let look = args.look.look()?;
     env::scenes::use_look(look.clone())?;
     let order = if args.bottom_up { ImageOrder::BottomUp } else { ImageOrder::Upright };
-    let mut env = Env::new(EnvConfig { size: args.size, order, cameras: vec![args.camera] });
+    let mut env = Env::new(EnvConfig { size: args.size, order, cameras: vec![args.camera], ..EnvConfig::default() });
     let spec = EpisodeSpec { cue_form: CueForm::Object, ..benchmark::specs::spec(&task, Protocol::Authorized, Some(id), args.init, 0)? };
     let obs = env.reset(&spec)?;
     let image = obs.image(args.camera);

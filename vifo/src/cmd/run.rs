@@ -26,7 +26,7 @@ use vifo_protocols::benchmark::language::conflict;
 use vifo_protocols::benchmark::specs::{self, Selection};
 use vifo_protocols::env::film::Filming;
 use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
-use vifo_protocols::env::EnvConfig;
+use vifo_protocols::env::{CueFacing, EnvConfig};
 use vifo_protocols::policies::{self, builtin};
 use vifo_protocols::remote::RemotePolicy;
 use vifo_protocols::runner::{RunOptions, Shard, read_records};
@@ -76,6 +76,13 @@ pub struct Args {
     /// Wire format where the URL scheme is ambiguous (ws://: openpi or internvla).
     #[arg(long)]
     policy_format: Option<String>,
+    /// Which way cues drawn over the frames face. upright: readable in the upright frame; every
+    /// model profile receives that frame mirrored left-right (LIBERO's "180° rotation"), so the
+    /// model sees a cue's text backwards, as it sees the scene. model: drawn readable in the
+    /// image the model receives (backwards in the upright frame and the clips). Recorded with
+    /// each episode's look; a report refuses to mix the two.
+    #[arg(long, value_enum, default_value_t = Facing::Upright)]
+    cue_facing: Facing,
     /// Worker threads (0: one per core).
     #[arg(long, default_value_t = 0)]
     threads: usize,
@@ -132,6 +139,22 @@ pub struct Args {
     instance: Vec<String>,
     #[command(flatten)]
     look: LookArgs,
+}
+
+/// Which way drawn cues face (`--cue-facing`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Facing {
+    Upright,
+    Model,
+}
+
+impl From<Facing> for CueFacing {
+    fn from(f: Facing) -> CueFacing {
+        match f {
+            Facing::Upright => CueFacing::Upright,
+            Facing::Model => CueFacing::Model,
+        }
+    }
 }
 
 /// Which policies' episodes are filmed (`--clips`).
@@ -372,6 +395,7 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&P
     let config = EnvConfig {
         size: args.size,
         cameras: if render { CameraName::ALL.to_vec() } else { Vec::new() },
+        cue_facing: args.cue_facing.into(),
         ..EnvConfig::default()
     };
     let film = match clips {

@@ -51,7 +51,7 @@ def _find_task(bddl_file_name):
 class OffScreenRenderEnv:
     """One LIBERO task with two square cameras, stepped with 7-D actions."""
 
-    def __init__(self, bddl_file_name, camera_heights=128, camera_widths=128, cue=None, language_condition=None, **kwargs):
+    def __init__(self, bddl_file_name, camera_heights=128, camera_widths=128, cue=None, language_condition=None, cue_facing="upright", **kwargs):
         if camera_heights != camera_widths:
             raise ValueError(f"camera_heights {camera_heights} != camera_widths {camera_widths}: cameras are square here")
         unknown = set(kwargs) - {"camera_names", "has_renderer", "has_offscreen_renderer", "use_camera_obs", "control_freq", "horizon"}
@@ -71,7 +71,7 @@ class OffScreenRenderEnv:
         if not isinstance(camera_names, (list, tuple)) or not all(isinstance(n, str) for n in camera_names):
             raise TypeError(f"camera_names: expected a camera name or a list of them, got {camera_names!r}")
         cameras = list(camera_names) if kwargs.get("use_camera_obs", True) else []
-        self._env = _native.NativeEnv(self._task["suite"], self._task["index"], size, language_condition, cue, cameras)
+        self._env = _native.NativeEnv(self._task["suite"], self._task["index"], size, language_condition, cue, cameras, cue_facing)
         self._seed = None
         self.cue = cue
         self.language_condition = language_condition

@@ -95,11 +95,7 @@ impl NativeEnv {
     #[allow(clippy::too_many_arguments)]
     fn new(py: Python<'_>, suite: &str, index: usize, size: i64, condition: &str, cue: Option<String>, cameras: Option<Vec<String>>, cue_facing: &str) -> PyResult<NativeEnv> {
         let size = check_size(size)?;
-        let cue_facing = match cue_facing {
-            "upright" => CueFacing::Upright,
-            "model" => CueFacing::Model,
-            other => return Err(PyValueError::new_err(format!("cue_facing {other:?}: expected 'upright' or 'model'"))),
-        };
+        let cue_facing = parse_cue_facing(cue_facing)?;
         let spec = episode_spec(suite, index, condition, cue.as_deref(), 0)?;
         let cameras = match cameras {
             None => CameraName::ALL.to_vec(),
@@ -167,6 +163,15 @@ fn camera_list(names: &[String]) -> PyResult<Vec<CameraName>> {
         }
     }
     Ok(cameras)
+}
+
+/// `cue_facing` as `vifo run --cue-facing` takes it.
+fn parse_cue_facing(name: &str) -> PyResult<CueFacing> {
+    match name {
+        "upright" => Ok(CueFacing::Upright),
+        "model" => Ok(CueFacing::Model),
+        other => Err(PyValueError::new_err(format!("cue_facing {other:?}: expected 'upright' or 'model'"))),
+    }
 }
 
 /// The camera side `size` (taken signed, so that a negative one is this `ValueError` too).

@@ -77,9 +77,10 @@ pub fn check_policy(policy: &str) -> PyResult<()> {
 /// Runs the episodes `specs` (JSON, from `episode_specs`) with `policy` into the results file
 /// `output` exactly as `vifo run` does (threads, resume, the cameras only for policies that
 /// look, fast-forward, the look `vifo run` would find with `--assets`, `--robot-assets` and
-/// `--builtin-look` as given: see `look`); returns `(ran, errors, already_done)`.
+/// `--builtin-look` as given: see `look`), cues facing as `cue_facing` says (`vifo run
+/// --cue-facing`); returns `(ran, errors, already_done)`.
 #[pyfunction]
-#[pyo3(signature = (specs, policy, output, set = "paper", threads = 1, resume = false, size = 256, quiet = true, assets = None, robot_assets = None, builtin_look = false))]
+#[pyo3(signature = (specs, policy, output, set = "paper", threads = 1, resume = false, size = 256, quiet = true, assets = None, robot_assets = None, builtin_look = false, cue_facing = "upright"))]
 #[allow(clippy::too_many_arguments)]
 pub fn run_specs(
     py: Python<'_>,
@@ -94,8 +95,10 @@ pub fn run_specs(
     assets: Option<PathBuf>,
     robot_assets: Option<PathBuf>,
     builtin_look: bool,
+    cue_facing: &str,
 ) -> PyResult<(usize, usize, usize)> {
     check_policy(policy)?;
+    let cue_facing = crate::parse_cue_facing(cue_facing)?;
     let size = crate::check_size(size)?;
     let specs: Vec<EpisodeSpec> =
         specs.iter().map(|s| serde_json::from_str(s).map_err(|e| value_err(format!("episode spec: {e}")))).collect::<PyResult<_>>()?;
@@ -104,7 +107,7 @@ pub fn run_specs(
     if render {
         crate::look::use_look(py, assets, robot_assets, builtin_look, quiet)?;
     }
-    let config = EnvConfig { size, cameras: if render { CameraName::ALL.to_vec() } else { Vec::new() }, ..EnvConfig::default() };
+    let config = EnvConfig { size, cameras: if render { CameraName::ALL.to_vec() } else { Vec::new() }, cue_facing, ..EnvConfig::default() };
     let options = RunOptions { threads, resume, quiet, policy: policy.to_string(), set: parse_set(set)?, ..RunOptions::new(output) };
     let make = || -> Result<Box<dyn Policy>, String> {
         match builtin(policy) {

@@ -162,6 +162,9 @@ def test_a_cue_can_face_the_model():
     caption = "libero_goal/0/F1/caption_bar"
     with pytest.raises(ValueError, match='cue_facing "sideways"'):
         make_env(cue=caption, cue_facing="sideways")
+    spec = _native.episode_specs(suites=["libero_goal"], protocols=["authorized"], episodes=1)[0][1]
+    with pytest.raises(ValueError, match='cue_facing "sideways"'):
+        _native.run_specs([spec], "zero", os.devnull, cue_facing="sideways")
     seen = {}
     for facing in ("upright", "model"):
         env = make_env(cue=caption, cue_facing=facing)

@@ -69,6 +69,7 @@ def run_benchmark(
     assets=None,
     robot_assets=None,
     builtin_look=False,
+    cue_facing="upright",
 ):
     """Runs ``selection`` with ``policy`` on a Ray cluster into a ``vifo run`` results file.
 
@@ -87,6 +88,8 @@ def run_benchmark(
       worker finds it on its own node (give paths that exist there, or install the asset
       wheels on every node). Every record of a run must have one look: a batch drawn with
       another look than the file's first records is not written, and counts as failed.
+    - ``cue_facing``: ``"upright"``, or ``"model"`` to draw cues readable in the image a served
+      model receives (``vifo run --cue-facing``); recorded with the look.
 
     Returns a summary dict: ``episodes``, ``already_done``, ``ran``, ``errors`` (and
     ``error_messages``: ``(count, message)`` pairs, most frequent first), ``missing``,
@@ -116,7 +119,9 @@ def run_benchmark(
 
     if builtin_look and (assets is not None or robot_assets is not None):
         raise ValueError("builtin_look=True draws no asset files: give it without assets= and robot_assets=")
-    look = {"assets": assets, "robot_assets": robot_assets, "builtin_look": builtin_look}
+    if cue_facing not in ("upright", "model"):
+        raise ValueError(f"cue_facing {cue_facing!r}: expected 'upright' or 'model'")
+    look = {"assets": assets, "robot_assets": robot_assets, "builtin_look": builtin_look, "cue_facing": cue_facing}
     specs = _native.episode_specs(set=set_name, **selection)
     expected = {key for key, _ in specs}
     results = _native.ResultsFile(output, set=set_name, resume=resume)

@@ -39,6 +39,30 @@ fn listed_ids_are_accepted_and_a_mistyped_one_names_the_tasks_ids() {
     assert!(!out.status.success() && stderr.contains(&ids[0]["libero_goal/3/F2/".len()..]) && stderr.contains("vifo cues list --ids --task libero_goal/3"), "{stderr}");
 }
 
+/// `vifo render --model-profile` writes what that model receives: pi0.5's 224² image, the
+/// frame mirrored, where a cue facing the model reads the right way; an unknown profile is
+/// named with the known ones.
+#[test]
+fn render_shows_a_cue_as_a_model_receives_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let render = |name: &str, extra: &[&str]| {
+        let png = dir.path().join(name);
+        let mut args = vec!["render", "--builtin-look", "--size", "64", "--cue", "libero_goal/0/F1/caption_bar", "-o", png.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let out = Command::new(env!("CARGO_BIN_EXE_vifo")).args(&args).output().expect("run vifo");
+        (out.status.success().then(|| vifo_render::imageio::load_png(&png).unwrap()), String::from_utf8_lossy(&out.stderr).into_owned())
+    };
+    let (upright, _) = render("upright.png", &[]);
+    let (seen, err) = render("seen.png", &["--model-profile", "pi05"]);
+    let (faced, _) = render("faced.png", &["--model-profile", "pi05", "--cue-facing", "model"]);
+    let (faced_upright, _) = render("faced_upright.png", &["--cue-facing", "model"]);
+    let (upright, seen, faced, faced_upright) = (upright.unwrap(), seen.unwrap_or_else(|| panic!("{err}")), faced.unwrap(), faced_upright.unwrap());
+    assert_eq!((upright.width, seen.width, seen.height), (64, 224, 224));
+    assert!(seen != faced && upright != faced_upright);
+    let (none, err) = render("none.png", &["--model-profile", "nope"]);
+    assert!(none.is_none() && err.contains("unknown --model-profile \"nope\"") && err.contains("pi05"), "{err}");
+}
+
 /// A selection that holds no episode is an error naming the option, not an empty table with a
 /// success rate of "-0.0%" (nor a table header over the error).
 #[test]

@@ -16,6 +16,8 @@ pub mod web;
 use anyhow::Context;
 use vifo_cues::{Family, SetName};
 use vifo_protocols::CueForm;
+use vifo_protocols::env::CueFacing;
+use vifo_protocols::serving::Profile;
 
 /// A count that must be 1 or more (`--episodes`, `--steps`, ...): 0 would run nothing and
 /// report it as a result.
@@ -43,4 +45,25 @@ pub fn parse_family(name: &str) -> anyhow::Result<Family> {
 /// `--form overlay|object`: a cue drawn over the image or standing in the scene.
 pub fn parse_form(name: &str) -> Result<CueForm, String> {
     CueForm::ALL.into_iter().find(|f| f.name() == name).ok_or_else(|| format!("unknown form {name:?}: expected overlay or object"))
+}
+
+/// `--cue-facing upright|model`: which way cues drawn over the frames face.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Facing {
+    Upright,
+    Model,
+}
+
+impl From<Facing> for CueFacing {
+    fn from(f: Facing) -> CueFacing {
+        match f {
+            Facing::Upright => CueFacing::Upright,
+            Facing::Model => CueFacing::Model,
+        }
+    }
+}
+
+/// `--model-profile NAME`.
+pub fn profile(name: &str) -> anyhow::Result<&'static Profile> {
+    Profile::named(name).with_context(|| format!("unknown --model-profile {name:?}: expected one of {}", Profile::names().join(", ")))
 }

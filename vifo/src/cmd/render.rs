@@ -10,7 +10,7 @@ use vifo::render::{self, RenderRequest};
 use vifo_protocols::env::{self, Env, EnvConfig};
 use vifo_protocols::scene_cues::{self, EpisodeCue, start::settled_start};
 use vifo_protocols::{CueForm, EpisodeSpec, Protocol, benchmark};
-use vifo_render::Renderer;
+use vifo_render::{Renderer, RgbImage};
 use vifo_render::imageio::save_png;
 use vifo_scenes::sim::SceneModel;
 use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
@@ -47,6 +47,14 @@ pub struct RenderArgs {
     /// Rows bottom-up, as robosuite returns images and LIBERO's datasets store them.
     #[arg(long)]
     pub bottom_up: bool,
+    /// With --cue: which way the cue faces (as `vifo run --cue-facing`): upright, or model
+    /// (readable in the mirrored image the models receive).
+    #[arg(long, value_enum, default_value_t = super::Facing::Upright, requires = "cue")]
+    pub cue_facing: super::Facing,
+    /// With --cue: write the frame as this profile's model receives it (its orientation and
+    /// size: pi05, openvla-oft, ...; see `vifo run --model-profile`), to see what it sees.
+    #[arg(long, value_name = "PROFILE", requires = "cue")]
+    pub model_profile: Option<String>,
     /// PNG of the initial frame.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub output: Option<PathBuf>,
@@ -101,8 +109,9 @@ fn render_cue(id: &str, args: &RenderArgs) -> Result<()> {
     }
     let output = args.output.as_ref().ok_or_else(|| anyhow!("give -o FILE.png for the frame with the cue"))?;
     if args.bottom_up {
-        bail!("--bottom-up is not available with --cue (cues are drawn on upright frames)");
+        bail!("--bottom-up is not available with --cue (cues are drawn on upright frames; --model-profile gives a model's view)");
     }
+    let profile = args.model_profile.as_deref().map(super::profile).transpose()?;
     let task = scene_cues::task_of(spec)?;
     let model = SceneModel::build(task)?;
     let sim = settled_start(&model, args.init)?;
@@ -112,11 +121,31 @@ fn render_cue(id: &str, args: &RenderArgs) -> Result<()> {
     let mut renderer = Renderer::default();
     let camera = Cameras::new(args.size, args.size).get(args.camera, &sim);
     let mut cue = EpisodeCue::prepare(&sim, &view, &mut renderer, spec, &task.goal, (args.size, args.size))?;
+    cue.set_facing(args.cue_facing.into());
     let mut frame = view.render(&mut renderer, &camera, ImageOrder::Upright)?.color;
     let report = cue.apply(&sim, &mut renderer, &camera, &mut frame)?;
-    save_png(&frame, output)?;
+    let seen = match profile {
+        Some(p) => {
+            let seen = p.image(&vifo_cues::RgbImage::from_raw(frame.width, frame.height, frame.data)?);
+            RgbImage { width: seen.width, height: seen.height, data: seen.data }
+        }
+        None => frame,
+    };
+    save_png(&seen, output)?;
     let look = label(look.as_deref());
-    println!("{id} on {} (init {}) with {}, look {look} -> {} ({})", spec.task, args.init, args.camera, output.display(), serde_json::to_string(&report)?);
+    let facing = match args.cue_facing {
+        super::Facing::Upright => "",
+        super::Facing::Model => ", cue facing the model",
+    };
+    let as_seen = profile.map_or_else(String::new, |p| format!(", as {} receives it ({}x{})", p.name, seen.width, seen.height));
+    println!(
+        "{id} on {} (init {}) with {}, look {look}{facing}{as_seen} -> {} ({})",
+        spec.task,
+        args.init,
+        args.camera,
+        output.display(),
+        serde_json::to_string(&report)?
+    );
     if let Some(demo) = cue.demo().filter(|d| !d.success) {
         println!("note: the expert's demonstration failed ({}); the cue shows the states it reached", demo.failure.as_deref().unwrap_or("unknown"));
     }

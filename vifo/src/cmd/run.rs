@@ -26,11 +26,11 @@ use vifo_protocols::benchmark::language::conflict;
 use vifo_protocols::benchmark::specs::{self, Selection};
 use vifo_protocols::env::film::Filming;
 use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
-use vifo_protocols::env::{CueFacing, EnvConfig};
+use vifo_protocols::env::EnvConfig;
 use vifo_protocols::policies::{self, builtin};
 use vifo_protocols::remote::RemotePolicy;
 use vifo_protocols::runner::{RunOptions, Shard, read_records};
-use vifo_protocols::serving::{Format, Profile, ServedPolicy, ServingConfig};
+use vifo_protocols::serving::{Format, ServedPolicy, ServingConfig};
 use vifo_protocols::spec::{CueForm, EpisodeSpec};
 use vifo_protocols::studies::{self, Study, StudyOptions};
 use vifo_protocols::{Policy, Protocol, report};
@@ -81,8 +81,8 @@ pub struct Args {
     /// model sees a cue's text backwards, as it sees the scene. model: drawn readable in the
     /// image the model receives (backwards in the upright frame and the clips). Recorded with
     /// each episode's look; a report refuses to mix the two.
-    #[arg(long, value_enum, default_value_t = Facing::Upright)]
-    cue_facing: Facing,
+    #[arg(long, value_enum, default_value_t = super::Facing::Upright)]
+    cue_facing: super::Facing,
     /// Worker threads (0: one per core).
     #[arg(long, default_value_t = 0)]
     threads: usize,
@@ -139,22 +139,6 @@ pub struct Args {
     instance: Vec<String>,
     #[command(flatten)]
     look: LookArgs,
-}
-
-/// Which way drawn cues face (`--cue-facing`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Facing {
-    Upright,
-    Model,
-}
-
-impl From<Facing> for CueFacing {
-    fn from(f: Facing) -> CueFacing {
-        match f {
-            Facing::Upright => CueFacing::Upright,
-            Facing::Model => CueFacing::Model,
-        }
-    }
 }
 
 /// Which policies' episodes are filmed (`--clips`).
@@ -483,12 +467,7 @@ fn print_errors(messages: &[(usize, String)]) {
 /// How to serve `url`: `None` for a plain ws:// openpi server without profile or format
 /// (openpi's own pi0.5 client, `remote::RemotePolicy`), else the format and profile.
 fn serving_config(url: &str, args: &Args) -> anyhow::Result<Option<ServingConfig>> {
-    let profile = match &args.model_profile {
-        Some(name) => Some(Profile::named(name).with_context(|| {
-            format!("unknown --model-profile {name:?}: expected one of {}", Profile::names().join(", "))
-        })?),
-        None => None,
-    };
+    let profile = args.model_profile.as_deref().map(super::profile).transpose()?;
     let format = match &args.policy_format {
         Some(name) => Some(Format::named(name).with_context(|| {
             let names: Vec<&str> = Format::ALL.iter().map(|f| f.name()).collect();

@@ -238,10 +238,10 @@ fn records_say_when_cues_faced_the_model() {
     // Upright cues keep the built-in look's empty label (records as before the option).
     let (upright, faced) = (record(CueFacing::Upright), record(CueFacing::Model));
     assert_eq!(upright.look, "");
-    assert_eq!(faced.look, "built-in; cues face the model");
+    assert_eq!(faced.look, "built-in with cues facing the model");
     // A report does not put the two in one table unless told to.
     let looks = report::looks_with_vqa(&[upright, faced], []);
-    assert!(report::check_looks(&looks, false, "--mix-looks").unwrap_err().contains("cues face the model"));
+    assert!(report::check_looks(&looks, false, "--mix-looks").unwrap_err().contains("built-in with cues facing the model (1 episode)"));
     assert!(report::check_looks(&looks, true, "--mix-looks").is_ok());
 }
 

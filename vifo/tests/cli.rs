@@ -118,6 +118,28 @@ fn an_unknown_study_instance_names_ones_the_study_has() {
     assert!(!dir.path().join("run").exists());
 }
 
+/// A run resumed with cues facing another way than its first episodes keeps both episodes but
+/// writes no report mixing them, and exits with an error that says why.
+#[test]
+fn a_resumed_run_that_would_mix_looks_writes_no_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("run");
+    let run = |episodes: &str, extra: &[&str]| {
+        let mut args = vec!["run", "--suite", "libero_goal", "--protocol", "authorized", "--family", "F1", "--per-family", "1"];
+        args.extend_from_slice(&["--policy", "zero", "--render-always", "--size", "32", "--builtin-look", "--quiet", "--threads", "1", "--episodes", episodes]);
+        args.extend_from_slice(extra);
+        Command::new(env!("CARGO_BIN_EXE_vifo")).args(&args).arg("--out").arg(&out_dir).output().expect("run vifo")
+    };
+    let first = run("1", &["--cue-facing", "model"]);
+    assert!(first.status.success(), "{}", String::from_utf8_lossy(&first.stderr));
+    std::fs::remove_dir_all(out_dir.join("report")).unwrap();
+    let resumed = run("2", &["--resume"]);
+    let stderr = String::from_utf8_lossy(&resumed.stderr);
+    assert!(!resumed.status.success() && stderr.contains("no report was written") && stderr.contains("built-in with cues facing the model (1 episode)"), "{stderr}");
+    assert_eq!(std::fs::read_to_string(out_dir.join("results-zero.jsonl")).unwrap().lines().count(), 2);
+    assert!(!out_dir.join("report").exists());
+}
+
 /// A run whose policy server is not up keeps its error records and writes its report, but
 /// exits with an error, so that a script does not take it for a result.
 #[test]

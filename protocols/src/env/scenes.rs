@@ -83,7 +83,7 @@ pub fn recorded_look(facing: CueFacing) -> String {
     match facing {
         CueFacing::Upright => look_label(),
         CueFacing::Model => {
-            format!("{}; cues face the model", look().map_or_else(|| vifo_scenes::look::BUILT_IN.to_string(), Look::label))
+            format!("{} with cues facing the model", look().map_or_else(|| vifo_scenes::look::BUILT_IN.to_string(), Look::label))
         }
     }
 }

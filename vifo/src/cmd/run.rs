@@ -488,6 +488,11 @@ fn write_report(out: &Path, results: &[PathBuf], specs: &[EpisodeSpec], policies
     for path in results {
         records.extend(read_records(path)?.records);
     }
+    // A resumed run drawn with another look (or cue facing) than the file's first episodes.
+    let looks = report::looks_with_vqa(&records, std::iter::empty());
+    report::check_looks(&looks, false, "--mix-looks to `vifo report`").map_err(|e| {
+        anyhow::anyhow!("the results are kept in {}, but no report was written: {e}", out.display())
+    })?;
     let report = report::build(&studies::main_records(&records), &Default::default());
     let dir = out.join("report");
     let mut markdown = report.write(&dir).with_context(|| format!("writing {}", dir.display()))?;

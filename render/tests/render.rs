@@ -549,3 +549,42 @@ fn fixed_camera_frames_match_whole_frames(mirror: bool) {
         assert!(layered.render(&scene, &cam).unwrap() == plain.render(&scene, &cam).unwrap());
     }
 }
+
+/// `render_covered` shades only the box of what its scene covers: inside the box it gives the
+/// pixels of a whole render, outside it leaves the frame as it was, and the box holds every
+/// pixel a whole render shows something at.
+#[test]
+fn a_covered_render_is_the_whole_render_inside_the_box_it_returns() {
+    let cam = agentview(96, 80);
+    let busy = busy_scene();
+    let mut renderer = Renderer::default();
+    for (k, bowl) in busy.instances[2..].iter().enumerate() {
+        let scene = Scene { instances: vec![bowl.clone()], ..busy.clone() };
+        let whole = render(&scene, &cam);
+        // The frame holds another render first: outside the box it must stay as it was.
+        let mut frame = renderer.render(&busy, &cam).unwrap();
+        let before = frame.clone();
+        let [x0, y0, x1, y1] = renderer.render_covered(&scene, &cam, &mut frame).unwrap().expect("the bowl is in view");
+        assert!(x1 - x0 < 40 && y1 - y0 < 40, "bowl {k}: box {:?}", [x0, y0, x1, y1]);
+        let w = cam.width;
+        for y in 0..cam.height {
+            for x in 0..w {
+                let (p, inside) = ((y * w + x) as usize, (x0..=x1).contains(&x) && (y0..=y1).contains(&y));
+                let (got, want) = if inside { (&frame, &whole) } else { (&frame, &before) };
+                assert_eq!(got.color.data[3 * p..3 * p + 3], want.color.data[3 * p..3 * p + 3], "bowl {k} at ({x}, {y})");
+                assert_eq!((got.depth[p].to_bits(), got.segmentation[p]), (want.depth[p].to_bits(), want.segmentation[p]), "bowl {k} at ({x}, {y})");
+                if !inside {
+                    assert_eq!(whole.segmentation[p], 0, "bowl {k}: ({x}, {y}) shows it outside the box");
+                }
+            }
+        }
+    }
+    // Nothing in view: no box. A transparent instance: drawn whole.
+    let away = Instance { transform: Transform::from_translation(Vec3::new(3.0, 0.0, 2.0)), ..busy.instances[3].clone() };
+    let mut frame = Frame::default();
+    assert_eq!(renderer.render_covered(&Scene { instances: vec![away], ..busy.clone() }, &cam, &mut frame).unwrap(), None);
+    let glass = Instance { material: Material::rgba([0.5, 0.5, 0.9, 0.5]), ..busy.instances[3].clone() };
+    let scene = Scene { instances: vec![glass], ..busy.clone() };
+    assert_eq!(renderer.render_covered(&scene, &cam, &mut frame).unwrap(), Some([0, 0, 95, 79]));
+    assert_eq!(frame, render(&scene, &cam));
+}

@@ -3,7 +3,8 @@
 //!
 //! The poses are fixed for the episode, so the K one-object scenes are built once; layers only
 //! need rendering again when the camera moves. The last two cameras' layers are kept, so the
-//! fixed agentview costs nothing after its first frame while the wrist camera re-renders.
+//! fixed agentview costs nothing after its first frame while the wrist camera re-renders. Each
+//! render shades only the box of pixels its object covers ([`Renderer::render_covered`]).
 
 use vifo_cues::RgbaImage;
 use vifo_render::{Camera, Frame, RenderError, Renderer, Scene};
@@ -53,8 +54,9 @@ impl Ghost {
             None => {
                 let mut layers = Vec::with_capacity(self.scenes.len());
                 for scene in &self.scenes {
-                    renderer.render_into(scene, camera, &mut self.scratch)?;
-                    let mut layer = layer_of(&self.scratch);
+                    // Only the object's pixels are shaded: the rest of the layer is transparent.
+                    let drawn = renderer.render_covered(scene, camera, &mut self.scratch)?;
+                    let mut layer = layer_of(&self.scratch, drawn);
                     if self.mirrored {
                         layer.mirror_left_right();
                     }
@@ -68,20 +70,25 @@ impl Ghost {
     }
 }
 
-/// A rendered frame as an RGBA layer: opaque where something was drawn (segment ≠ 0). The
-/// object covers little of the frame, so runs of eight background pixels are skipped at once.
-fn layer_of(frame: &Frame) -> RgbaImage {
-    const RUN: usize = 8;
+/// A rendered frame as an RGBA layer: opaque where something was drawn (segment ≠ 0) inside
+/// `drawn` (inclusive `[x0, y0, x1, y1]`, the box [`Renderer::render_covered`] wrote), transparent
+/// elsewhere.
+fn layer_of(frame: &Frame, drawn: Option<[u32; 4]>) -> RgbaImage {
+    let (w, h) = (frame.width(), frame.height());
     let mut data = vec![0u8; frame.segmentation.len() * 4];
-    let runs = data.chunks_mut(4 * RUN).zip(frame.color.data.chunks(3 * RUN)).zip(frame.segmentation.chunks(RUN));
-    for ((out, rgb), segments) in runs.filter(|(_, segments)| segments.iter().any(|&s| s != 0)) {
-        for ((out, rgb), &segment) in out.chunks_exact_mut(4).zip(rgb.chunks_exact(3)).zip(segments) {
-            if segment != 0 {
-                out.copy_from_slice(&[rgb[0], rgb[1], rgb[2], 255]);
+    if let Some([x0, y0, x1, y1]) = drawn {
+        let columns = x0 as usize..=x1.min(w - 1) as usize;
+        for y in y0 as usize..=y1.min(h - 1) as usize {
+            for x in columns.clone() {
+                let p = y * w as usize + x;
+                if frame.segmentation[p] != 0 {
+                    let rgb = &frame.color.data[3 * p..3 * p + 3];
+                    data[4 * p..4 * p + 4].copy_from_slice(&[rgb[0], rgb[1], rgb[2], 255]);
+                }
             }
         }
     }
-    RgbaImage { width: frame.width(), height: frame.height(), data }
+    RgbaImage { width: w, height: h, data }
 }
 
 #[cfg(test)]
@@ -89,22 +96,23 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_layer_is_opaque_exactly_where_something_was_drawn() {
-        // An odd width, so runs of eight cross rows; drawn pixels alone, in a patch and at the ends.
+    fn a_layer_is_opaque_exactly_where_something_was_drawn_inside_the_box() {
         let (w, h) = (13, 7);
         let mut frame = Frame::new(w, h);
         for (i, px) in frame.color.data.chunks_exact_mut(3).enumerate() {
             px.copy_from_slice(&[i as u8, (3 * i) as u8, 200]);
         }
-        let drawn = [0, 17, 18, 19, 30, 31, 44, 45, 46, 90];
-        for &i in &drawn {
+        // Drawn pixels at the box's corners and inside it, and one outside (stale: not taken).
+        let drawn = [2 * 13 + 3, 2 * 13 + 9, 3 * 13 + 5, 5 * 13 + 3, 5 * 13 + 9];
+        for &i in drawn.iter().chain(&[6 * 13 + 12]) {
             frame.segmentation[i] = 1 + i as u32;
         }
-        let layer = layer_of(&frame);
+        let layer = layer_of(&frame, Some([3, 2, 9, 5]));
         assert_eq!((layer.width, layer.height), (w, h));
         for (i, px) in layer.data.chunks_exact(4).enumerate() {
             let want = if drawn.contains(&i) { [i as u8, (3 * i) as u8, 200, 255] } else { [0; 4] };
             assert_eq!(px, want, "pixel {i}");
         }
+        assert!(layer_of(&frame, None).data.iter().all(|&b| b == 0));
     }
 }

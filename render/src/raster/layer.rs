@@ -45,6 +45,9 @@ pub(super) enum Plan {
     Rebuild(Vec<bool>),
     /// Start from the layer and draw the rest.
     Reuse,
+    /// Draw everything, as [`Plan::Plain`], but resolve only the box of pixels drawn
+    /// ([`Renderer::render_covered`](super::Renderer::render_covered)); no layer.
+    Covered,
 }
 
 /// The per-camera memory of one renderer.
@@ -269,6 +272,10 @@ impl Default for PixelBox {
 
 impl PixelBox {
     pub(super) const EMPTY: PixelBox = PixelBox { x0: u32::MAX, y0: u32::MAX, x1: 0, y1: 0 };
+
+    pub(super) fn is_empty(&self) -> bool {
+        self.x0 > self.x1 || self.y0 > self.y1
+    }
 
     /// Every pixel of a `width × height` image.
     pub(super) fn all(width: u32, height: u32) -> PixelBox {

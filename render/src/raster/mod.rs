@@ -239,6 +239,27 @@ impl Renderer {
         Ok(())
     }
 
+    /// Renders only the pixels that `scene`'s instances cover, for a layer of a few small things
+    /// (an object alone at one pose): returns their bounding box `[x0, y0, x1, y1]` (inclusive),
+    /// `None` where nothing is seen. Inside the box the pixels of `frame` (resized to the
+    /// camera's image size) are those of [`Renderer::render_into`]; outside it they are left as
+    /// they were. Only the box is shaded, so a small object costs little however large the
+    /// image. A scene with transparent instances or a mirror, or supersampling, is drawn whole
+    /// (the box is then the image).
+    pub fn render_covered(&mut self, scene: &Scene, camera: &Camera, frame: &mut Frame) -> Result<Option<[u32; 4]>, RenderError> {
+        let whole = self.options.supersample > 1 || scene.mirror.is_some() || scene.instances.iter().any(|i| i.material.is_transparent());
+        if whole {
+            self.render_into(scene, camera, frame)?;
+            return Ok(Some([0, 0, camera.width - 1, camera.height - 1]));
+        }
+        validate(camera, 1)?;
+        frame.resize(camera.width, camera.height);
+        self.stats = RenderStats::default();
+        self.draw_pass(scene, camera, &View::new(camera), frame, None, Plan::Covered);
+        let drawn = self.touched;
+        Ok((!drawn.is_empty()).then_some([drawn.x0, drawn.y0, drawn.x1, drawn.y1]))
+    }
+
     fn render_view(&mut self, scene: &Scene, camera: &Camera, out: &mut Frame) {
         self.stats = RenderStats::default();
         // Shadows move with what casts them, over static surfaces too.
@@ -268,12 +289,14 @@ impl Renderer {
         self.sort_instances(scene, view);
         let order = std::mem::take(&mut self.order);
         match plan {
-            Plan::Plain => {
+            Plan::Plain | Plan::Covered => {
                 self.clear(view, only);
+                self.touched = PixelBox::EMPTY;
                 for v in &order {
                     self.draw_opaque(scene, v, view, None);
                 }
-                self.resolve(scene, view, out, 0, PixelBox::all(view.width, view.height));
+                let region = if matches!(plan, Plan::Covered) { self.touched } else { PixelBox::all(view.width, view.height) };
+                self.resolve(scene, view, out, 0, region);
             }
             Plan::Rebuild(statics) => {
                 self.clear(view, None);

@@ -34,11 +34,13 @@ type Outcome = (f64, bool, bool);
 
 #[pymethods]
 impl NativeVectorEnv {
-    /// `episodes`: one (suite, index, condition, cue) per sub-env; upright `size`² images;
-    /// `threads` worker threads (at most one per env).
+    /// `episodes`: one (suite, index, condition, cue) per sub-env; upright `size`² images, cues
+    /// facing `cue_facing` (`upright` or `model`); `threads` worker threads (at most one per env).
     #[new]
-    fn new(py: Python<'_>, episodes: Vec<Episode>, size: i64, threads: usize) -> PyResult<NativeVectorEnv> {
+    #[pyo3(signature = (episodes, size, threads, cue_facing = "upright"))]
+    fn new(py: Python<'_>, episodes: Vec<Episode>, size: i64, threads: usize, cue_facing: &str) -> PyResult<NativeVectorEnv> {
         let size = check_size(size)?;
+        let cue_facing = crate::parse_cue_facing(cue_facing)?;
         if episodes.is_empty() {
             return Err(PyValueError::new_err("a vector env needs at least one episode"));
         }
@@ -48,7 +50,7 @@ impl NativeVectorEnv {
         for (suite, index, condition, cue) in &episodes {
             episode_spec(suite, *index, condition, cue.as_deref(), 0)?;
         }
-        let config = EnvConfig { size, order: ImageOrder::Upright, ..EnvConfig::default() };
+        let config = EnvConfig { size, order: ImageOrder::Upright, cue_facing, ..EnvConfig::default() };
         crate::look::ensure(py)?;
         let envs = episodes.iter().map(|_| Env::new(config.clone())).collect();
         let threads = threads.min(episodes.len());

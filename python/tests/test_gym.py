@@ -34,6 +34,22 @@ def test_a_cue_variant_equals_the_rust_env_with_that_cue():
     assert made.reset(options={"init_state": 2})[0]["agentview_image"].tobytes() == obs["agentview_image"].tobytes()
 
 
+def test_a_cue_facing_the_model_is_the_same_in_the_single_and_the_vector_env():
+    caption = "libero_goal/0/F1/caption_bar"
+    frames = {}
+    for facing in ("upright", "model"):
+        single = gymnasium.make("libero_vifo/libero_goal-0", size=32, cue=caption, cue_facing=facing)
+        vector = libero_vifo.gym.LiberoVifoVectorEnv(2, "libero_goal", 0, size=32, cue=caption, cue_facing=facing)
+        one = single.reset(options={"init_state": 1})[0]["agentview_image"]
+        many = vector.reset(options={"init_state": [1, 1]})[0]["agentview_image"]
+        assert one.tobytes() == many[0].tobytes() == many[1].tobytes(), facing
+        frames[facing] = one
+        vector.close()
+    assert frames["upright"].tobytes() != frames["model"].tobytes()
+    with pytest.raises(ValueError, match='cue_facing "up"'):
+        libero_vifo.gym.LiberoVifoVectorEnv(1, "libero_goal", 0, size=32, cue=caption, cue_facing="up")
+
+
 def test_check_env_is_clean():
     env = gymnasium.make("libero_vifo/libero_goal-0", size=32)
     with warnings.catch_warnings():

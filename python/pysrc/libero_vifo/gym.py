@@ -125,11 +125,13 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
     ``step`` takes an (N, 7) batch. Autoreset is gymnasium 1.0's next-step mode: the step after
     a sub-env ended resets it to a drawn initial state (reward 0, not done) and ignores its
     action. Infos: ``init_state`` where a sub-env (re)started, ``success`` per step.
+    ``cue_facing`` as :class:`LiberoVifoEnv`'s.
     """
 
     metadata = {"autoreset_mode": "NextStep"}
 
-    def __init__(self, num_envs=1, suite=None, task=None, size=256, cue=None, language_condition=None, threads=None, episodes=None):
+    def __init__(self, num_envs=1, suite=None, task=None, size=256, cue=None, language_condition=None, threads=None, episodes=None,
+                 cue_facing="upright"):
         if episodes is None:
             if suite is None or task is None:
                 raise ValueError("name the task (suite=, task=) or pass episodes=[(suite, task[, language_condition, cue]), ...]")
@@ -142,7 +144,7 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
         self.num_envs = len(rows)
         self._counts = [_task_info(s, t)["init_states"] for s, t, _, _ in rows]
         threads = self.num_envs if threads is None else index(threads, "threads")
-        self._env = _native.NativeVectorEnv(rows, size, threads)
+        self._env = _native.NativeVectorEnv(rows, size, threads, cue_facing)
         self.language_instructions = self._env.instructions()
         self.single_observation_space = _observation_space(size)
         self.single_action_space = spaces.Box(-1.0, 1.0, (7,), np.float32)

@@ -47,6 +47,16 @@ pub struct FamilyCost {
     pub slowest: String,
     /// Mean time to prepare the episode's cue (ghosts and goal pictures run the expert).
     pub ms_prepare_mean: f64,
+    /// The most one insertion may cost ([`budget_ms`]), and whether the slowest instance, on
+    /// either camera, kept to it.
+    pub ms_budget: f64,
+    pub within_budget: bool,
+}
+
+/// The most inserting one cue into a 256² frame may cost: ghosts (F3) render the scene K times
+/// and get 3 ms, every other family 0.5 ms.
+pub fn budget_ms(family: Family) -> f64 {
+    if family == Family::F3 { 3.0 } else { 0.5 }
 }
 
 /// What `vifo bench cues` prints.
@@ -138,6 +148,8 @@ pub fn run(tasks: &[String], batches: usize) -> Result<CueBench> {
             ms_wrist_max: max(&wrist),
             slowest: slowest.1,
             ms_prepare_mean: mean(&prepare),
+            ms_budget: budget_ms(family),
+            within_budget: max(&agent).max(max(&wrist)) <= budget_ms(family),
         });
     }
     Ok(CueBench {

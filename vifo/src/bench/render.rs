@@ -67,6 +67,38 @@ pub struct RenderBench {
     /// This process's peak resident memory (Linux `VmHWM`) after building the scenes of all 40
     /// tasks with this look; `None` where the system does not report it.
     pub peak_rss_mb_all_40_tasks: Option<f64>,
+    /// The targets this figure is held to, met or missed; empty for the built-in look, which
+    /// they do not concern.
+    pub gates: Vec<Gate>,
+}
+
+/// A control step's two 256² cameras in LIBERO's look, on one core (the time is this thread's).
+pub const GATE_MS_PER_STEP: f64 = 4.0;
+/// A process with all 40 tasks' scenes built in LIBERO's look.
+pub const GATE_PEAK_MB: f64 = 1.5 * 1024.0;
+
+/// One target of the render benchmark and how the run measured against it.
+#[derive(Debug, PartialEq, Serialize)]
+pub struct Gate {
+    pub what: &'static str,
+    /// At most this much (ms or MB, as `what` says).
+    pub limit: f64,
+    /// `None` where the system does not report the figure.
+    pub measured: Option<f64>,
+    pub met: bool,
+}
+
+/// The gates for a run's figures; none for the built-in look (`assets` false): they are about
+/// LIBERO's look.
+fn gates(assets: bool, ms_per_step: f64, peak_mb: Option<f64>) -> Vec<Gate> {
+    if !assets {
+        return Vec::new();
+    }
+    let gate = |what, limit, measured: Option<f64>| Gate { what, limit, measured, met: measured.is_some_and(|m| m <= limit) };
+    vec![
+        gate("ms per control step, two 256² cameras, one core", GATE_MS_PER_STEP, Some(ms_per_step)),
+        gate("MB peak memory, all 40 tasks' scenes built", GATE_PEAK_MB, peak_mb),
+    ]
 }
 
 /// What a camera's frames skipped whole and drew, per frame over the episode (the renderer's
@@ -170,6 +202,7 @@ pub fn run(source: InitSource, passes: usize, look: Option<Arc<Look>>) -> Result
     let peak_rss_mb_all_40_tasks = super::memory::peak_rss_mb();
     drop(all);
     Ok(RenderBench {
+        gates: gates(request.look.is_some(), ms_per_step_two_cameras_256, peak_rss_mb_all_40_tasks),
         look: label(request.look.as_deref()),
         peak_rss_mb_all_40_tasks,
         task: TASK,
@@ -191,4 +224,20 @@ pub fn run(source: InitSource, passes: usize, look: Option<Arc<Look>>) -> Result
         fps_agentview_256: 1e3 / ms_per_frame_agentview_256,
         steps_per_second_two_cameras_256: 1e3 / ms_per_step_two_cameras_256,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gates_are_met_at_their_limits_missed_above_them_and_absent_for_the_built_in_look() {
+        assert!(gates(false, 99.0, Some(1e6)).is_empty());
+        let at = gates(true, GATE_MS_PER_STEP, Some(GATE_PEAK_MB));
+        assert_eq!(at.iter().map(|g| g.met).collect::<Vec<_>>(), [true, true]);
+        let over = gates(true, 4.01, Some(GATE_PEAK_MB + 1.0));
+        assert_eq!(over.iter().map(|g| (g.met, g.measured)).collect::<Vec<_>>(), [(false, Some(4.01)), (false, Some(GATE_PEAK_MB + 1.0))]);
+        // A figure the system does not report is not a pass.
+        assert!(!gates(true, 3.0, None)[1].met);
+    }
 }

@@ -123,6 +123,13 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                     Some(mb) => println!("peak memory, all 40 tasks' scenes built: {mb:.0} MB"),
                     None => println!("peak memory: not reported by this system"),
                 }
+                if r.gates.is_empty() {
+                    println!("(no gate applies: the 4 ms and 1.5 GB gates are for LIBERO's look; install its assets or give --assets DIR)");
+                }
+                for g in &r.gates {
+                    let measured = g.measured.map_or("not reported".to_string(), |m| format!("{m:.2}"));
+                    println!("gate: {} <= {}: {} ({measured})", g.what, g.limit, if g.met { "met" } else { "MISSED" });
+                }
             }
         }
         BenchWhat::Replay { dir, repeats, look } => {
@@ -207,13 +214,15 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             } else {
                 println!("cue insertion at {}², {}, median of {} batches; tasks {}", r.size, r.clock, r.batches, r.tasks.join(", "));
                 println!("(ms per frame: anchors + ghost layers + drawing + compositing, not the scene render; F3 wrist renders its layers every frame)");
-                println!("{:<28} {:>9} {:>16} {:>16} {:>12}  slowest", "family", "instances", "agentview mean/max", "wrist mean/max", "prepare ms");
+                println!("{:<28} {:>9} {:>16} {:>16} {:>12} {:>13}  slowest", "family", "instances", "agentview mean/max", "wrist mean/max", "prepare ms", "budget");
                 for f in &r.families {
+                    let budget = format!("{} {}", f.ms_budget, if f.within_budget { "met" } else { "OVER" });
                     println!(
-                        "{} {:<25} {:>9} {:>8.3} / {:<7.3} {:>7.3} / {:<7.3} {:>12.1}  {}",
-                        f.family, f.family.name(), f.instances, f.ms_agentview_mean, f.ms_agentview_max, f.ms_wrist_mean, f.ms_wrist_max, f.ms_prepare_mean, f.slowest
+                        "{} {:<25} {:>9} {:>8.3} / {:<7.3} {:>7.3} / {:<7.3} {:>12.1} {:>13}  {}",
+                        f.family, f.family.name(), f.instances, f.ms_agentview_mean, f.ms_agentview_max, f.ms_wrist_mean, f.ms_wrist_max, f.ms_prepare_mean, budget, f.slowest
                     );
                 }
+                println!("(budget: ms per insertion for the slowest instance on either camera)");
                 for id in &r.failed_demos {
                     println!("note: {id}: the expert's demonstration failed (timed all the same)");
                 }

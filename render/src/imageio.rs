@@ -3,7 +3,7 @@
 //! Pure Rust (`image` with only its PNG codec, `gif` with NeuQuant quantisation), so this also
 //! works in wasm when given bytes instead of paths.
 
-use std::io::{Cursor, Write};
+use std::io::Write;
 use std::path::Path;
 
 use thiserror::Error;
@@ -15,6 +15,8 @@ use crate::frame::RgbImage;
 pub enum ImageIoError {
     #[error("{context}: {source}")]
     Png { context: String, source: image::ImageError },
+    #[error("encoding PNG: {0}")]
+    PngText(String),
     #[error("{path}: {source}")]
     Io { path: String, source: std::io::Error },
     #[error("GIF: {0}")]
@@ -39,11 +41,28 @@ fn check(img: &RgbImage) -> Result<(), ImageIoError> {
 
 /// PNG file bytes of an RGB image.
 pub fn encode_png(img: &RgbImage) -> Result<Vec<u8>, ImageIoError> {
+    encode_png_with_text(img, &[])
+}
+
+/// PNG file bytes of an RGB image with `tEXt` chunks of `(keyword, text)`, which image viewers
+/// and `PIL.Image.open(path).text` show (keywords of 1–79 Latin-1 characters, Latin-1 text).
+/// Compressed as `image` compresses by default, so without text the bytes are the same.
+pub fn encode_png_with_text(img: &RgbImage, text: &[(&str, &str)]) -> Result<Vec<u8>, ImageIoError> {
     check(img)?;
-    let mut out = Cursor::new(Vec::new());
-    image::write_buffer_with_format(&mut out, &img.data, img.width, img.height, image::ExtendedColorType::Rgb8, image::ImageFormat::Png)
-        .map_err(|source| ImageIoError::Png { context: "encoding PNG".into(), source })?;
-    Ok(out.into_inner())
+    let failed = |e: png::EncodingError| ImageIoError::PngText(e.to_string());
+    let mut out = Vec::new();
+    let mut encoder = png::Encoder::new(&mut out, img.width, img.height);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_compression(png::Compression::Fast);
+    encoder.set_filter(png::Filter::Adaptive);
+    for (keyword, value) in text {
+        encoder.add_text_chunk(keyword.to_string(), value.to_string()).map_err(failed)?;
+    }
+    let mut writer = encoder.write_header().map_err(failed)?;
+    writer.write_image_data(&img.data).map_err(failed)?;
+    writer.finish().map_err(failed)?;
+    Ok(out)
 }
 
 /// Decodes PNG bytes to RGB (grey is expanded, alpha dropped); `name` is used in errors.
@@ -66,8 +85,13 @@ pub fn decode_png_rgba(bytes: &[u8], name: &str) -> Result<(u32, u32, Vec<u8>), 
 
 /// Writes a PNG file.
 pub fn save_png(img: &RgbImage, path: impl AsRef<Path>) -> Result<(), ImageIoError> {
+    save_png_with_text(img, path, &[])
+}
+
+/// Writes a PNG file with `tEXt` chunks ([`encode_png_with_text`]).
+pub fn save_png_with_text(img: &RgbImage, path: impl AsRef<Path>, text: &[(&str, &str)]) -> Result<(), ImageIoError> {
     let path = path.as_ref();
-    let bytes = encode_png(img)?;
+    let bytes = encode_png_with_text(img, text)?;
     std::fs::write(path, bytes).map_err(|source| ImageIoError::Io { path: path.display().to_string(), source })
 }
 
@@ -121,6 +145,13 @@ impl<W: Write> GifWriter<W> {
         Ok(GifWriter { encoder, width, height, delay })
     }
 
+    /// Writes a comment into the file (GIF's comment extension, which `exiftool` and
+    /// `PIL.Image.open(path).info["comment"]` show), e.g. the look that drew the frames.
+    pub fn comment(&mut self, text: &str) -> Result<(), ImageIoError> {
+        self.encoder.write_raw_extension(gif::AnyExtension(0xFE), &[text.as_bytes()])?;
+        Ok(())
+    }
+
     /// Appends a frame of the writer's size.
     pub fn add_frame(&mut self, img: &RgbImage) -> Result<(), ImageIoError> {
         check(img)?;
@@ -165,6 +196,18 @@ mod tests {
     }
 
     #[test]
+    fn png_text_chunks_are_read_back_beside_the_same_pixels() {
+        let img = gradient(20, 9);
+        let bytes = encode_png_with_text(&img, &[("look", "libero-assets:5ffbda9a79ff3d71"), ("task", "libero_spatial/0")]).unwrap();
+        assert_eq!(decode_png(&bytes, "mem").unwrap(), img);
+        let reader = png::Decoder::new(std::io::Cursor::new(&bytes)).read_info().unwrap();
+        let text: Vec<(&str, &str)> = reader.info().uncompressed_latin1_text.iter().map(|t| (t.keyword.as_str(), t.text.as_str())).collect();
+        assert_eq!(text, [("look", "libero-assets:5ffbda9a79ff3d71"), ("task", "libero_spatial/0")]);
+        // PNG keywords are 1-79 characters: an empty one is an error, not a panic or a bad file.
+        assert!(matches!(encode_png_with_text(&img, &[("", "x")]), Err(ImageIoError::PngText(_))));
+    }
+
+    #[test]
     fn corrupt_png_is_an_error_naming_the_source() {
         let err = decode_png(b"\x89PNG\r\n\x1a\nnot really", "cue.png").unwrap_err();
         assert!(err.to_string().starts_with("cue.png"), "{err}");
@@ -198,6 +241,11 @@ mod tests {
         };
         let a = make();
         assert_eq!(&a[..6], b"GIF89a");
+        let mut commented = GifWriter::new(Vec::new(), 16, 8, 20.0).unwrap();
+        commented.comment("look: built-in").unwrap();
+        commented.add_frame(&gradient(16, 8)).unwrap();
+        let c = commented.finish().unwrap();
+        assert!(c.windows(17).any(|w| w == b"\x21\xFE\x0Elook: built-in"), "comment extension block");
         // Three image descriptors (0x2C) after graphic control extensions with 5 cs delay.
         let delays = a.windows(4).filter(|w| w[0] == 0x21 && w[1] == 0xF9 && w[2] == 4).count();
         assert_eq!(delays, 3);

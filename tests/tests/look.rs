@@ -23,8 +23,9 @@ fn still_view(task: &str, look: Option<&Look>) -> SceneView {
     SceneView::with_look(sim.model(), look)
 }
 
-/// `sha1sum` of the PNGs `vifo render --task <task> --camera <camera> --builtin-look` writes of
-/// shipped state 0. First pinned before LIBERO's look existed (commit 5215612); pinned again
+/// `sha1sum` of the PNGs of shipped state 0 that `vifo render --task <task> --camera <camera>
+/// --builtin-look` wrote before it added its look and scene as PNG text (`encode_png` still
+/// writes them without). First pinned before LIBERO's look existed (commit 5215612); pinned again
 /// when the shipped states were regenerated for the one-substep physics (commit b05cb9f), whose
 /// code still drew the earlier states to the earlier hashes, and for the sleep delay and fixture
 /// frames (libero_goal/7's wrist frame changed; the code drew the earlier states as before),

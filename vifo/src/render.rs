@@ -11,7 +11,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use anyhow::{Context, Result, anyhow, bail};
-use vifo_render::imageio::{GifWriter, save_png};
+use vifo_render::imageio::{GifWriter, save_png_with_text};
 use vifo_render::{Frame, Renderer};
 use vifo_robots::action::Action;
 use vifo_expert::Expert;
@@ -110,8 +110,13 @@ pub fn run(request: &RenderRequest) -> Result<usize> {
         Ok(())
     };
     render(&sim, &mut view, &mut frame)?;
+    // Each file says what drew it: a frame of LIBERO's look and one of the built-in look must
+    // not be taken for each other once they leave the console.
+    let look = crate::look::label(request.look.as_deref());
+    let scene = format!("{} init {}, {}", request.task, request.init, request.camera);
+    let text = [("look", look.as_str()), ("scene", scene.as_str())];
     if let Some(path) = &request.png {
-        save_png(&frame.color, path)?;
+        save_png_with_text(&frame.color, path, &text)?;
     }
     let rollout = request.gif.is_some() || request.frames.is_some();
     if !rollout {
@@ -120,7 +125,9 @@ pub fn run(request: &RenderRequest) -> Result<usize> {
     let mut gif = match &request.gif {
         Some(path) => {
             let file = File::create(path).with_context(|| format!("creating {}", path.display()))?;
-            Some(GifWriter::new(BufWriter::new(file), request.size, request.size, GIF_FPS)?)
+            let mut gif = GifWriter::new(BufWriter::new(file), request.size, request.size, GIF_FPS)?;
+            gif.comment(&format!("look: {look}; scene: {scene}"))?;
+            Some(gif)
         }
         None => None,
     };
@@ -138,7 +145,7 @@ pub fn run(request: &RenderRequest) -> Result<usize> {
             gif.add_frame(&frame.color)?;
         }
         if let Some(dir) = &request.frames {
-            save_png(&frame.color, dir.join(format!("frame_{t:04}.png")))?;
+            save_png_with_text(&frame.color, dir.join(format!("frame_{t:04}.png")), &text)?;
         }
     }
     if let Some(gif) = gif {

@@ -63,6 +63,32 @@ fn render_shows_a_cue_as_a_model_receives_it() {
     assert!(none.is_none() && err.contains("unknown --model-profile \"nope\"") && err.contains("pi05"), "{err}");
 }
 
+/// What `vifo render` writes says what drew it once it leaves the console: its PNGs carry the
+/// look and the scene as PNG text, its GIFs as a comment.
+#[test]
+fn rendered_files_record_their_look() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let contains = |bytes: &[u8], needle: &[u8]| bytes.windows(needle.len()).any(|w| w == needle);
+    let (png, gif, frames) = (path("still.png"), path("roll.gif"), path("frames"));
+    let args = ["render", "--builtin-look", "--task", "libero_spatial/0", "--size", "32", "--steps", "1", "-o", &png, "--gif", &gif, "--frames", &frames];
+    let out = Command::new(env!("CARGO_BIN_EXE_vifo")).args(args).output().expect("run vifo");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    for file in [png, format!("{frames}/frame_0001.png")] {
+        let bytes = std::fs::read(&file).unwrap();
+        assert!(contains(&bytes, b"tEXtlook\0built-in") && contains(&bytes, b"tEXtscene\0libero_spatial/0 init 0, agentview"), "{file}");
+    }
+    assert!(contains(&std::fs::read(&gif).unwrap(), b"look: built-in; scene: libero_spatial/0 init 0, agentview"));
+    let cue = path("cue.png");
+    let out = Command::new(env!("CARGO_BIN_EXE_vifo"))
+        .args(["render", "--builtin-look", "--size", "32", "--cue", "libero_goal/0/F1/caption_bar", "--cue-facing", "model", "-o", &cue])
+        .output()
+        .expect("run vifo");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let bytes = std::fs::read(&cue).unwrap();
+    assert!(contains(&bytes, b"tEXtlook\0built-in") && contains(&bytes, b"libero_goal/0/F1/caption_bar on libero_goal/0 (init 0) with agentview, cue facing the model"));
+}
+
 /// A selection that holds no episode is an error naming the option, not an empty table with a
 /// success rate of "-0.0%" (nor a table header over the error).
 #[test]

@@ -11,7 +11,7 @@ use vifo_protocols::env::{self, Env, EnvConfig};
 use vifo_protocols::scene_cues::{self, EpisodeCue, start::settled_start};
 use vifo_protocols::{CueForm, EpisodeSpec, Protocol, benchmark};
 use vifo_render::{Renderer, RgbImage};
-use vifo_render::imageio::save_png;
+use vifo_render::imageio::save_png_with_text;
 use vifo_scenes::sim::SceneModel;
 use vifo_scenes::view::{CameraName, Cameras, ImageOrder, SceneView};
 
@@ -131,21 +131,15 @@ fn render_cue(id: &str, args: &RenderArgs) -> Result<()> {
         }
         None => frame,
     };
-    save_png(&seen, output)?;
     let look = label(look.as_deref());
     let facing = match args.cue_facing {
         super::Facing::Upright => "",
         super::Facing::Model => ", cue facing the model",
     };
     let as_seen = profile.map_or_else(String::new, |p| format!(", as {} receives it ({}x{})", p.name, seen.width, seen.height));
-    println!(
-        "{id} on {} (init {}) with {}, look {look}{facing}{as_seen} -> {} ({})",
-        spec.task,
-        args.init,
-        args.camera,
-        output.display(),
-        serde_json::to_string(&report)?
-    );
+    let scene = format!("{id} on {} (init {}) with {}{facing}{as_seen}", spec.task, args.init, args.camera);
+    save_png_with_text(&seen, output, &[("look", &look), ("scene", &scene)])?;
+    println!("{scene}, look {look} -> {} ({})", output.display(), serde_json::to_string(&report)?);
     if let Some(demo) = cue.demo().filter(|d| !d.success) {
         println!("note: the expert's demonstration failed ({}); the cue shows the states it reached", demo.failure.as_deref().unwrap_or("unknown"));
     }
@@ -168,7 +162,9 @@ fn render_cue_object(id: &str, args: &RenderArgs) -> Result<()> {
     let spec = EpisodeSpec { cue_form: CueForm::Object, ..benchmark::specs::spec(&task, Protocol::Authorized, Some(id), args.init, 0)? };
     let obs = env.reset(&spec)?;
     let image = obs.image(args.camera);
-    save_png(&vifo_render::RgbImage { width: image.width, height: image.height, data: image.data.clone() }, output)?;
-    println!("{id} as a scene object on {} (init {}) with {}, look {} -> {}", cue.task, args.init, args.camera, label(look.as_deref()), output.display());
+    let (look, scene) = (label(look.as_deref()), format!("{id} as a scene object on {} (init {}) with {}", cue.task, args.init, args.camera));
+    let image = vifo_render::RgbImage { width: image.width, height: image.height, data: image.data.clone() };
+    save_png_with_text(&image, output, &[("look", &look), ("scene", &scene)])?;
+    println!("{scene}, look {look} -> {}", output.display());
     Ok(())
 }

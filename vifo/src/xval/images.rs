@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Result, bail};
 use serde::Serialize;
-use vifo_render::imageio::{load_png, save_png, side_by_side};
+use vifo_render::imageio::{load_png, save_png_with_text, side_by_side};
 use vifo_render::metrics::{psnr, ssim};
 use vifo_render::{Renderer, RgbImage};
 use vifo_scenes::look::Look;
@@ -117,6 +117,7 @@ pub fn compare(path: &Path, rec: &Recording, out: &Path, look: Option<&Look>) ->
     let mut renderer = Renderer::default();
     let cameras = Cameras::new(IMAGE_SIZE, IMAGE_SIZE);
     let mut reports = Vec::new();
+    let look_label = crate::look::label(look);
     for t in 0..=last {
         if t > 0 {
             sim.step(&rec.steps[t].action()?);
@@ -129,7 +130,9 @@ pub fn compare(path: &Path, rec: &Recording, out: &Path, look: Option<&Look>) ->
             let ours = view.render(&mut renderer, &cameras.get(camera, &sim), ImageOrder::Upright)?.color;
             let theirs = load_png(reference_image(path, camera, t))?;
             let output = out.join(format!("{}_{camera}_step{t:02}.png", file.trim_end_matches(".json")));
-            save_png(&side_by_side(&side_by_side(&theirs, &ours, 4), &difference(&ours, &theirs), 4), &output)?;
+            let scene = format!("MuJoCo | ours | difference: {file}, {camera}, record {t}");
+            let sheet = side_by_side(&side_by_side(&theirs, &ours, 4), &difference(&ours, &theirs), 4);
+            save_png_with_text(&sheet, &output, &[("look", &look_label), ("scene", &scene)])?;
             reports.push(ImageReport { file: file.clone(), camera: camera.as_str(), t, psnr_db: psnr(&ours, &theirs)?, ssim: ssim(&ours, &theirs)?, output });
         }
     }

@@ -81,7 +81,9 @@ pub const GATE_PEAK_MB: f64 = 1.5 * 1024.0;
 #[derive(Debug, PartialEq, Serialize)]
 pub struct Gate {
     pub what: &'static str,
-    /// At most this much (ms or MB, as `what` says).
+    /// `ms` or `MB`.
+    pub unit: &'static str,
+    /// At most this much.
     pub limit: f64,
     /// `None` where the system does not report the figure.
     pub measured: Option<f64>,
@@ -94,10 +96,10 @@ fn gates(assets: bool, ms_per_step: f64, peak_mb: Option<f64>) -> Vec<Gate> {
     if !assets {
         return Vec::new();
     }
-    let gate = |what, limit, measured: Option<f64>| Gate { what, limit, measured, met: measured.is_some_and(|m| m <= limit) };
+    let gate = |what, unit, limit, measured: Option<f64>| Gate { what, unit, limit, measured, met: measured.is_some_and(|m| m <= limit) };
     vec![
-        gate("ms per control step, two 256² cameras, one core", GATE_MS_PER_STEP, Some(ms_per_step)),
-        gate("MB peak memory, all 40 tasks' scenes built", GATE_PEAK_MB, peak_mb),
+        gate("control step, two 256² cameras, one core", "ms", GATE_MS_PER_STEP, Some(ms_per_step)),
+        gate("peak memory, all 40 tasks' scenes built", "MB", GATE_PEAK_MB, peak_mb),
     ]
 }
 

@@ -127,8 +127,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                     println!("(no gate applies: the 4 ms and 1.5 GB gates are for LIBERO's look; install its assets or give --assets DIR)");
                 }
                 for g in &r.gates {
-                    let measured = g.measured.map_or("not reported".to_string(), |m| format!("{m:.2}"));
-                    println!("gate: {} <= {}: {} ({measured})", g.what, g.limit, if g.met { "met" } else { "MISSED" });
+                    let measured = g.measured.map_or("not reported".to_string(), |m| format!("{m:.2} {}", g.unit));
+                    println!("gate: {} <= {} {}: {} ({measured})", g.what, g.limit, g.unit, if g.met { "met" } else { "MISSED" });
                 }
             }
         }

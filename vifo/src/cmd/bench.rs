@@ -124,7 +124,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                     None => println!("peak memory: not reported by this system"),
                 }
                 if r.gates.is_empty() {
-                    println!("(no gate applies: the 4 ms and 1.5 GB gates are for LIBERO's look; install its assets or give --assets DIR)");
+                    let (ms, gb) = (bench::render::GATE_MS_PER_STEP, bench::render::GATE_PEAK_MB / 1024.0);
+                    println!("(no gate applies: the {ms} ms and {gb} GB gates are for LIBERO's look; install its assets or give --assets DIR)");
                 }
                 for g in &r.gates {
                     let measured = g.measured.map_or("not reported".to_string(), |m| format!("{m:.2} {}", g.unit));

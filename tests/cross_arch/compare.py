@@ -29,6 +29,7 @@ import shutil
 import subprocess
 import sys
 import time
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "web"))
@@ -82,19 +83,34 @@ class Builds:
 
 def episodes(builds):
     print(f"episodes ({len(EPISODES)}, `vifo web episode`, built-in look, 128²):", flush=True)
-    for task, cue, condition, policy, steps in EPISODES:
+    started = time.time()
+
+    def episode_args(task, cue, condition, policy, steps):
         args = ["web", "episode", "--task", task, "--condition", condition, "--policy", policy, "--json"]
         if cue:
             args += ["--cue", cue]
         if steps:
             args += ["--steps", str(steps)]
-        outs = {which: json.loads(out) for which, out in builds.both(args).items()}
-        ref = outs["reference"]
-        label = f"{cue or task} {condition} {policy}, {ref['steps']} steps, state {ref['state_hash']}, frames {ref['frame_hash']}"
-        if not builds.compare(label, ref, outs["other"]):
-            for key in sorted(ref):
-                if ref[key] != outs["other"].get(key):
-                    print(f"    {key}: {ref[key]} != {outs['other'].get(key)}")
+        return args
+
+    # One episode per core at a time (each `vifo web episode` is single-threaded, and under an
+    # emulator slow); reported in the list's order.
+    with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+        runs = [pool.submit(builds.both, episode_args(*episode)) for episode in EPISODES]
+        for (task, cue, condition, policy, _steps), run in zip(EPISODES, runs):
+            report_episode(builds, task, cue, condition, policy, run.result())
+    print(f"  ({time.time() - started:.0f} s)", flush=True)
+
+
+def report_episode(builds, task, cue, condition, policy, printed):
+    """Compares one episode's JSON as the two builds printed it."""
+    outs = {which: json.loads(out) for which, out in printed.items()}
+    ref = outs["reference"]
+    label = f"{cue or task} {condition} {policy}, {ref['steps']} steps, state {ref['state_hash']}, frames {ref['frame_hash']}"
+    if not builds.compare(label, ref, outs["other"]):
+        for key in sorted(ref):
+            if ref[key] != outs["other"].get(key):
+                print(f"    {key}: {ref[key]} != {outs['other'].get(key)}")
 
 
 def without_wall_times(path):
@@ -109,6 +125,7 @@ def without_wall_times(path):
 
 def benchmark_run(builds):
     print("benchmark run (`vifo " + " ".join(RUN_ARGS) + "`):", flush=True)
+    started = time.time()
     for which in builds.commands:
         shutil.rmtree(builds.work / which / "run", ignore_errors=True)
     builds.both(RUN_ARGS + ["--out", "run"])
@@ -122,6 +139,7 @@ def benchmark_run(builds):
             builds.compare(f"{name} ({len(records)} records, wall times left out)", records, without_wall_times(other / name))
         else:
             builds.compare(str(name), (ref / name).read_bytes(), (other / name).read_bytes())
+    print(f"  ({time.time() - started:.0f} s)", flush=True)
 
 
 def look(builds):

@@ -94,6 +94,10 @@ fn filming_changes_no_record_and_keeps_every_second_step() {
     assert_eq!(n, steps / 2 + 1 + steps % 2, "{steps} steps");
     assert_eq!((w, h), (2 * SIZE as u16 + 4, SIZE as u16));
     assert_eq!(std::fs::read_dir(dir.path().join("clips/random")).unwrap().count(), 1, "one clip: the filmed episode's");
+    // It names the look that drew it (this process draws the built-in one) and the episode.
+    let comment = format!("look: built-in; episode: {}", specs[0].key());
+    let bytes = std::fs::read(&clip).unwrap();
+    assert!(bytes.windows(comment.len()).any(|w| w == comment.as_bytes()), "the clip carries the comment {comment:?}");
 }
 
 #[test]

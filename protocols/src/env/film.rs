@@ -70,8 +70,8 @@ pub struct Clip {
 }
 
 impl Clip {
-    /// Starts the clip `path` (its folder is made).
-    pub fn create(path: &Path, filming: &Filming) -> Result<Clip, ImageIoError> {
+    /// Starts the clip `path` (its folder is made), with `comment` in the file (what drew it).
+    pub fn create(path: &Path, filming: &Filming, comment: &str) -> Result<Clip, ImageIoError> {
         let io = |source| ImageIoError::Io { path: path.display().to_string(), source };
         if let Some(dir) = path.parent() {
             std::fs::create_dir_all(dir).map_err(io)?;
@@ -82,7 +82,8 @@ impl Clip {
         let file = File::create(&part).map_err(io)?;
         let every = filming.every.max(1);
         let fps = CONTROL_HZ / every as f32;
-        let gif = GifWriter::new(BufWriter::new(file), 2 * filming.size + GAP, filming.size, fps)?;
+        let mut gif = GifWriter::new(BufWriter::new(file), 2 * filming.size + GAP, filming.size, fps)?;
+        gif.comment(comment)?;
         Ok(Clip { gif, part, path: path.to_path_buf(), size: filming.size, every, last: None })
     }
 

@@ -9,7 +9,7 @@
 //! ```
 //!
 //! Without `--cases`, each target runs its gate: 1,000,000 cases for parsers, 100,000 for
-//! whole-file decoders (`--smoke` runs a five-hundredth of that). Inputs that panic or hang are
+//! whole-file decoders (`--smoke`, which `cargo test` runs, a five-hundredth of that). Inputs that panic or hang are
 //! written to `target/fuzz/<target>/` for a regression test; the exit status is non-zero when
 //! any target panicked, hung or missed its gate. Runs are deterministic: the same `--seed`
 //! tries the same inputs.
@@ -66,18 +66,23 @@ struct Tally {
 }
 
 fn main() {
-    let args = match parse_args() {
-        Ok(a) => a,
+    match parse_args().and_then(|args| run(&args)) {
+        Ok(true) => {}
+        Ok(false) => std::process::exit(1),
         Err(e) => {
             eprintln!("fuzz: {e}");
             std::process::exit(2);
         }
-    };
+    }
+}
+
+/// Runs the chosen targets and prints a line per target; whether all passed: none panicked or
+/// hung, and each ran to its gate unless `--cases` or `--smoke` said otherwise.
+fn run(args: &Args) -> Result<bool, String> {
     let chosen: Vec<&Target> = TARGETS.iter().filter(|t| args.target == "all" || t.name == args.target).collect();
     if chosen.is_empty() {
         let names: Vec<&str> = TARGETS.iter().map(|t| t.name).collect();
-        eprintln!("fuzz: unknown target {:?}; targets: {}", args.target, names.join(", "));
-        std::process::exit(2);
+        return Err(format!("unknown target {:?}; targets: {}", args.target, names.join(", ")));
     }
     // Panics are counted, not printed one by one.
     let last_panic: &'static Mutex<String> = Box::leak(Box::new(Mutex::new(String::new())));
@@ -117,9 +122,7 @@ fn main() {
             tally.slowest_len
         );
     }
-    if failed {
-        std::process::exit(1);
-    }
+    Ok(!failed)
 }
 
 /// Runs `cases` inputs through `target`: a quarter generated, the rest mutated seeds.
@@ -211,5 +214,18 @@ impl Watchdog {
 
     fn end(&self) {
         self.started.store(0, Ordering::Relaxed);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `cargo test` builds this example as a test too (`test = true` in Cargo.toml), so the
+    /// README's test command runs every target's smoke.
+    #[test]
+    fn every_target_survives_its_smoke() {
+        let args = Args { target: "all".into(), cases: None, smoke: true, seed: 0 };
+        assert_eq!(run(&args), Ok(true), "a target panicked or hung (the table above; inputs in target/fuzz/)");
     }
 }

@@ -5,7 +5,7 @@
 # qemu-user and aarch64 cross linker, rustup's aarch64 standard library; where it cannot, it
 # prints SKIPPED with the reason and exits 0.
 #
-# usage: tests/cross_arch/run.sh   (from anywhere; about 6 min to build and 8 to compare on 2 cores)
+# usage: tests/cross_arch/run.sh   (from anywhere; about 6 min to build and 5 to compare on 2 cores)
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 

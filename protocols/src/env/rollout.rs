@@ -66,7 +66,7 @@ pub fn rollout_filmed(
     let not_written = |e: ImageIoError| eprintln!("note: clip {} not written: {e}", path.display());
     // The clip says which look drew it, as `vifo render`'s files do.
     let look = super::scenes::recorded_look(config.cue_facing);
-    let comment = format!("look: {}; episode: {}", crate::report::look_name(&look), spec.key());
+    let comment = format!("look: {}; episode: {}", super::scenes::look_name(&look), spec.key());
     let mut clip = Clip::create(path, &options.film, &comment).map_err(not_written).ok();
     let outcome = run(&mut env, policy, spec, options, &mut clip).unwrap_or_else(|message| Outcome::Error { message });
     if let Some(Err(e)) = clip.map(Clip::finish) {

@@ -76,6 +76,12 @@ pub fn look_label() -> String {
     look().map_or_else(String::new, Look::label)
 }
 
+/// A stored look's name: the built-in look's ([`vifo_scenes::look::BUILT_IN`]) for the empty
+/// label.
+pub fn look_name(look: &str) -> &str {
+    if look.is_empty() { vifo_scenes::look::BUILT_IN } else { look }
+}
+
 /// What records store as the look of frames whose drawn cues face `facing`: [`look_label`], and
 /// where the cues face the model, that as well, since such rates are not comparable with those of
 /// upright cues (a report refuses to mix the two, as it does looks).
@@ -83,7 +89,7 @@ pub fn recorded_look(facing: CueFacing) -> String {
     match facing {
         CueFacing::Upright => look_label(),
         CueFacing::Model => {
-            format!("{} with cues facing the model", look().map_or_else(|| vifo_scenes::look::BUILT_IN.to_string(), Look::label))
+            format!("{} with cues facing the model", look_name(&look_label()))
         }
     }
 }

@@ -37,6 +37,8 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 use vifo_cues::{Family, SetName};
 
+/// A stored look's name (the tables' look column); defined with the labels it names.
+pub use crate::env::scenes::look_name;
 use crate::runner::final_records;
 use crate::spec::{EpisodeRecord, Outcome, Protocol};
 use crate::vqa::{Accuracy, Stage, VqaScores, mean_rate};
@@ -189,12 +191,6 @@ pub fn check_looks(looks: &BTreeMap<String, Vec<String>>, mix: bool, allow: &str
         return Err(format!("the results mix looks: {listed}; their numbers are not comparable (report them separately, or pass {allow})"));
     }
     Ok(listed)
-}
-
-/// A stored look's name: the built-in look's ([`vifo_scenes::look::BUILT_IN`]) for the empty
-/// label.
-pub fn look_name(look: &str) -> &str {
-    if look.is_empty() { vifo_scenes::look::BUILT_IN } else { look }
 }
 
 /// Builds both tables. `records` may mix policies, instance sets and repeated episodes; `vqa`

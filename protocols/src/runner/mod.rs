@@ -8,6 +8,7 @@
 //! the key, so `--shard 0/4 … 3/4` cover every spec exactly once whatever the list order.
 //! Record contents never depend on the thread count; only the line order does.
 
+mod progress;
 pub mod results;
 pub mod seed;
 
@@ -16,13 +17,13 @@ use std::path::{Path, PathBuf};
 use std::str::FromStr;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use thiserror::Error;
 
 use vifo_cues::SetName;
 
+pub(crate) use self::progress::Progress;
 use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome, RESULTS_VERSION};
 
 pub use results::{Loaded, ResultsWriter, RunLock, create_folder, final_records, parse_records, read_records};
@@ -170,7 +171,7 @@ where
 
     let writer = Mutex::new(writer);
     let failure: Mutex<Option<RunError>> = Mutex::new(None);
-    let progress = progress_bar(todo.len() as u64, options.quiet);
+    let progress = Progress::stderr(todo.len() as u64, "episodes", options.quiet);
     let errors: Mutex<BTreeMap<String, usize>> = Mutex::new(BTreeMap::new());
     let next = AtomicUsize::new(0);
     // No more workers than episodes: `--threads 3000` on a short list would only add start-up.
@@ -187,12 +188,12 @@ where
             if let Outcome::Error { message } = &record.outcome {
                 let mut errors = lock(&errors);
                 *errors.entry(message.clone()).or_default() += 1;
-                progress.set_message(format!("errors: {}", errors.values().sum::<usize>()));
+                progress.note(format!("errors: {}", errors.values().sum::<usize>()));
             }
             if let Err(e) = lock(&writer).write(&record) {
                 lock(&failure).get_or_insert(e);
             }
-            progress.inc(1);
+            progress.inc();
         }
     });
     progress.finish();
@@ -273,19 +274,6 @@ where
             error(format!("episode panicked: {what}"))
         }
     }
-}
-
-/// A progress bar with ETA on stderr (hidden when quiet).
-pub(crate) fn progress_bar(len: u64, quiet: bool) -> ProgressBar {
-    let target = if quiet { ProgressDrawTarget::hidden() } else { ProgressDrawTarget::stderr() };
-    let bar = ProgressBar::with_draw_target(Some(len), target);
-    if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} ETA {eta} {msg}") {
-        bar.set_style(style.progress_chars("=> "));
-    }
-    if !quiet {
-        bar.enable_steady_tick(Duration::from_millis(500));
-    }
-    bar
 }
 
 /// Locks a mutex, also after a panic elsewhere (the data here stays consistent line by line).

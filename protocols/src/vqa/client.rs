@@ -20,7 +20,7 @@ use serde_json::{Value, json};
 
 use super::files::{append_predictions, resume_predictions};
 use super::{LETTERS, Prediction, Question, VqaError};
-use crate::runner::{lock, progress_bar};
+use crate::runner::{lock, Progress};
 
 /// How to reach and use the server.
 #[derive(Clone, Debug)]
@@ -182,7 +182,7 @@ impl ChatClient {
         let write_error: Mutex<Option<VqaError>> = Mutex::new(None);
         let next = AtomicUsize::new(0);
         let failures_in_a_row = AtomicUsize::new(0);
-        let bar = progress_bar(todo.len() as u64, self.config.quiet);
+        let bar = Progress::stderr(todo.len() as u64, "questions", self.config.quiet);
         std::thread::scope(|scope| {
             for _ in 0..self.config.concurrency.max(1) {
                 scope.spawn(|| {
@@ -207,7 +207,7 @@ impl ChatClient {
                                 lock(&summary).failed.push((q.id.clone(), message));
                             }
                         }
-                        bar.inc(1);
+                        bar.inc();
                     }
                 });
             }

@@ -9,6 +9,7 @@ use vifo_protocols::env::EnvConfig;
 use vifo_protocols::env::film::Filming;
 use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
 use vifo_protocols::policies::builtin;
+use vifo_protocols::report;
 use vifo_protocols::runner::{RunOptions, read_records};
 use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
 use vifo_protocols::{EpisodeState, Observation, Policy, PolicyError};
@@ -86,6 +87,7 @@ fn filming_changes_no_record_and_keeps_every_second_step() {
     let clip = dir.path().join("clips/random/F1.gif");
     let filmed = run(&specs, dir.path(), Some(&clip), false);
     assert_eq!(plain, filmed, "filming must not change what the episode does");
+    assert!(filmed.iter().all(|r| r.look == report::NO_IMAGES), "the policy was sent no images; the clip's frames do not count");
     assert!(!part(&clip).exists(), "the unfinished name is gone");
     let record = filmed.iter().find(|r| r.spec.key() == specs[0].key()).unwrap();
     let Outcome::Completed { steps, .. } = record.outcome else { panic!("{:?}", record.outcome) };

@@ -227,18 +227,20 @@ fn cues_facing_the_model_read_the_right_way_in_the_image_the_model_receives() {
 #[test]
 fn records_say_when_cues_faced_the_model() {
     let dir = tempfile::tempdir().unwrap();
-    let record = |facing: CueFacing| {
-        let path = dir.path().join(format!("results-{facing:?}.jsonl"));
-        let config = EnvConfig { cue_facing: facing, ..small(&[CameraName::AgentView]) };
+    let record = |facing: CueFacing, cameras: &[CameraName]| {
+        let path = dir.path().join(format!("results-{facing:?}-{}.jsonl", cameras.len()));
+        let config = EnvConfig { cue_facing: facing, ..small(cameras) };
         let options = RunOptions { threads: 1, quiet: true, policy: "zero".into(), ..RunOptions::new(&path) };
         let make = || builtin("zero").ok_or_else(|| "no zero policy".to_string());
         run_episodes(&[goal0(Protocol::Authorized)], make, config, &RolloutOptions::default(), &options).unwrap();
         read_records(&path).unwrap().records.remove(0)
     };
     // Upright cues keep the built-in look's empty label (records as before the option).
-    let (upright, faced) = (record(CueFacing::Upright), record(CueFacing::Model));
+    let (upright, faced) = (record(CueFacing::Upright, &[CameraName::AgentView]), record(CueFacing::Model, &[CameraName::AgentView]));
     assert_eq!(upright.look, "");
     assert_eq!(faced.look, "built-in with cues facing the model");
+    // A policy sent no images has no look, whichever way cues would have faced.
+    assert_eq!(record(CueFacing::Model, &[]).look, report::NO_IMAGES);
     // A report does not put the two in one table unless told to.
     let looks = report::looks_with_vqa(&[upright, faced], []);
     assert!(report::check_looks(&looks, false, "--mix-looks").unwrap_err().contains("built-in with cues facing the model (1 episode)"));

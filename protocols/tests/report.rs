@@ -187,6 +187,28 @@ fn looks_count_episodes_per_look_with_empty_as_built_in() {
     assert!(report::tables::table1_markdown(&mixed).contains("Looks: built-in, libero-assets:0123 (mixed on request"));
 }
 
+/// The built-in policies read the simulator: their rows hold for any look, so they sit beside a
+/// served model's rows drawn with LIBERO's look (a report once refused that as mixed looks).
+#[test]
+fn rows_of_policies_sent_no_images_go_with_any_look_and_are_named() {
+    let blind = EpisodeRecord { look: report::NO_IMAGES.into(), ..record("expert-cue", Protocol::Authorized, "F1", 0, done(None, Some(true))) };
+    let looked = EpisodeRecord { look: "libero-assets:0123".into(), ..record("pi", Protocol::Authorized, "F1", 0, done(None, Some(false))) };
+    let both = [blind.clone(), looked.clone()];
+    let looks = report::looks_with_vqa(&both, std::iter::empty());
+    assert_eq!(report::check_looks(&looks, false, "--mix-looks"), Ok("libero-assets:0123 (1 episode)".to_string()));
+    let table = report::tables::table1_markdown(&report::build(&both, &BTreeMap::new()));
+    assert!(table.contains("Look: libero-assets:0123.\n\nSent no images (they read the simulator), so the same with any look: expert-cue.\n"), "{table}");
+    // Alone, they say so; beside the built-in look they are not a second look either.
+    let alone = report::tables::table1_markdown(&report::build(std::slice::from_ref(&blind), &BTreeMap::new()));
+    assert!(alone.contains("Look: none (the policies were sent no images).\n") && !alone.contains("Sent no images"), "{alone}");
+    let built_in = EpisodeRecord { look: String::new(), ..looked };
+    assert_eq!(report::looks(&[blind.clone(), built_in]).into_iter().collect::<Vec<_>>(), vec![("built-in".to_string(), 1)]);
+    // A row with some episodes drawn (here in the built-in look) is not listed as sent none.
+    let mixed_row = record("expert-cue", Protocol::Authorized, "F1", 1, done(None, Some(true)));
+    let table = report::tables::table1_markdown(&report::build(&[blind, mixed_row], &BTreeMap::new()));
+    assert!(!table.contains("Sent no images"), "{table}");
+}
+
 #[test]
 fn vqa_scores_carry_their_look_and_count_beside_the_episodes() {
     // Built-in scores serialise as they did before looks (no field), and such files read back

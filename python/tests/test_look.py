@@ -133,8 +133,14 @@ def test_a_report_of_results_drawn_with_two_looks_is_refused_unless_asked(tmp_pa
     plain, other = tmp_path / "plain.jsonl", tmp_path / "other.jsonl"
     _native.run_specs([specs[0][1]], "expert-cue", str(plain))
     _native.run_specs([specs[1][1]], "expert-cue", str(other))
+    # The built-in policy was sent no images, so its records go with any look: beside one drawn
+    # with LIBERO's assets they make one table.
+    assert json.loads(plain.read_text())["look"] == "none"
     record = json.loads(other.read_text().splitlines()[0])
     other.write_text(json.dumps({**record, "look": "libero-assets:0123456789abcdef"}) + "\n")
+    assert "Look: libero-assets:0123456789abcdef." in _native.write_report([str(plain), str(other)], str(tmp_path / "report"))
+    # Drawn in the built-in look, they do not.
+    plain.write_text(json.dumps({**json.loads(plain.read_text()), "look": ""}) + "\n")
     with pytest.raises(ValueError, match=r"the results mix looks: built-in \(1 episode\); libero-assets:0123456789abcdef \(1 episode\)"):
         _native.write_report([str(plain), str(other)], str(tmp_path / "report"))
     assert "Table 1" in _native.write_report([str(plain), str(other)], str(tmp_path / "report"), mix_looks=True)

@@ -76,17 +76,22 @@ def test_a_server_that_is_not_up_gives_error_records_and_says_why(cluster, tmp_p
 
 
 def test_batches_drawn_with_another_look_than_the_files_are_not_written(cluster, tmp_path, capsys):
-    # A file whose record says LIBERO's assets drew it; the built-in policy's records (no
-    # cameras, so no look) would mix looks in one file: refused, and resuming retries them.
+    # A file whose record says LIBERO's assets (of another hash) drew it; a served policy's
+    # records (errors, as its server is down, with the look the workers found) would mix looks
+    # in one file: refused, and resuming retries them.
     out = tmp_path / "looks.jsonl"
     specs = _native.episode_specs(**SELECTION)
     _native.run_specs([specs[0][1]], "expert-cue", str(out))
     first = json.loads(out.read_text().splitlines()[0])
+    # The built-in policy was sent no images: its record has no look, so it goes with any.
+    assert first["look"] == "none", first
     out.write_text(json.dumps({**first, "look": "libero-assets:0123456789abcdef"}) + "\n")
-    s = run_benchmark(SELECTION, "expert-cue", output=out, resume=True, batch_size=4)
+    s = run_benchmark(SELECTION, "ws://127.0.0.1:1", output=out, resume=True, batch_size=4, quiet=True)
     assert (s["already_done"], s["ran"], s["failed_batches"], s["missing"]) == (1, 0, 2, 7)
     said = capsys.readouterr().out
-    assert "drawn with look built-in, this run's with libero-assets:0123456789abcdef; not written" in said, said
+    assert "episodes was drawn with look " in said and "this run's with libero-assets:0123456789abcdef; not written" in said, said
+    s = run_benchmark(SELECTION, "expert-cue", output=out, resume=True, batch_size=4, quiet=True)
+    assert (s["already_done"], s["ran"], s["failed_batches"], s["missing"]) == (1, 7, 0, 0)
     with pytest.raises(ValueError, match="builtin_look=True draws no asset files"):
         run_benchmark(SELECTION, "expert-cue", output=tmp_path / "x.jsonl", assets=str(tmp_path), builtin_look=True)
 

@@ -76,7 +76,8 @@ pub fn rollout_filmed(
 }
 
 /// The record of an episode run with `config`: its look is the process's where the policy's
-/// cameras drew, the built-in one (empty) where they drew nothing (a clip does not count).
+/// cameras drew, [`NO_IMAGES`](super::scenes::NO_IMAGES) where they drew nothing (a clip does
+/// not count).
 fn record(spec: &EpisodeSpec, policy: &dyn Policy, outcome: Outcome, config: &EnvConfig) -> EpisodeRecord {
     // The set is not the episode's business; the runner writes the run's into every record.
     EpisodeRecord {
@@ -86,7 +87,7 @@ fn record(spec: &EpisodeSpec, policy: &dyn Policy, outcome: Outcome, config: &En
         outcome,
         wall_ms: 0.0,
         set: SetName::Paper,
-        look: if config.cameras.is_empty() { String::new() } else { super::scenes::recorded_look(config.cue_facing) },
+        look: if config.cameras.is_empty() { super::scenes::NO_IMAGES.to_string() } else { super::scenes::recorded_look(config.cue_facing) },
     }
 }
 

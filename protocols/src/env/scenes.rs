@@ -76,10 +76,19 @@ pub fn look_label() -> String {
     look().map_or_else(String::new, Look::label)
 }
 
+/// What records store as the look of an episode whose policy was sent no images (the built-in
+/// policies read the simulator): its result is the same whatever the look, so a report puts
+/// such rows beside rows of any look.
+pub const NO_IMAGES: &str = "none";
+
 /// A stored look's name: the built-in look's ([`vifo_scenes::look::BUILT_IN`]) for the empty
-/// label.
+/// label, and what [`NO_IMAGES`] means for it.
 pub fn look_name(look: &str) -> &str {
-    if look.is_empty() { vifo_scenes::look::BUILT_IN } else { look }
+    match look {
+        "" => vifo_scenes::look::BUILT_IN,
+        NO_IMAGES => "none (the policies were sent no images)",
+        _ => look,
+    }
 }
 
 /// What records store as the look of frames whose drawn cues face `facing`: [`look_label`], and

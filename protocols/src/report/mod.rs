@@ -38,7 +38,7 @@ use serde::{Deserialize, Serialize};
 use vifo_cues::{Family, SetName};
 
 /// A stored look's name (the tables' look column); defined with the labels it names.
-pub use crate::env::scenes::look_name;
+pub use crate::env::scenes::{NO_IMAGES, look_name};
 use crate::runner::final_records;
 use crate::spec::{EpisodeRecord, Outcome, Protocol};
 use crate::vqa::{Accuracy, Stage, VqaScores, mean_rate};
@@ -152,6 +152,10 @@ pub struct Report {
     /// only where the report was told to mix them.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub looks: Vec<String>,
+    /// Rows whose policy was sent no images ([`NO_IMAGES`]) beside rows drawn with a look: they
+    /// hold for any look.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub no_images: Vec<String>,
     pub table1: Vec<Table1Row>,
     pub table2: Vec<Table2Row>,
     pub family_counts: Vec<FamilyCounts>,
@@ -163,11 +167,16 @@ pub fn family_of(instance_id: &str) -> Option<Family> {
 }
 
 /// Episodes per look (`built-in`, or `libero-assets:<hash>`): rows of different looks are not
-/// comparable, so a report over more than one says so.
+/// comparable, so a report over more than one says so. Episodes whose policy was sent no images
+/// ([`NO_IMAGES`]) hold for every look, so they are counted only where there is no other.
 pub fn looks(records: &[EpisodeRecord]) -> BTreeMap<String, usize> {
     let mut out = BTreeMap::new();
-    for r in records {
+    for r in records.iter().filter(|r| r.look != NO_IMAGES) {
         *out.entry(look_name(&r.look).to_string()).or_insert(0) += 1;
+    }
+    let blind = records.len() - out.values().sum::<usize>();
+    if out.is_empty() && blind > 0 {
+        out.insert(look_name(NO_IMAGES).to_string(), blind);
     }
     out
 }
@@ -199,6 +208,7 @@ pub fn check_looks(looks: &BTreeMap<String, Vec<String>>, mix: bool, allow: &str
 pub fn build(records: &[EpisodeRecord], vqa: &BTreeMap<String, VqaScores>) -> Report {
     let looks = looks_with_vqa(records, vqa.iter().map(|(p, s)| (p.as_str(), s))).into_keys().collect();
     let records: Vec<&EpisodeRecord> = records.iter().filter(|r| r.spec.cue_form.is_overlay()).collect();
+    let drawn = records.iter().any(|r| r.look != NO_IMAGES);
     let sets: Vec<SetName> = records.iter().map(|r| r.set).collect::<std::collections::BTreeSet<_>>().into_iter().collect();
     let name = |policy: &str, set: SetName| if sets.len() > 1 { format!("{policy} [{set}]") } else { policy.to_string() };
     let mut by_row: BTreeMap<String, (String, Vec<EpisodeRecord>)> = BTreeMap::new();
@@ -212,6 +222,9 @@ pub fn build(records: &[EpisodeRecord], vqa: &BTreeMap<String, VqaScores>) -> Re
     for (row, policy) in rows {
         let episodes: Vec<EpisodeRecord> =
             by_row.remove(&row).map(|(_, rs)| final_records(rs).into_values().collect()).unwrap_or_default();
+        if drawn && !episodes.is_empty() && episodes.iter().all(|r| r.look == NO_IMAGES) {
+            report.no_images.push(row.clone());
+        }
         let scores = vqa.get(&policy);
         report.table1.push(table1_row(&row, &episodes, scores));
         let (table2, counts) = table2_rows(&row, &episodes, scores);

@@ -80,7 +80,11 @@ fn provenance(report: &Report) -> String {
         [one] => format!("Look: {one}.\n\n"),
         many => format!("Looks: {} (mixed on request; their rows are not comparable).\n\n", many.join(", ")),
     };
-    sets + &looks
+    let blind = match &report.no_images[..] {
+        [] => String::new(),
+        rows => format!("Sent no images (they read the simulator), so the same with any look: {}.\n\n", rows.join(", ")),
+    };
+    sets + &looks + &blind
 }
 
 /// Table 1 in Markdown, with the episode counts behind each rate below it.

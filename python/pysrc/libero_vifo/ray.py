@@ -40,17 +40,24 @@ def _run_batch(specs, policy, set_name, size, look):
     return list(zip(keys, lines))
 
 
+# What a record stores as the look of an episode whose policy was sent no images (the built-in
+# policies): the same result with any look, so it goes with every look (``report::NO_IMAGES``).
+_NO_IMAGES = "none"
+
+
 def _look_name(look):
     """A record's look as ``vifo report`` names it (the built-in look is stored empty)."""
     return look or "built-in"
 
 
 def _first_look(path):
-    """The look of the first record of the results file ``path``."""
+    """The look of the first record of the results file ``path`` that was drawn with one."""
     with open(path) as f:
         for line in f:
             if line.strip():
-                return json.loads(line).get("look", "")
+                look = json.loads(line).get("look", "")
+                if look != _NO_IMAGES:
+                    return look
     return None
 
 
@@ -87,7 +94,8 @@ def run_benchmark(
     - ``assets``, ``robot_assets``, ``builtin_look``: the look, as ``use_look`` takes it; each
       worker finds it on its own node (give paths that exist there, or install the asset
       wheels on every node). Every record of a run must have one look: a batch drawn with
-      another look than the file's first records is not written, and counts as failed.
+      another look than the file's first records is not written, and counts as failed (a
+      policy sent no images, such as the built-in ones, goes with any look).
     - ``cue_facing``: ``"upright"``, or ``"model"`` to draw cues readable in the image a served
       model receives (``vifo run --cue-facing``); recorded with the look.
 
@@ -128,7 +136,7 @@ def run_benchmark(
     start = time.monotonic()
     try:
         done = set(results.done())
-        # The look of the records already in the file (records store none for the built-in look).
+        # The look of the records already in the file (the built-in look is stored empty).
         run_look = _first_look(output)
         todo = [(key, spec) for key, spec in dict(specs).items() if key not in done]
         if not ray.is_initialized():
@@ -158,9 +166,9 @@ def run_benchmark(
                     print(f"libero_vifo.ray: a batch of {len(batch)} episodes {why}: {e}")
                     continue
                 records = [(key, line, json.loads(line)) for key, line in records]
-                looks = {record.get("look", "") for _, _, record in records}
+                looks = {record.get("look", "") for _, _, record in records} - {_NO_IMAGES}
                 run_look = run_look if run_look is not None else min(looks, default=None)
-                if looks - {run_look}:
+                if run_look is not None and looks - {run_look}:
                     failed += 1
                     print(f"libero_vifo.ray: a batch of {len(batch)} episodes was drawn with look "
                           f"{_look_name(max(looks - {run_look}))}, this run's with {_look_name(run_look)}; "

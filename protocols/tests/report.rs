@@ -198,6 +198,12 @@ fn rows_of_policies_sent_no_images_go_with_any_look_and_are_named() {
     assert_eq!(report::check_looks(&looks, false, "--mix-looks"), Ok("libero-assets:0123 (1 episode)".to_string()));
     let table = report::tables::table1_markdown(&report::build(&both, &BTreeMap::new()));
     assert!(table.contains("Look: libero-assets:0123.\n\nSent no images (they read the simulator), so the same with any look: expert-cue.\n"), "{table}");
+    // Beside VQA scores drawn with a look, they take that look.
+    let scores = VqaScores { look: "libero-assets:0123".into(), ..VqaScores::default() };
+    let with_vqa = report::looks_with_vqa(std::slice::from_ref(&blind), [("pi", &scores)]);
+    assert_eq!(report::check_looks(&with_vqa, false, "--mix-looks"), Ok("libero-assets:0123 (VQA scores of pi)".to_string()));
+    let table = report::tables::table1_markdown(&report::build(std::slice::from_ref(&blind), &BTreeMap::from([("pi".to_string(), scores)])));
+    assert!(table.contains("Look: libero-assets:0123.\n\nSent no images (they read the simulator), so the same with any look: expert-cue.\n"), "{table}");
     // Alone, they say so; beside the built-in look they are not a second look either.
     let alone = report::tables::table1_markdown(&report::build(std::slice::from_ref(&blind), &BTreeMap::new()));
     assert!(alone.contains("Look: none (the policies were sent no images).\n") && !alone.contains("Sent no images"), "{alone}");

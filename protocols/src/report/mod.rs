@@ -171,24 +171,28 @@ pub fn family_of(instance_id: &str) -> Option<Family> {
 /// ([`NO_IMAGES`]) hold for every look, so they are counted only where there is no other.
 pub fn looks(records: &[EpisodeRecord]) -> BTreeMap<String, usize> {
     let mut out = BTreeMap::new();
-    for r in records.iter().filter(|r| r.look != NO_IMAGES) {
+    for r in records {
         *out.entry(look_name(&r.look).to_string()).or_insert(0) += 1;
     }
-    let blind = records.len() - out.values().sum::<usize>();
-    if out.is_empty() && blind > 0 {
-        out.insert(look_name(NO_IMAGES).to_string(), blind);
+    without_no_images_beside_a_look(out)
+}
+
+/// `looks` less the episodes sent no images where there is a look they go with.
+fn without_no_images_beside_a_look<T>(mut looks: BTreeMap<String, T>) -> BTreeMap<String, T> {
+    if looks.len() > 1 {
+        looks.remove(look_name(NO_IMAGES));
     }
-    out
+    looks
 }
 
 /// What a report tells apart by look: the episodes (counted) and each policy's VQA scores
-/// (named), per look.
+/// (named), per look. Episodes sent no images go with the scores' look, as with any other.
 pub fn looks_with_vqa<'a>(records: &[EpisodeRecord], vqa: impl IntoIterator<Item = (&'a str, &'a VqaScores)>) -> BTreeMap<String, Vec<String>> {
     let mut out: BTreeMap<String, Vec<String>> = looks(records).into_iter().map(|(look, n)| (look, vec![format!("{n} episode{}", if n == 1 { "" } else { "s" })])).collect();
     for (policy, scores) in vqa {
         out.entry(look_name(&scores.look).to_string()).or_default().push(format!("VQA scores of {policy}"));
     }
-    out
+    without_no_images_beside_a_look(out)
 }
 
 /// The looks of [`looks_with_vqa`] as one line (`label (what, ...); ...`), and an error when
@@ -206,9 +210,10 @@ pub fn check_looks(looks: &BTreeMap<String, Vec<String>>, mix: bool, allow: &str
 /// maps a policy name to its VQA scores (a policy may have only one of the two). Each row holds
 /// one policy's episodes of one set (see [`Report::sets`]).
 pub fn build(records: &[EpisodeRecord], vqa: &BTreeMap<String, VqaScores>) -> Report {
-    let looks = looks_with_vqa(records, vqa.iter().map(|(p, s)| (p.as_str(), s))).into_keys().collect();
+    let looks: Vec<String> = looks_with_vqa(records, vqa.iter().map(|(p, s)| (p.as_str(), s))).into_keys().collect();
+    // Some episodes or VQA scores were drawn with a look, so rows without images are named.
+    let drawn = looks.iter().any(|l| l != look_name(NO_IMAGES));
     let records: Vec<&EpisodeRecord> = records.iter().filter(|r| r.spec.cue_form.is_overlay()).collect();
-    let drawn = records.iter().any(|r| r.look != NO_IMAGES);
     let sets: Vec<SetName> = records.iter().map(|r| r.set).collect::<std::collections::BTreeSet<_>>().into_iter().collect();
     let name = |policy: &str, set: SetName| if sets.len() > 1 { format!("{policy} [{set}]") } else { policy.to_string() };
     let mut by_row: BTreeMap<String, (String, Vec<EpisodeRecord>)> = BTreeMap::new();

@@ -37,7 +37,8 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 use vifo_cues::{Family, SetName};
 
-/// A stored look's name (the tables' look column); defined with the labels it names.
+/// A stored look's name (the tables' look line) and the label of episodes sent no images; defined
+/// with the labels they name.
 pub use crate::env::scenes::{NO_IMAGES, look_name};
 use crate::runner::final_records;
 use crate::spec::{EpisodeRecord, Outcome, Protocol};

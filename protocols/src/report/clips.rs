@@ -44,9 +44,9 @@ pub fn filming(specs: &[EpisodeSpec], report_dir: &Path, policy_dir: &str, size:
 }
 
 /// Writes `clips.md` into `report_dir`, showing the clips of `policies` (name, name as a file
-/// name) found there for the first episodes of `specs`; returns its Markdown, empty (and writes
-/// nothing) when there is no clip.
-pub fn write(report_dir: &Path, specs: &[EpisodeSpec], policies: &[(String, String)]) -> std::io::Result<String> {
+/// name) found there for the first episodes of `specs`, drawn with the look named `look`;
+/// returns its Markdown, empty (and writes nothing) when there is no clip.
+pub fn write(report_dir: &Path, specs: &[EpisodeSpec], policies: &[(String, String)], look: &str) -> std::io::Result<String> {
     let firsts = first_episodes(specs);
     let found: Vec<(Family, &EpisodeSpec, Vec<Option<PathBuf>>)> = firsts
         .into_iter()
@@ -63,6 +63,8 @@ pub fn write(report_dir: &Path, specs: &[EpisodeSpec], policies: &[(String, Stri
     }
     let mut md = String::from("### The first episode of each cue family\n\n");
     md += "Agentview with the cue as the policy saw it (left) and the wrist camera (right), played in real time.\n\n";
+    // The tables may say "none" where the policies read the simulator; the clips are drawn all the same.
+    let _ = writeln!(md, "Drawn with look: {look}.\n");
     md += "| family | episode |";
     for (name, _) in policies {
         let _ = write!(md, " {name} |");
@@ -120,12 +122,13 @@ mod tests {
     fn clips_md_links_the_clips_found() {
         let dir = tempfile::tempdir().unwrap();
         let policies = [("ws://h:1".to_string(), "ws___h_1".to_string())];
-        assert_eq!(write(dir.path(), &specs(), &policies).unwrap(), "", "no clip, no section");
+        assert_eq!(write(dir.path(), &specs(), &policies, "built-in").unwrap(), "", "no clip, no section");
         assert!(!dir.path().join("clips.md").exists());
         let clip = dir.path().join(clip_path("ws___h_1", Family::F2));
         std::fs::create_dir_all(clip.parent().unwrap()).unwrap();
         std::fs::write(&clip, b"GIF89a").unwrap();
-        let md = write(dir.path(), &specs(), &policies).unwrap();
+        let md = write(dir.path(), &specs(), &policies, "libero-assets:0123").unwrap();
+        assert!(md.contains("Drawn with look: libero-assets:0123.\n"), "{md}");
         assert!(md.contains("| F2 | libero_goal/0 authorized `libero_goal/0/F2/bounding_boxes` | ![F2](clips/ws___h_1/F2.gif) |"), "{md}");
         assert!(md.contains("| F1 | libero_goal/0 conflict `libero_goal/0/F1/caption_bar` | (no clip) |"), "{md}");
         assert_eq!(std::fs::read_to_string(dir.path().join("clips.md")).unwrap(), md);

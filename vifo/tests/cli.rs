@@ -202,6 +202,7 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
         ([&goal_zero[..], &["--sample", "0"]].concat(), "'--sample <SAMPLE>': expected 1 or more"),
         (vec!["run", "--protocol", "authorized", "--policy", "zero", "--per-family", "0", "--out", out_arg], "'--per-family <PER_FAMILY>': expected 1 or more"),
         (vec!["run", "--study", "objects", "--protocol", "original", "--policy", "zero", "--out", out_arg], "the selection has no episodes"),
+        (vec!["run", "--suite", "libero_nope", "--out", out_arg], "unknown suite \"libero_nope\""),
         ([&goal_zero[..], &["--model-profile", "pi05"]].concat(), "say how to talk to a policy server; zero is built-in"),
         (vec!["bench", "physics", "--steps", "0"], "expected 1 or more"),
         (vec!["init-states", "generate", "--suite", "libero_goal", "--states", "0", "--out", out_arg], "expected 1 or more"),

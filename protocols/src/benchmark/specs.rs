@@ -123,8 +123,8 @@ pub fn specs(selection: &Selection) -> Result<Vec<EpisodeSpec>, BenchmarkError> 
     Ok(out)
 }
 
-/// The suites of a selection, checked, in reporting order.
-fn suite_list(names: &[String]) -> Result<Vec<String>, BenchmarkError> {
+/// The suites of a selection, checked, in reporting order (an unknown name is an error).
+pub fn suite_list(names: &[String]) -> Result<Vec<String>, BenchmarkError> {
     let all = vifo_scenes::suite_names();
     if names.is_empty() || names.iter().any(|n| n == "all") {
         return Ok(all.iter().map(|s| s.to_string()).collect());

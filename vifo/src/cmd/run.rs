@@ -350,6 +350,8 @@ fn note_records_outside(out: &Path, policies: &[String], selection: &[EpisodeSpe
 /// The selection the options describe (defaults: every suite, protocol and family, one episode).
 fn selection(args: &Args) -> anyhow::Result<Selection> {
     let mut s = Selection::all(args.episodes.unwrap_or(1));
+    // Checked here, so that a mistyped suite is named before anything else is asked for.
+    specs::suite_list(&args.suite)?;
     s.suites = args.suite.clone();
     if !args.protocol.is_empty() && !args.protocol.iter().any(|p| p == "all") {
         s.protocols = args.protocol.iter().map(|p| parse_protocol(p)).collect::<anyhow::Result<_>>()?;

@@ -38,10 +38,15 @@ pub enum Fault {
     InfActions,
     /// A metadata message that is not msgpack.
     BadHandshake,
+    /// A good reply sent a byte at a time, each byte well within the client's timeout, the
+    /// whole past it.
+    Trickle,
+    /// A good reply, then a second one nobody asked for.
+    TwoReplies,
 }
 
 impl Fault {
-    pub const ALL: [Fault; 9] = [
+    pub const ALL: [Fault; 11] = [
         Fault::Drop,
         Fault::Stall,
         Fault::Garbage,
@@ -51,6 +56,8 @@ impl Fault {
         Fault::NanActions,
         Fault::InfActions,
         Fault::BadHandshake,
+        Fault::Trickle,
+        Fault::TwoReplies,
     ];
 
     pub fn name(self) -> &'static str {
@@ -64,6 +71,8 @@ impl Fault {
             Fault::NanActions => "nan-actions",
             Fault::InfActions => "inf-actions",
             Fault::BadHandshake => "bad-handshake",
+            Fault::Trickle => "trickle",
+            Fault::TwoReplies => "two-replies",
         }
     }
 
@@ -79,6 +88,8 @@ impl Fault {
             Fault::NanActions => &["NaN"],
             Fault::InfActions => &["inf"],
             Fault::BadHandshake => &["metadata"],
+            Fault::Trickle => &["timed out"],
+            Fault::TwoReplies => &["second reply"],
         }
     }
 }
@@ -262,6 +273,25 @@ fn inject(ws: &mut WebSocket<TcpStream>, fault: Fault) -> bool {
         Fault::InfActions => ws.send(Message::binary(chunk(10, 7, f64::INFINITY))),
         // Injected at the handshake instead; a request is answered normally.
         Fault::BadHandshake => ws.send(Message::binary(chunk(10, 7, 0.0))),
+        Fault::Trickle => {
+            let reply = chunk(10, 7, 0.0);
+            let mut frame = vec![0x82, 126];
+            frame.extend_from_slice(&(reply.len() as u16).to_be_bytes());
+            frame.extend_from_slice(&reply);
+            let gap = STALL / frame.len() as u32;
+            for byte in frame {
+                if ws.get_mut().write_all(&[byte]).is_err() {
+                    return false;
+                }
+                std::thread::sleep(gap);
+            }
+            Ok(())
+        }
+        // Both in one flush, so the second is there before the client's next request.
+        Fault::TwoReplies => ws
+            .write(Message::binary(chunk(10, 7, 0.0)))
+            .and_then(|()| ws.write(Message::binary(chunk(10, 7, 0.5))))
+            .and_then(|()| ws.flush()),
     };
     sent.is_ok()
 }

@@ -18,13 +18,15 @@
 //! ones [`PolicyError::Timeout`], bad replies [`PolicyError::Malformed`] naming the problem. After
 //! any failure the connection is dropped; the next [`Policy::reset`] reconnects.
 
+pub mod address;
+pub mod deadline;
 pub mod image;
 pub mod ndarray;
 
 use std::collections::VecDeque;
 use std::io;
-use std::net::{TcpStream, ToSocketAddrs};
-use std::time::{Duration, Instant};
+use std::net::TcpStream;
+use std::time::Duration;
 
 use rmpv::Value;
 use tungstenite::client::ClientRequestBuilder;
@@ -32,6 +34,8 @@ use tungstenite::http::Uri;
 use tungstenite::{Message, WebSocket};
 
 use crate::policy::{Observation, Policy, PolicyError};
+pub use address::Address;
+use deadline::DeadlineStream;
 
 /// How to reach and use a server.
 #[derive(Clone, Debug)]
@@ -80,7 +84,8 @@ pub struct Reply {
 pub struct RemotePolicy {
     config: RemoteConfig,
     uri: Uri,
-    conn: Option<WebSocket<TcpStream>>,
+    address: Address,
+    conn: Option<WebSocket<DeadlineStream>>,
     /// True when the connection was made before the current episode and has not served a
     /// request since: the server may have closed it while we were idle.
     idle: bool,
@@ -103,10 +108,11 @@ impl RemotePolicy {
         if config.image_size == 0 {
             return Err(PolicyError::Other("image_size must be at least 1".into()));
         }
-        let uri = parse_url(&config.url)?;
+        let (uri, address) = parse_url(&config.url)?;
         let mut policy = RemotePolicy {
             config,
             uri,
+            address,
             conn: None,
             idle: false,
             metadata: Value::Map(vec![]),
@@ -164,7 +170,7 @@ impl RemotePolicy {
 
     fn reconnect(&mut self) -> Result<(), PolicyError> {
         self.hang_up();
-        let (conn, metadata) = open(&self.uri, &self.config)?;
+        let (conn, metadata) = open(&self.uri, &self.address, &self.config)?;
         self.conn = Some(conn);
         self.metadata = metadata;
         self.idle = false;
@@ -177,27 +183,23 @@ impl RemotePolicy {
     /// connection already broken just goes.
     fn hang_up(&mut self) {
         let Some(mut conn) = self.conn.take() else { return };
-        let deadline = Instant::now() + CLOSE_WAIT;
+        conn.get_mut().limit(CLOSE_WAIT);
         if conn.close(None).is_err() {
             return;
         }
-        // Until the server's close arrives (`read` then fails with `ConnectionClosed`); an
-        // unread reply in the socket would turn our TCP close into a reset.
-        while let Some(left) = deadline.checked_duration_since(Instant::now()).filter(|d| !d.is_zero()) {
-            if set_timeouts(conn.get_mut(), left).is_err() || conn.read().is_err() {
-                return;
-            }
-        }
+        // Until the server's close arrives (`read` then fails with `ConnectionClosed`) or the
+        // time is up; an unread reply in the socket would turn our TCP close into a reset.
+        while conn.read().is_ok() {}
     }
 
     /// One request/reply round trip within the request timeout.
     fn exchange(&mut self, request: &[u8]) -> Result<Vec<u8>, PolicyError> {
         let timeout = self.config.request_timeout;
         let conn = self.conn.as_mut().ok_or_else(|| PolicyError::Connection("not connected".into()))?;
-        let deadline = Instant::now() + timeout;
-        set_timeouts(conn.get_mut(), timeout)?;
+        conn.get_mut().limit(timeout);
+        nothing_waiting(conn, timeout)?;
         conn.send(Message::binary(request.to_vec())).map_err(|e| ws_error(e, timeout, "sending the observation"))?;
-        read_binary(conn, deadline, timeout, "waiting for the reply")
+        read_binary(conn, timeout, "waiting for the reply")
     }
 }
 
@@ -248,7 +250,7 @@ impl Drop for RemotePolicy {
 const CLOSE_WAIT: Duration = Duration::from_millis(500);
 
 /// `ws://host:port[/path]`; a bare `host:port` gets `ws://`. TLS is not built in.
-fn parse_url(url: &str) -> Result<Uri, PolicyError> {
+pub fn parse_url(url: &str) -> Result<(Uri, Address), PolicyError> {
     let full = if url.contains("://") { url.to_string() } else { format!("ws://{url}") };
     let uri: Uri = full.parse().map_err(|e| PolicyError::Connection(format!("bad server address {url:?}: {e}")))?;
     match uri.scheme_str() {
@@ -261,24 +263,20 @@ fn parse_url(url: &str) -> Result<Uri, PolicyError> {
         }
         _ => return Err(PolicyError::Connection(format!("{url}: expected a ws://host:port address"))),
     }
-    if uri.host().is_none() {
-        return Err(PolicyError::Connection(format!("{url}: no host")));
-    }
-    Ok(uri)
+    let address = Address::parse(&full, Some(80))?;
+    Ok((uri, address))
 }
 
 /// TCP connect, websocket handshake and the metadata message, all within the connect timeout.
-fn open(uri: &Uri, config: &RemoteConfig) -> Result<(WebSocket<TcpStream>, Value), PolicyError> {
+fn open(
+    uri: &Uri,
+    address: &Address,
+    config: &RemoteConfig,
+) -> Result<(WebSocket<DeadlineStream>, Value), PolicyError> {
     let timeout = config.connect_timeout;
-    let host = uri.host().unwrap_or_default();
-    let port = uri.port_u16().unwrap_or(80);
-    let addrs: Vec<_> = (host, port)
-        .to_socket_addrs()
-        .map_err(|e| PolicyError::Connection(format!("cannot resolve {host}:{port}: {e}")))?
-        .collect();
     let mut last = None;
     let mut stream = None;
-    for addr in &addrs {
+    for addr in &address.resolve()? {
         match TcpStream::connect_timeout(addr, timeout) {
             Ok(s) => {
                 stream = Some(s);
@@ -292,17 +290,31 @@ fn open(uri: &Uri, config: &RemoteConfig) -> Result<(WebSocket<TcpStream>, Value
         PolicyError::Connection(format!("cannot connect to {}: {why}", config.url))
     })?;
     stream.set_nodelay(true).ok();
-    set_timeouts(&stream, timeout)?;
+    let stream = DeadlineStream::new(stream, timeout);
     let mut request = ClientRequestBuilder::new(uri.clone());
     if let Some(key) = &config.api_key {
         request = request.with_header("Authorization", format!("Api-Key {key}"));
     }
-    let deadline = Instant::now() + timeout;
+    // A server that accepts the connection but never answers it: say which step waited.
+    let slow = |what: &str| {
+        PolicyError::Connection(format!(
+            "{}: no answer {what} within the connect timeout of {:.1} s",
+            config.url,
+            timeout.as_secs_f64()
+        ))
+    };
+    let slow_handshake = || slow("to the websocket handshake");
     let (mut ws, _) = tungstenite::client::client(request, stream).map_err(|e| match e {
-        tungstenite::HandshakeError::Failure(e) => ws_error(e, timeout, "during the websocket handshake"),
-        tungstenite::HandshakeError::Interrupted(_) => PolicyError::Timeout(timeout.as_secs_f64()),
+        tungstenite::HandshakeError::Failure(e) => match ws_error(e, timeout, "during the websocket handshake") {
+            PolicyError::Timeout(_) => slow_handshake(),
+            other => other,
+        },
+        tungstenite::HandshakeError::Interrupted(_) => slow_handshake(),
     })?;
-    let bytes = read_binary(&mut ws, deadline, timeout, "waiting for the server's metadata")?;
+    let bytes = read_binary(&mut ws, timeout, "waiting for the server's metadata").map_err(|e| match e {
+        PolicyError::Timeout(_) => slow("with the server's metadata"),
+        other => other,
+    })?;
     let mut rest = &bytes[..];
     let metadata = rmpv::decode::read_value(&mut rest)
         .map_err(|e| PolicyError::Malformed(format!("server metadata is not msgpack: {e}")))?;
@@ -317,27 +329,10 @@ fn open(uri: &Uri, config: &RemoteConfig) -> Result<(WebSocket<TcpStream>, Value
     Ok((ws, metadata))
 }
 
-fn set_timeouts(stream: &TcpStream, timeout: Duration) -> Result<(), PolicyError> {
-    let t = Some(timeout.max(Duration::from_millis(1)));
-    stream
-        .set_read_timeout(t)
-        .and_then(|()| stream.set_write_timeout(t))
-        .map_err(|e| PolicyError::Connection(format!("cannot set socket timeouts: {e}")))
-}
-
-/// Reads until a data message arrives (pings are answered by tungstenite on the way).
-fn read_binary(
-    ws: &mut WebSocket<TcpStream>,
-    deadline: Instant,
-    timeout: Duration,
-    what: &str,
-) -> Result<Vec<u8>, PolicyError> {
+/// Reads until a data message arrives (pings are answered by tungstenite on the way), within
+/// the stream's deadline.
+fn read_binary(ws: &mut WebSocket<DeadlineStream>, timeout: Duration, what: &str) -> Result<Vec<u8>, PolicyError> {
     loop {
-        let left = deadline.saturating_duration_since(Instant::now());
-        if left.is_zero() {
-            return Err(PolicyError::Timeout(timeout.as_secs_f64()));
-        }
-        set_timeouts(ws.get_mut(), left)?;
         match ws.read().map_err(|e| ws_error(e, timeout, what))? {
             Message::Binary(b) => return Ok(b.to_vec()),
             Message::Text(t) => {
@@ -351,6 +346,30 @@ fn read_binary(
             Message::Ping(_) | Message::Pong(_) | Message::Frame(_) => {}
         }
     }
+}
+
+/// Checks that the server sent no data message since its last reply (pings are answered on
+/// the way): a reply nobody asked for would put every later chunk one request behind.
+fn nothing_waiting(ws: &mut WebSocket<DeadlineStream>, timeout: Duration) -> Result<(), PolicyError> {
+    let socket = |e: io::Error| PolicyError::Connection(format!("socket: {e}"));
+    ws.get_ref().get_ref().set_nonblocking(true).map_err(socket)?;
+    let found = loop {
+        match ws.read() {
+            Ok(Message::Ping(_) | Message::Pong(_) | Message::Frame(_)) => {}
+            Ok(Message::Binary(_) | Message::Text(_)) => {
+                break Err(PolicyError::Malformed(
+                    "the server sent a message before this request (a second reply to an earlier one?)".into(),
+                ));
+            }
+            Ok(Message::Close(_)) => {
+                break Err(PolicyError::Connection("the server closed the connection since its last reply".into()));
+            }
+            Err(tungstenite::Error::Io(e)) if e.kind() == io::ErrorKind::WouldBlock => break Ok(()),
+            Err(e) => break Err(ws_error(e, timeout, "before sending the observation")),
+        }
+    };
+    ws.get_ref().get_ref().set_nonblocking(false).map_err(socket)?;
+    found
 }
 
 fn ws_error(e: tungstenite::Error, timeout: Duration, what: &str) -> PolicyError {
@@ -470,7 +489,11 @@ mod tests {
 
     #[test]
     fn addresses() {
-        assert_eq!(parse_url("localhost:8000").unwrap().to_string(), "ws://localhost:8000/");
+        let (uri, address) = parse_url("localhost:8000").unwrap();
+        assert_eq!((uri.to_string(), address.to_string()), ("ws://localhost:8000/".into(), "localhost:8000".into()));
+        assert_eq!(parse_url("ws://h").unwrap().1.port, 80);
+        // A port that is not one is refused, not read as ws://'s default 80.
+        assert!(matches!(parse_url("ws://127.0.0.1:99999"), Err(PolicyError::Connection(m)) if m.contains("\"99999\"")));
         assert!(matches!(parse_url("wss://h:1"), Err(PolicyError::Connection(m)) if m.contains("TLS")));
         assert!(parse_url("http://h:1").is_err());
         assert!(matches!(RemotePolicy::connect("ws://127.0.0.1:1"), Err(PolicyError::Connection(_))));

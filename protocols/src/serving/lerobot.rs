@@ -88,9 +88,10 @@ impl Setup {
     pub fn parse(url: &str) -> Result<Setup, PolicyError> {
         let bad = |m: String| PolicyError::Connection(format!("{url}: {m}"));
         let rest = url.strip_prefix("grpc://").ok_or_else(|| bad("expected grpc://host:port?…".into()))?;
-        let (host, query) = rest.split_once('?').unwrap_or((rest, ""));
+        let query = rest.split_once('?').map_or("", |(_, q)| q);
+        let address = crate::remote::Address::parse(url, None)?;
         let mut setup = Setup {
-            endpoint: format!("http://{}", host.trim_end_matches('/')),
+            endpoint: format!("http://{address}"),
             policy_type: String::new(),
             pretrained: String::new(),
             device: "cuda".into(),
@@ -130,6 +131,17 @@ pub struct LeRobotTransport {
     timestep: i64,
 }
 
+/// An error with its causes: tonic's own says only "transport error", its sources why.
+fn causes(e: &dyn std::error::Error) -> String {
+    let mut text = e.to_string();
+    let mut source = e.source();
+    while let Some(s) = source {
+        text.push_str(&format!(": {s}"));
+        source = s.source();
+    }
+    text
+}
+
 fn status(e: tonic::Status, timeout: Duration, what: &str) -> PolicyError {
     match e.code() {
         tonic::Code::Unavailable => PolicyError::Connection(format!("{what}: {}", e.message())),
@@ -150,7 +162,7 @@ impl LeRobotTransport {
             .connect_timeout(config.connect_timeout);
         let channel = runtime
             .block_on(endpoint.connect())
-            .map_err(|e| PolicyError::Connection(format!("cannot connect to {}: {e}", config.url)))?;
+            .map_err(|e| PolicyError::Connection(format!("cannot connect to {}: {}", config.url, causes(&e))))?;
         let grpc = Grpc::new(channel).max_decoding_message_size(64 << 20);
         let mut t = LeRobotTransport {
             runtime,

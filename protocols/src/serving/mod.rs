@@ -72,6 +72,17 @@ impl Format {
         }
     }
 
+    /// Checks `url`'s host, port (and LeRobot's query) for this format before anything
+    /// connects, so that a mistake is one error up front rather than one per episode.
+    pub fn check_url(self, url: &str) -> Result<(), PolicyError> {
+        match self {
+            Format::Openpi | Format::InternVla => crate::remote::parse_url(url).map(drop),
+            Format::OpenVlaOft => openvla_oft::address(url).map(drop),
+            Format::Xiaomi => xiaomi::address(url).map(drop),
+            Format::LeRobot => lerobot::Setup::parse(url).map(drop),
+        }
+    }
+
     /// Whether the format's server holds one client at a time, so that a run must send it one
     /// episode at a time: Xiaomi's `deploy/server.py` accepts one connection at a time, and
     /// LeRobot's `policy_server` keeps one client's policy and observation queue (a second
@@ -185,6 +196,7 @@ impl ServingConfig {
     /// scheme and `format`.
     pub fn new(url: &str, format: Option<Format>, profile: Option<&Profile>) -> Result<ServingConfig, PolicyError> {
         let format = Format::resolve(url, format, profile)?;
+        format.check_url(url)?;
         let profile = match profile {
             Some(p) => p.clone(),
             None => profile::PROFILES.iter().find(|p| p.format == format).cloned().expect("every format has a profile"),

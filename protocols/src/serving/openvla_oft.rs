@@ -26,11 +26,7 @@ pub struct OftTransport {
 impl OftTransport {
     pub fn new(config: &ServingConfig) -> Result<OftTransport, PolicyError> {
         let url = config.url.clone();
-        if !url.starts_with("http://") {
-            return Err(PolicyError::Connection(format!(
-                "{url}: expected http://host:port/act (TLS is not built in; use an ssh tunnel)"
-            )));
-        }
+        address(&url)?;
         let agent: ureq::Agent = ureq::Agent::config_builder()
             .timeout_connect(Some(config.connect_timeout))
             .timeout_global(Some(config.request_timeout))
@@ -39,6 +35,16 @@ impl OftTransport {
             .into();
         Ok(OftTransport { agent, url, timeout_s: config.request_timeout.as_secs_f64() })
     }
+}
+
+/// The server's address: `http://host:port/act` (port 80 where none is given).
+pub fn address(url: &str) -> Result<crate::remote::Address, PolicyError> {
+    if !url.starts_with("http://") {
+        return Err(PolicyError::Connection(format!(
+            "{url}: expected http://host:port/act (TLS is not built in; use an ssh tunnel)"
+        )));
+    }
+    crate::remote::Address::parse(url, Some(80))
 }
 
 /// json_numpy's encoding of an array.

@@ -14,7 +14,7 @@
 //! sends it one episode at a time.
 
 use std::io::{Read, Write};
-use std::net::{TcpStream, ToSocketAddrs};
+use std::net::TcpStream;
 use std::time::Duration;
 
 use md5::{Digest, Md5};
@@ -23,27 +23,23 @@ use sha2::Sha256;
 use super::pickle::{self, Writer};
 use super::{ModelInput, ServingConfig, Transport, rows7};
 use crate::policy::PolicyError;
+use crate::remote::Address;
+use crate::remote::deadline::DeadlineStream;
 
 /// Replies above this size are refused (a LIBERO chunk is a few kB).
 const MAX_REPLY: usize = 64 << 20;
 
 pub struct XiaomiTransport {
-    addr: String,
+    address: Address,
     connect_timeout: Duration,
     request_timeout: Duration,
-    conn: Option<TcpStream>,
+    conn: Option<DeadlineStream>,
 }
 
 impl XiaomiTransport {
     pub fn connect(config: &ServingConfig) -> Result<XiaomiTransport, PolicyError> {
-        let addr = config
-            .url
-            .strip_prefix("tcp://")
-            .ok_or_else(|| PolicyError::Connection(format!("{}: expected tcp://host:port", config.url)))?
-            .trim_end_matches('/')
-            .to_string();
         let mut t = XiaomiTransport {
-            addr,
+            address: address(&config.url)?,
             connect_timeout: config.connect_timeout,
             request_timeout: config.request_timeout,
             conn: None,
@@ -53,17 +49,12 @@ impl XiaomiTransport {
     }
 
     fn open(&mut self) -> Result<(), PolicyError> {
-        let addrs: Vec<_> = self
-            .addr
-            .to_socket_addrs()
-            .map_err(|e| PolicyError::Connection(format!("cannot resolve {}: {e}", self.addr)))?
-            .collect();
         let mut last = None;
-        for a in &addrs {
+        for a in &self.address.resolve()? {
             match TcpStream::connect_timeout(a, self.connect_timeout) {
                 Ok(s) => {
                     s.set_nodelay(true).ok();
-                    self.conn = Some(s);
+                    self.conn = Some(DeadlineStream::new(s, self.request_timeout));
                     return Ok(());
                 }
                 Err(e) => last = Some(e),
@@ -71,7 +62,7 @@ impl XiaomiTransport {
         }
         Err(PolicyError::Connection(format!(
             "cannot connect to tcp://{}: {}",
-            self.addr,
+            self.address,
             last.map_or("no address".to_string(), |e| e.to_string())
         )))
     }
@@ -85,9 +76,8 @@ impl XiaomiTransport {
             }
             _ => PolicyError::Connection(format!("{what}: {e}")),
         };
-        conn.set_read_timeout(Some(timeout))
-            .and_then(|()| conn.set_write_timeout(Some(timeout)))
-            .map_err(|e| io(e, "socket"))?;
+        nothing_waiting(conn.get_ref())?;
+        conn.limit(timeout);
         let len = u32::try_from(request.len()).map_err(|_| PolicyError::Other("request over 4 GiB".into()))?;
         conn.write_all(&len.to_be_bytes())
             .and_then(|()| conn.write_all(request))
@@ -102,6 +92,29 @@ impl XiaomiTransport {
         let mut body = vec![0u8; n];
         conn.read_exact(&mut body).map_err(|e| io(e, "reading the reply"))?;
         Ok(body)
+    }
+}
+
+/// The server's address: `tcp://host:port`.
+pub fn address(url: &str) -> Result<Address, PolicyError> {
+    if !url.starts_with("tcp://") {
+        return Err(PolicyError::Connection(format!("{url}: expected tcp://host:port")));
+    }
+    Address::parse(url, None)
+}
+
+/// Checks that the server sent nothing since its last reply: a reply nobody asked for would
+/// put every later chunk one request behind.
+fn nothing_waiting(conn: &TcpStream) -> Result<(), PolicyError> {
+    let peeked = conn.set_nonblocking(true).and_then(|()| conn.peek(&mut [0u8; 1]));
+    conn.set_nonblocking(false).map_err(|e| PolicyError::Connection(format!("socket: {e}")))?;
+    match peeked {
+        Ok(0) => Err(PolicyError::Connection("the server closed the connection since its last reply".into())),
+        Ok(_) => Err(PolicyError::Malformed(
+            "the server sent data before this request (a second reply to an earlier one?)".into(),
+        )),
+        Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => Ok(()),
+        Err(e) => Err(PolicyError::Connection(format!("socket: {e}"))),
     }
 }
 
@@ -186,7 +199,12 @@ impl Transport for XiaomiTransport {
         parse(&result?)
     }
 
+    /// Reconnects where the server closed the connection since the last episode, or left
+    /// something unread on it.
     fn reset(&mut self) -> Result<(), PolicyError> {
+        if self.conn.as_ref().is_some_and(|c| nothing_waiting(c.get_ref()).is_err()) {
+            self.conn = None;
+        }
         if self.conn.is_none() { self.open() } else { Ok(()) }
     }
 }

@@ -478,6 +478,7 @@ fn serving_config(url: &str, args: &Args) -> anyhow::Result<Option<ServingConfig
         None => None,
     };
     if url.starts_with("ws://") && profile.is_none() && format.is_none() {
+        vifo_protocols::remote::parse_url(url)?;
         return Ok(None);
     }
     Ok(Some(ServingConfig { frame_size: args.size, ..ServingConfig::new(url, format, profile)? }))

@@ -131,6 +131,25 @@ fn a_stopped_run_resumes_to_the_same_result() {
 
 use std::io::Write;
 
+/// A last record that lost only its newline (an editor's save) is a record, kept on resume,
+/// and the next record starts on a line of its own.
+#[test]
+fn a_last_record_without_its_newline_is_kept() {
+    let all = specs(6);
+    let (_dir, path) = temp();
+    runner::run(&all[..3], episode, &options(&path, 1)).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::write(&path, text.trim_end()).unwrap();
+    let loaded = read_records(&path).unwrap();
+    assert_eq!((loaded.records.len(), loaded.truncated_tail), (3, 0));
+
+    let resumed = runner::run(&all, episode, &RunOptions { resume: true, ..options(&path, 1) }).unwrap();
+    assert_eq!((resumed.already_done, resumed.ran, resumed.truncated_tail), (3, 3, 0));
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert_eq!((text.lines().count(), read_records(&path).unwrap().records.len()), (6, 6));
+    assert!(text.ends_with('\n'));
+}
+
 #[test]
 fn shards_partition_the_specs() {
     let all = specs(60);
@@ -219,6 +238,11 @@ fn an_unwritable_output_is_a_clear_error_before_any_episode_runs() {
     let fresh = dir.path().join("a/b");
     runner::create_folder(&fresh).unwrap();
     assert!(fresh.is_dir());
+    // Reports and charts name the file too (they said "File exists"), and a device as well.
+    let report = runner::create_dir(&blocker).unwrap_err().to_string();
+    assert_eq!(report, format!("{} is a file, where the output needs a folder", blocker.display()));
+    let device = runner::create_dir(Path::new("/dev/null/report")).unwrap_err().to_string();
+    assert!(device.starts_with("/dev/null is a file"), "{device}");
     // A device is no results file (and would be read forever).
     assert!(matches!(read_records(Path::new("/dev/zero")), Err(RunError::Io { .. })));
 }

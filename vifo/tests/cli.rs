@@ -207,6 +207,19 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
         (vec!["bench", "physics", "--steps", "0"], "expected 1 or more"),
         (vec!["init-states", "generate", "--suite", "libero_goal", "--states", "0", "--out", out_arg], "expected 1 or more"),
         (vec!["cues", "gallery", "--task", "libero_goal/99", "-o", out_arg], "task 'libero_goal/99': no such task"),
+        // A huge count or tile was allocated before it was checked (a 120 GB sheet, a list of
+        // 10^12 episodes).
+        (vec!["cues", "gallery", "--size", "100000", "-o", out_arg], "--size must be between 16 and 4096"),
+        ([&goal_zero[..], &["--episodes", "1000000000000"]].concat(), "at most 10000 episodes per instance"),
+        (vec!["expert", "--episodes", "20000"], "at most 10000 episodes per instance"),
+        (vec!["cues", "render", "caption_bar", "put the bowl on the plate", "--source", "nan,1", "--out", out_arg], "NaN is not a finite number"),
+        // Server addresses are checked before any episode runs: a port that is not one was
+        // quietly sent to port 80, a missing one gave an error per episode.
+        (vec!["run", "--suite", "libero_goal", "--protocol", "original", "--policy", "ws://127.0.0.1:99999", "--out", out_arg], "port \"99999\" is not a number"),
+        (vec!["run", "--suite", "libero_goal", "--protocol", "original", "--policy", "http://127.0.0.1:notaport/act", "--out", out_arg], "port \"notaport\""),
+        (vec!["run", "--suite", "libero_goal", "--protocol", "original", "--policy", "tcp://127.0.0.1", "--out", out_arg], "no port"),
+        (vec!["run", "--suite", "libero_goal", "--protocol", "original", "--policy", "ws://:8000", "--out", out_arg], "no host"),
+        (vec!["run", "--suite", "libero_goal", "--protocol", "original", "--policy", "grpc://127.0.0.1:1", "--out", out_arg], "add ?policy_type="),
     ];
     for (args, says) in cases {
         let run = Command::new(env!("CARGO_BIN_EXE_vifo")).args(&args).output().expect("run vifo");
@@ -214,6 +227,22 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
         assert!(!run.status.success() && stderr.contains(says), "{args:?}: {stderr}");
         assert!(!out.exists(), "{args:?} wrote {}", out.display());
     }
+}
+
+/// A policy named twice runs once: twice, its second run found the first one's results file
+/// and the run ended in an error without a report.
+#[test]
+fn a_policy_named_twice_runs_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = Command::new(env!("CARGO_BIN_EXE_vifo"))
+        .args(["run", "--suite", "libero_goal", "--protocol", "original", "--episodes", "1", "--sample", "1"])
+        .args(["--policy", "zero", "--policy", "zero", "--quiet", "--clips", "none", "--builtin-look", "--out"])
+        .arg(dir.path())
+        .output()
+        .expect("run vifo");
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success(), "{}{stdout}", String::from_utf8_lossy(&run.stderr));
+    assert!(stdout.contains("1 policy ->") && dir.path().join("report").is_dir(), "{stdout}");
 }
 
 /// `--resume` without selection options continues the quick default, not the run the folder

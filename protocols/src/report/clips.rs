@@ -86,7 +86,7 @@ pub fn write(report_dir: &Path, specs: &[EpisodeSpec], policies: &[(String, Stri
         }
         md += "\n";
     }
-    std::fs::create_dir_all(report_dir)?;
+    crate::runner::create_dir(report_dir)?;
     std::fs::write(report_dir.join("clips.md"), &md)?;
     Ok(md)
 }

@@ -366,7 +366,7 @@ impl Report {
     /// Writes `table1.{md,csv,json}`, `table2.{md,csv,json}` and one bar chart per Table 2
     /// metric (`chart_vqa.png`, …) into `dir`; returns the Markdown of both tables.
     pub fn write(&self, dir: &Path) -> std::io::Result<String> {
-        std::fs::create_dir_all(dir)?;
+        crate::runner::create_dir(dir)?;
         let t1 = tables::table1_markdown(self);
         let t2 = tables::table2_markdown(self);
         std::fs::write(dir.join("table1.md"), &t1)?;

@@ -25,9 +25,10 @@ use super::RunError;
 pub struct Loaded {
     /// Every complete record, in file order.
     pub records: Vec<EpisodeRecord>,
-    /// Bytes of an unterminated last line (a write cut short), 0 if none.
+    /// Bytes of an unterminated last line (a write cut short), 0 if none. A last line that
+    /// holds a whole record but lost only its newline (an editor's save) is a record.
     pub truncated_tail: usize,
-    /// Length of the file up to the end of its last complete line.
+    /// Length of the file up to the end of its last complete line or record.
     pub valid_len: u64,
 }
 
@@ -49,7 +50,10 @@ pub fn read_records(path: &Path) -> Result<Loaded, RunError> {
 
 /// Reads the bytes of a results file (`path` names it in errors).
 pub fn parse_records(bytes: &[u8], path: &Path) -> Result<Loaded, RunError> {
-    let complete = bytes.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+    let mut complete = bytes.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+    if complete < bytes.len() && serde_json::from_slice::<EpisodeRecord>(&bytes[complete..]).is_ok() {
+        complete = bytes.len();
+    }
     let mut loaded = Loaded { truncated_tail: bytes.len() - complete, valid_len: complete as u64, ..Loaded::default() };
     for (i, line) in bytes[..complete].split(|&b| b == b'\n').enumerate() {
         if line.iter().all(u8::is_ascii_whitespace) {
@@ -63,6 +67,15 @@ pub fn parse_records(bytes: &[u8], path: &Path) -> Result<Loaded, RunError> {
         loaded.records.push(record);
     }
     Ok(loaded)
+}
+
+fn last_byte(path: &Path) -> std::io::Result<u8> {
+    use std::io::{Read, Seek, SeekFrom};
+    let mut file = std::fs::File::open(path)?;
+    file.seek(SeekFrom::End(-1))?;
+    let mut byte = [0u8];
+    file.read_exact(&mut byte)?;
+    Ok(byte[0])
 }
 
 /// The record that counts for each episode key: the last completed one, else the last error.
@@ -86,10 +99,26 @@ pub(crate) fn is_completed(record: &EpisodeRecord) -> bool {
 /// Creates the output folder `dir` and those above it. A file standing where one of them should
 /// be is named as such (`create_dir_all` says only "File exists" or "Not a directory").
 pub fn create_folder(dir: &Path) -> Result<(), RunError> {
-    std::fs::create_dir_all(dir).map_err(|e| match dir.ancestors().find(|a| a.is_file()) {
+    std::fs::create_dir_all(dir).map_err(|e| match blocker(dir) {
         Some(file) => RunError::io(file, std::io::Error::new(std::io::ErrorKind::NotADirectory, "a file, where the output needs a folder")),
         None => RunError::io(dir, e),
     })
+}
+
+/// [`create_folder`] for writers of `io` results (reports, charts, clips).
+pub fn create_dir(dir: &Path) -> std::io::Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| match blocker(dir) {
+        Some(file) => std::io::Error::new(
+            std::io::ErrorKind::NotADirectory,
+            format!("{} is a file, where the output needs a folder", file.display()),
+        ),
+        None => e,
+    })
+}
+
+/// The file (or device) standing where `dir` or one of its parents must be a folder.
+fn blocker(dir: &Path) -> Option<&Path> {
+    dir.ancestors().find(|a| a.exists() && !a.is_dir())
 }
 
 /// Creates the folder `path` goes in.
@@ -140,7 +169,13 @@ impl ResultsWriter {
         if len > valid_len {
             file.set_len(valid_len).map_err(|e| RunError::io(path, e))?;
         }
-        Ok(ResultsWriter { path: path.to_path_buf(), file, len: len.min(valid_len), failed: false })
+        let mut writer = ResultsWriter { path: path.to_path_buf(), file, len: len.min(valid_len), failed: false };
+        // A last record without its newline: the next one starts on a line of its own.
+        if writer.len > 0 && last_byte(path).map_err(|e| RunError::io(path, e))? != b'\n' {
+            writer.file.write_all(b"\n").map_err(|e| RunError::io(path, e))?;
+            writer.len += 1;
+        }
+        Ok(writer)
     }
 
     /// Writes one record as one line and hands it to the operating system. After a failure

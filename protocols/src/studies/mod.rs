@@ -128,7 +128,7 @@ pub fn write_reports(records: &[EpisodeRecord], vqa: &objects::FormVqa, dir: &Pa
     }
     let piper = piper::table(records);
     if !piper.is_empty() {
-        std::fs::create_dir_all(dir)?;
+        crate::runner::create_dir(dir)?;
         let text = piper::markdown(&piper);
         let json = serde_json::to_string_pretty(&piper).map_err(std::io::Error::other)?;
         for (file, content) in [("piper.md", text.clone()), ("piper.csv", piper::csv(&piper)), ("piper.json", json)] {

@@ -255,7 +255,7 @@ impl Table {
 
     /// Writes `objects.{md,csv,json}` and `chart_objects.png` into `dir`; returns the Markdown.
     pub fn write(&self, dir: &Path) -> std::io::Result<String> {
-        std::fs::create_dir_all(dir)?;
+        crate::runner::create_dir(dir)?;
         let md = self.markdown();
         std::fs::write(dir.join("objects.md"), &md)?;
         std::fs::write(dir.join("objects.csv"), self.csv())?;

@@ -289,7 +289,7 @@ impl SafetyReport {
     /// Writes `safety.md`, `safety.csv`, `safety.json` and `chart_safety.png` into `dir`;
     /// returns the Markdown.
     pub fn write(&self, dir: &std::path::Path) -> std::io::Result<String> {
-        std::fs::create_dir_all(dir)?;
+        crate::runner::create_dir(dir)?;
         let md = self.markdown();
         std::fs::write(dir.join("safety.md"), &md)?;
         std::fs::write(dir.join("safety.csv"), self.csv())?;

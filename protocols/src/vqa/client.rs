@@ -238,6 +238,8 @@ fn api_base(endpoint: &str) -> Result<String, VqaError> {
     if rest.is_empty() {
         return Err(VqaError::Client(format!("{endpoint}: no host")));
     }
+    // A port that is not one must not become port 80, nor a broken address "is the server up?".
+    crate::remote::Address::parse(e, Some(80)).map_err(|err| VqaError::Client(err.to_string()))?;
     Ok(if e.ends_with("/v1") { e.to_string() } else { format!("{e}/v1") })
 }
 
@@ -298,5 +300,8 @@ mod tests {
         let tls = api_base("https://api.example.com").unwrap_err().to_string();
         assert!(tls.contains("TLS is not built in") && tls.contains("tunnel"), "{tls}");
         assert!(api_base("localhost:8000").is_err());
+        for bad in ["http://127.0.0.1:99999", "http://[::1", "http://h:port/v1"] {
+            assert!(api_base(bad).is_err(), "{bad}");
+        }
     }
 }

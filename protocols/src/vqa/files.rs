@@ -58,6 +58,9 @@ pub fn read_questions(path: &Path) -> Result<Vec<Question>, VqaError> {
         return Err(VqaError::NoQuestions(path));
     }
     let (questions, _): (Vec<Question>, _) = read_jsonl(&path, "a question object", false)?;
+    if questions.is_empty() {
+        return Err(VqaError::EmptyQuestions(path));
+    }
     // A repeated id or stage of an instance (a merged or hand-edited file) would count twice
     // in its stage and break the instance's full chain.
     let (mut ids, mut stages) = (std::collections::BTreeSet::new(), std::collections::BTreeSet::new());
@@ -192,6 +195,10 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let err = read_questions(&dir).unwrap_err().to_string();
         assert!(err.contains("questions.jsonl: no such file") && err.contains("vifo vqa export"), "{err}");
+        // An empty file is no export either (the oracle and the blind baselines answered nothing).
+        std::fs::write(dir.join(QUESTIONS_FILE), "\n").unwrap();
+        let err = read_questions(&dir).unwrap_err().to_string();
+        assert!(err.contains("questions.jsonl holds no questions"), "{err}");
         let _ = std::fs::remove_dir_all(&dir);
     }
 

@@ -102,6 +102,8 @@ pub enum VqaError {
     Io { path: std::path::PathBuf, source: std::io::Error },
     #[error("{0}: no such file (`vifo vqa export --out DIR` writes the questions)")]
     NoQuestions(std::path::PathBuf),
+    #[error("{0} holds no questions")]
+    EmptyQuestions(std::path::PathBuf),
     #[error("{path}:{line}: {message}")]
     BadLine { path: std::path::PathBuf, line: usize, message: String },
     #[error("image for {instance}: {message}")]

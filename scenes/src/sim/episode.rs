@@ -27,6 +27,8 @@ pub enum StateError {
     NotFinite { what: String },
     #[error("state quaternion {what} is zero, not a rotation")]
     ZeroQuaternion { what: String },
+    #[error("state value {value} of robot joint {joint} is far outside its range [{}, {}]", .range[0], .range[1])]
+    OutOfRange { joint: String, value: f64, range: [f64; 2] },
     #[error("the snapshot was taken of another scene model (task {snapshot}); this Sim runs {this}")]
     ForeignSnapshot { snapshot: String, this: String },
 }
@@ -123,6 +125,7 @@ impl Sim {
     fn resolve(&self, state: &InitState) -> Result<(Vec<usize>, Vec<usize>), StateError> {
         check_values(state)?;
         let model = &self.model;
+        check_robot_range(model.robot.model(), state)?;
         let objects = state.objects.iter().map(|o| model.entity(&o.name).map(|(i, _)| i).ok_or_else(|| StateError::UnknownObject(o.name.clone())));
         let joints = state.joints.iter().map(|j| match model.entity(&j.owner) {
             Some((i, entity)) if entity.joint(&j.joint).is_some() => Ok(i),
@@ -323,6 +326,22 @@ pub(crate) fn check_pose(pos: &[f64; 3], quat_wxyz: &[f64; 4], what: impl Fn() -
     Ok(())
 }
 
+/// A robot joint far outside its range would have the joint limit's constraint fling the arm
+/// apart in the first step; a little outside is what a soft limit allows.
+fn check_robot_range(arm: &vifo_robots::model::ArmModel, state: &InitState) -> Result<(), StateError> {
+    let n_arm = arm.ndofs() - 2;
+    let values = state.arm_qpos[..n_arm].iter().chain(&state.gripper_qpos);
+    for (i, &value) in values.enumerate() {
+        let joint = arm.joint(i);
+        let [low, high] = joint.range;
+        let slack = (high - low) / 4.0;
+        if value < low - slack || value > high + slack {
+            return Err(StateError::OutOfRange { joint: joint.name.to_string(), value, range: joint.range });
+        }
+    }
+    Ok(())
+}
+
 fn check_values(state: &InitState) -> Result<(), StateError> {
     let bad = |what: &str| Err(StateError::NotFinite { what: what.to_string() });
     if state.arm_qpos.iter().chain(&state.arm_qvel).chain(&state.gripper_qpos).chain(&state.gripper_qvel).any(|v| !v.is_finite()) {
@@ -376,6 +395,32 @@ mod tests {
         let err = other.restore(&snap).unwrap_err();
         assert!(matches!(err, StateError::ForeignSnapshot { .. }), "{err}");
         assert_eq!(other.world().fingerprint().0, before);
+    }
+
+    /// A robot joint far outside its range (which made the first step's joint-limit forces fling
+    /// the arm into NaN, and the controller panic) is refused and changes nothing; a little
+    /// outside, as a soft limit allows, is loaded.
+    #[test]
+    fn a_robot_joint_far_outside_its_range_is_refused() {
+        let (mut sim, start) = started("libero_goal", 0);
+        for (joint, value, refused) in [(0, 1000.0, true), (0, 10.0, true), (3, -1e20, true), (7, 0.0, false), (8, 1.0, true)] {
+            let mut state = start.state.clone();
+            if joint < 7 {
+                state.arm_qpos[joint] = value;
+            } else {
+                state.gripper_qpos[joint - 7] = value;
+            }
+            let before = sim.world().fingerprint().0;
+            let result = sim.load_state(&state);
+            assert_eq!(result.is_err(), refused, "{joint}: {result:?}");
+            if let Err(e) = result {
+                assert!(matches!(e, StateError::OutOfRange { .. }) && e.to_string().contains("far outside"), "{e}");
+                assert_eq!(sim.world().fingerprint().0, before);
+            }
+        }
+        let mut state = start.state.clone();
+        state.arm_qpos[6] = 2.9 + 0.1;
+        assert!(sim.load_state(&state).is_ok(), "joint 7 a little past its limit of 2.8973");
     }
 
     /// MuJoCo's free joint moves its body origin at `lin_vel` (world frame) and turns at

@@ -353,6 +353,8 @@ fn gallery_cmd(dir: &Path, task: &str, family: Option<&str>, init: usize, size: 
         ],
         None => Family::ALL.to_vec(),
     };
+    // Checked before the sheet of up to five tiles a row is allocated.
+    anyhow::ensure!((16..=4096).contains(&size), "--size must be between 16 and 4096 pixels");
     vifo::render::parse_task(task)?;
     vifo_protocols::runner::create_folder(dir)?;
     for family in families {
@@ -372,7 +374,11 @@ fn anchor(text: &str) -> anyhow::Result<Anchor> {
         .split(',')
         .map(|p| p.trim().parse::<f64>().with_context(|| format!("anchor {text:?}: expected numbers u,v[,radius]")))
         .collect::<anyhow::Result<_>>()?;
+    if let Some(bad) = parts.iter().find(|x| !x.is_finite()) {
+        bail!("anchor {text:?}: {bad} is not a finite number");
+    }
     match parts.as_slice() {
+        [_, _, r] if *r <= 0.0 => bail!("anchor {text:?}: the radius must be positive"),
         [u, v] => Ok(Anchor::at(*u, *v)),
         [u, v, r] => Ok(Anchor::at(*u, *v).with_radius(*r)),
         _ => bail!("anchor {text:?}: expected u,v or u,v,radius"),

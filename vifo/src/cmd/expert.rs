@@ -21,7 +21,7 @@ pub struct ExpertArgs {
     #[arg(long)]
     pub task: Option<usize>,
     /// Episodes (initial states) per task.
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, default_value_t = 20, value_parser = super::episode_count)]
     pub episodes: usize,
     /// First initial state.
     #[arg(long, default_value_t = 0)]

@@ -29,6 +29,18 @@ pub fn at_least_one(s: &str) -> Result<usize, String> {
     }
 }
 
+/// Most episodes per instance `--episodes` takes: the selection is listed before it runs, so a
+/// mistyped count would fill the memory instead (the initial states repeat every 50 anyway).
+pub const MAX_EPISODES: usize = 10_000;
+
+/// `--episodes`: 1 to [`MAX_EPISODES`].
+pub fn episode_count(s: &str) -> Result<usize, String> {
+    match at_least_one(s)? {
+        n if n > MAX_EPISODES => Err(format!("at most {MAX_EPISODES} episodes per instance (initial states repeat every 50)")),
+        n => Ok(n),
+    }
+}
+
 /// `--set paper|full`.
 pub fn parse_set(name: &str) -> Result<SetName, String> {
     name.parse()

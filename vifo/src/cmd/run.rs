@@ -59,7 +59,7 @@ pub struct Args {
     per_family: Option<usize>,
     /// Episodes per instance (per task for the original protocol) and protocol; episode e
     /// starts from initial state e mod 50.
-    #[arg(long, value_parser = super::at_least_one)]
+    #[arg(long, value_parser = super::episode_count)]
     episodes: Option<usize>,
     /// A built-in policy (expert-cue, expert-language, expert-authorized, random, zero) or a
     /// policy server: ws://host:port (openpi; InternVLA with --policy-format internvla),
@@ -171,7 +171,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let policies: Vec<String> = match (&args.policy[..], quick || !studies.is_empty()) {
         ([], true) => policies::NAMES.iter().map(|s| s.to_string()).collect(),
         ([], false) => bail!("name the policy to run: --policy {} or --policy ws://host:port", policies::NAMES.join("|")),
-        (given, _) => given.to_vec(),
+        // Named twice, a policy would run twice into one results file.
+        (given, _) => given.iter().fold(Vec::new(), |mut kept, p| {
+            if !kept.contains(p) {
+                kept.push(p.clone());
+            }
+            kept
+        }),
     };
     let mut one_suite_servers = Vec::new();
     for p in &policies {

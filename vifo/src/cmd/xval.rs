@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Args;
 use vifo::xval::projection::{self, ModelFacts, ProjectionSummary};
 use vifo::look::{LookArgs, label};
@@ -38,7 +38,7 @@ pub fn run(args: &XvalArgs) -> Result<()> {
     for path in xval::recordings_in(&args.dir)? {
         let rec = Recording::load(&path)?;
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        reports.push(xval::replay(&name, &rec)?);
+        reports.push(xval::replay(&name, &rec).with_context(|| path.display().to_string())?);
     }
     let summary = xval::summarize(&reports);
     if args.json {
@@ -85,7 +85,8 @@ fn run_images(args: &XvalArgs, out: &Path) -> Result<()> {
     let look = args.look.look()?;
     let mut reports = Vec::new();
     for path in xval::recordings_in(&args.dir)? {
-        reports.extend(images::compare(&path, &Recording::load(&path)?, out, look.as_deref())?);
+        let compared = images::compare(&path, &Recording::load(&path)?, out, look.as_deref());
+        reports.extend(compared.with_context(|| path.display().to_string())?);
     }
     let summary = images::summarize(&reports);
     let look = label(look.as_deref());
@@ -115,7 +116,8 @@ fn run_projection(args: &XvalArgs) -> Result<()> {
     let mut files = Vec::new();
     for path in xval::recordings_in(&args.dir)? {
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        files.push(projection::project(&name, &Recording::load(&path)?, &facts, &mut summary)?);
+        let projected = projection::project(&name, &Recording::load(&path)?, &facts, &mut summary);
+        files.push(projected.with_context(|| path.display().to_string())?);
     }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "files": files, "summary": summary }))?);

@@ -170,7 +170,7 @@ pub fn replay(file: &str, rec: &Recording) -> Result<TaskReport> {
     let object_checks = [("settle", ranges.first().map_or(0, |p| p.2)), ("end", ranges.iter().map(|p| p.2).max().unwrap_or(0))];
     let mut objects = Vec::new();
     for (before, record) in rec.steps.iter().zip(&rec.steps[1..]) {
-        let action = record.action()?;
+        let action = record.action().with_context(|| format!("record {}", record.t))?;
         sim.step(&action);
         // Record 0 is where both replays start.
         if before.t > 0 {

@@ -8,6 +8,7 @@
 //! - `serving` (feature `net`): every VLA serving path (openpi, InternVLA, OpenVLA-OFT, Xiaomi, LeRobot) with
 //!   one observation/action profile per model.
 //! - [`report`]: the paper's Tables 1 and 2 (Markdown, CSV, JSON) and per-family bar charts.
+//! - [`text_file`]: reading an input text file, refusing devices and naming bad bytes.
 //! - [`runner`]: parallel, resumable, shardable runs writing one JSON line per episode.
 //! - [`scene_cues`]: cue instances drawn on simulated scenes (anchors, ghosts, goal pictures).
 //! - [`studies`]: the paper's extended studies (§4.2 cues as scene objects, ...) as episode
@@ -27,6 +28,7 @@ pub mod scene_cues;
 pub mod serving;
 pub mod spec;
 pub mod studies;
+pub mod text_file;
 pub mod vqa;
 
 pub use policy::{EpisodeState, Observation, Policy, PolicyError};

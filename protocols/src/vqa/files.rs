@@ -122,7 +122,7 @@ pub fn append_predictions(path: &Path, predictions: &[Prediction]) -> Result<(),
 
 /// JSONL reader: every line must parse, except (with `tolerate_cut`) an unterminated last line.
 fn read_jsonl<T: DeserializeOwned>(path: &Path, what: &str, tolerate_cut: bool) -> Result<(Vec<T>, usize), VqaError> {
-    let text = std::fs::read_to_string(path).map_err(|e| VqaError::io(path, e))?;
+    let text = crate::text_file::read(path).map_err(|e| VqaError::io(path, e))?;
     let terminated = text.ends_with('\n');
     let lines: Vec<&str> = text.lines().collect();
     let mut out = Vec::with_capacity(lines.len());

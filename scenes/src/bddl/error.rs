@@ -20,9 +20,26 @@ impl fmt::Display for BddlError {
         write!(
             f,
             "{}:{}:{}: expected {}, found {}",
-            self.file, self.line, self.column, self.expected, self.found
+            self.file,
+            self.line,
+            self.column,
+            self.expected,
+            shown(&self.found)
         )
     }
+}
+
+/// What was found, as printed: a long token (a file of one huge word, or of NUL bytes) is cut
+/// and control characters are escaped, so the message stays one readable line.
+fn shown(found: &str) -> String {
+    const MAX: usize = 80;
+    let mut out: String =
+        found.chars().take(MAX).flat_map(|c| if c.is_control() { c.escape_default().collect() } else { vec![c] }).collect();
+    let n = found.chars().count();
+    if n > MAX {
+        out.push_str(&format!("… ({n} characters)"));
+    }
+    out
 }
 
 impl std::error::Error for BddlError {}

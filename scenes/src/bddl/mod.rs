@@ -208,6 +208,11 @@ mod tests {
 
         let err = error_for("problem");
         assert_eq!(err.to_string(), "bad.bddl:1:1: expected '(' starting (define ...), found 'problem'");
+
+        // A file of one huge word (or of NUL bytes) is named by its start, escaped.
+        let err = error_for(&format!("\0\u{1b}{}", "x".repeat(5_000_000)));
+        let shown = err.to_string();
+        assert!(shown.len() < 300 && shown.contains("\\u{0}\\u{1b}xxx") && shown.ends_with("… (5000004 characters)"), "{shown}");
     }
 
     #[test]

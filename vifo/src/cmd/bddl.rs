@@ -79,7 +79,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut tasks = Vec::new();
     let mut failures = Vec::new();
     for path in &args.files {
-        match std::fs::read_to_string(path) {
+        match vifo_protocols::text_file::read(path) {
             Err(err) => failures.push(Failure::Unreadable { file: path.display().to_string(), message: err.to_string() }),
             Ok(text) => match bddl::parse(&text, path) {
                 Ok(task) => tasks.push((path, task)),

@@ -170,7 +170,7 @@ fn parse_cmd(instruction: &str, goals: &[String], json: bool) -> anyhow::Result<
 }
 
 fn instances_cmd(path: &PathBuf, json: bool) -> anyhow::Result<()> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let text = vifo_protocols::text_file::read(path).with_context(|| format!("reading {}", path.display()))?;
     let tasks: Vec<TaskDescription> = serde_json::from_str(&text)
         .with_context(|| format!("{}: expected a JSON list of task descriptions", path.display()))?;
     let set = InstanceSet::build(&tasks)?;

@@ -137,11 +137,22 @@ pub struct RunSummary {
     pub ran: usize,
     /// Of those, the ones that ended in an error record.
     pub errors: usize,
-    /// The distinct messages of those errors with their counts, most frequent first (ties in
-    /// the messages' order): what a user must fix before `resume` retries them.
-    pub error_messages: Vec<(usize, String)>,
+    /// The distinct messages of those errors, most frequent first (ties in the messages'
+    /// order): what a user must fix before `resume` retries them.
+    pub error_messages: Vec<ErrorTally>,
     /// Bytes of a cut-off last line found (and removed) when resuming.
     pub truncated_tail: usize,
+}
+
+/// One distinct error message of a run.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ErrorTally {
+    /// Episodes that ended with it.
+    pub count: usize,
+    pub message: String,
+    /// The first of those episodes' keys in key order (whatever the threads' order), so the
+    /// console can name one episode to look at.
+    pub first: String,
 }
 
 /// Runs every spec of `specs` (of this shard, not yet done) with `episode` and appends the
@@ -172,7 +183,7 @@ where
     let writer = Mutex::new(writer);
     let failure: Mutex<Option<RunError>> = Mutex::new(None);
     let progress = Progress::stderr(todo.len() as u64, "episodes", options.quiet);
-    let errors: Mutex<BTreeMap<String, usize>> = Mutex::new(BTreeMap::new());
+    let errors: Mutex<BTreeMap<String, (usize, String)>> = Mutex::new(BTreeMap::new());
     let next = AtomicUsize::new(0);
     // No more workers than episodes: `--threads 3000` on a short list would only add start-up.
     let pool = rayon::ThreadPoolBuilder::new()
@@ -187,8 +198,13 @@ where
             let record = EpisodeRecord { set: options.set, ..run_one(spec, &episode, &options.policy) };
             if let Outcome::Error { message } = &record.outcome {
                 let mut errors = lock(&errors);
-                *errors.entry(message.clone()).or_default() += 1;
-                progress.note(format!("errors: {}", errors.values().sum::<usize>()));
+                let key = spec.key();
+                let (count, first) = errors.entry(message.clone()).or_insert_with(|| (0, key.clone()));
+                *count += 1;
+                if key < *first {
+                    *first = key;
+                }
+                progress.note(format!("errors: {}", errors.values().map(|(n, _)| n).sum::<usize>()));
             }
             if let Err(e) = lock(&writer).write(&record) {
                 lock(&failure).get_or_insert(e);
@@ -201,10 +217,14 @@ where
         return Err(e);
     }
     summary.ran = todo.len();
-    let mut messages: Vec<(usize, String)> =
-        errors.into_inner().unwrap_or_else(|p| p.into_inner()).into_iter().map(|(m, n)| (n, m)).collect();
-    messages.sort_by_key(|&(n, _)| std::cmp::Reverse(n));
-    summary.errors = messages.iter().map(|(n, _)| n).sum();
+    let mut messages: Vec<ErrorTally> = errors
+        .into_inner()
+        .unwrap_or_else(|p| p.into_inner())
+        .into_iter()
+        .map(|(message, (count, first))| ErrorTally { count, message, first })
+        .collect();
+    messages.sort_by_key(|t| std::cmp::Reverse(t.count));
+    summary.errors = messages.iter().map(|t| t.count).sum();
     summary.error_messages = messages;
     Ok(summary)
 }

@@ -29,7 +29,7 @@ use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
 use vifo_protocols::env::EnvConfig;
 use vifo_protocols::policies::{self, builtin};
 use vifo_protocols::remote::RemotePolicy;
-use vifo_protocols::runner::{RunOptions, Shard, read_records};
+use vifo_protocols::runner::{ErrorTally, RunOptions, Shard, read_records};
 use vifo_protocols::serving::{Format, ServedPolicy, ServingConfig};
 use vifo_protocols::spec::{CueForm, EpisodeSpec};
 use vifo_protocols::studies::{self, Study, StudyOptions};
@@ -459,12 +459,13 @@ const ERRORS_SHOWN: usize = 3;
 
 /// Why episodes ended in errors, so that a user sees the cause (a server that is not up, a
 /// malformed reply) without opening the results file.
-fn print_errors(messages: &[(usize, String)]) {
+fn print_errors(messages: &[ErrorTally]) {
     if messages.is_empty() {
         return;
     }
-    for (count, message) in messages.iter().take(ERRORS_SHOWN) {
-        println!("  {count} × {message}");
+    for t in messages.iter().take(ERRORS_SHOWN) {
+        let episodes = if t.count == 1 { "episode" } else { "first episode" };
+        println!("  {} × {} ({episodes} {})", t.count, t.message, t.first);
     }
     if messages.len() > ERRORS_SHOWN {
         println!("  … and {} other error messages (each episode's is in the results file)", messages.len() - ERRORS_SHOWN);

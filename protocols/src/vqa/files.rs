@@ -18,12 +18,19 @@ use super::{Prediction, Question, VqaError};
 pub const QUESTIONS_FILE: &str = "questions.jsonl";
 
 /// Writes `dir/questions.jsonl` and one PNG per instance; `render` gives the (cue-inserted)
-/// observation of an instance id. Returns the number of images written.
+/// observation of an instance id. Returns the number of images written. The questions file is
+/// removed first and written last, so an export stopped half way over an earlier one is no
+/// export (scoring refuses it) rather than old questions over a mix of old and new images.
 pub fn export<F>(dir: &Path, questions: &[Question], mut render: F) -> Result<usize, VqaError>
 where
     F: FnMut(&str) -> Result<RgbImage, String>,
 {
     std::fs::create_dir_all(dir.join("images")).map_err(|e| VqaError::io(dir, e))?;
+    let questions_path = dir.join(QUESTIONS_FILE);
+    match std::fs::remove_file(&questions_path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(VqaError::io(&questions_path, e)),
+        _ => {}
+    }
     let mut written = std::collections::BTreeSet::new();
     for q in questions {
         if !written.insert(q.instance_id.clone()) {
@@ -46,8 +53,7 @@ where
         text.push_str(&serde_json::to_string(q).map_err(|e| VqaError::Client(e.to_string()))?);
         text.push('\n');
     }
-    let path = dir.join(QUESTIONS_FILE);
-    std::fs::write(&path, text).map_err(|e| VqaError::io(&path, e))?;
+    std::fs::write(&questions_path, text).map_err(|e| VqaError::io(&questions_path, e))?;
     Ok(written.len())
 }
 
@@ -200,6 +206,27 @@ mod tests {
         let err = read_questions(&dir).unwrap_err().to_string();
         assert!(err.contains("questions.jsonl holds no questions"), "{err}");
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// An export stopped half way over an earlier one leaves no questions file: the old
+    /// questions would have been scored against a mix of old and new images.
+    #[test]
+    fn an_export_stopped_half_way_is_no_export() {
+        let dir = tempfile::tempdir().unwrap();
+        let question = |instance: &str| -> Question {
+            serde_json::from_str(&format!(r#"{{"id":"{instance}/detection","instance_id":"{instance}","family":"F1","stage":"detection","image":"images/{}.png","question":"q","options":["a","b","c","d"],"answer":"A"}}"#, instance.replace('/', "_"))).unwrap()
+        };
+        let questions = [question("t/0/F1/a"), question("t/0/F1/b")];
+        let image = || RgbImage { width: 2, height: 2, data: vec![9; 12] };
+        export(dir.path(), &questions, |_| Ok(image())).unwrap();
+        assert_eq!(read_questions(dir.path()).unwrap().len(), 2);
+        let mut calls = 0;
+        let stopped = export(dir.path(), &questions, |_| {
+            calls += 1;
+            if calls == 2 { Err("stopped".into()) } else { Ok(image()) }
+        });
+        assert!(stopped.is_err());
+        assert!(matches!(read_questions(dir.path()), Err(VqaError::NoQuestions(_))));
     }
 
     #[test]

@@ -249,6 +249,11 @@ fn export(out: &Path, size: u32, set: SetName, form: CueForm, look: &LookArgs) -
     let questions = benchmark::instances::questions(set, form)?;
     let images = questions.iter().map(|q| q.instance_id.as_str()).collect::<std::collections::BTreeSet<_>>().len();
     let mut env = Env::new(EnvConfig { size, cameras: vec![CameraName::AgentView], ..EnvConfig::default() });
+    // The notes first: the questions, written last, are what makes the folder an export.
+    vifo_protocols::runner::create_folder(out)?;
+    write(&out.join("set.txt"), &format!("{set}\n"))?;
+    write(&out.join("form.txt"), &format!("{}\n", form.name()))?;
+    write(&out.join("look.txt"), &format!("{}\n", label(look.as_deref())))?;
     let mut done = 0;
     let written = vqa::files::export(out, &questions, |id| {
         done += 1;
@@ -261,9 +266,6 @@ fn export(out: &Path, size: u32, set: SetName, form: CueForm, look: &LookArgs) -
         let spec = vifo_protocols::EpisodeSpec { cue_form: form, ..spec };
         Ok(env.reset(&spec).map_err(|e| e.to_string())?.agentview.clone())
     })?;
-    write(&out.join("set.txt"), &format!("{set}\n"))?;
-    write(&out.join("form.txt"), &format!("{}\n", form.name()))?;
-    write(&out.join("look.txt"), &format!("{}\n", label(look.as_deref())))?;
     println!("{} questions ({set} set), {written} images -> {}", questions.len(), out.display());
     Ok(())
 }

@@ -243,6 +243,19 @@ fn a_policy_named_twice_runs_once() {
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(run.status.success(), "{}{stdout}", String::from_utf8_lossy(&run.stderr));
     assert!(stdout.contains("1 policy ->") && dir.path().join("report").is_dir(), "{stdout}");
+
+    // `vifo report` refuses records of another results version (their fields may mean
+    // something else) and a device given as a results file, naming each.
+    let results = dir.path().join("results-zero.jsonl");
+    let text = std::fs::read_to_string(&results).unwrap();
+    assert!(text.contains("\"version\":1,"), "{text}");
+    let other = dir.path().join("other.jsonl");
+    std::fs::write(&other, text.replace("\"version\":1,", "\"version\":99,")).unwrap();
+    for (file, says) in [(other.as_path(), "holds records of results version 99"), (std::path::Path::new("/dev/zero"), "not a plain file")] {
+        let report = Command::new(env!("CARGO_BIN_EXE_vifo")).arg("report").arg(file).arg("--out").arg(dir.path().join("r2")).output().unwrap();
+        let stderr = String::from_utf8_lossy(&report.stderr);
+        assert!(!report.status.success() && stderr.contains(says), "{stderr}");
+    }
 }
 
 /// `--resume` without selection options continues the quick default, not the run the folder

@@ -52,7 +52,7 @@ pub enum BenchWhat {
     /// the whole benchmark (built-in expert-cue policy), and the memory per worker.
     Scaling {
         /// Largest thread count (default: every core); each count from 1 up is timed.
-        #[arg(long, conflicts_with = "threads")]
+        #[arg(long, conflicts_with = "threads", value_parser = super::at_least_one)]
         max_threads: Option<usize>,
         /// Only these thread counts, e.g. `1,2,4,8,16` (one thread among them: the speedup is
         /// against it), for a many-core machine where timing every count takes too long.
@@ -80,7 +80,7 @@ pub enum BenchWhat {
         #[arg(long = "task", default_values_t = bench::cues::TASKS.map(String::from))]
         tasks: Vec<String>,
         /// Timed batches of about 40 ms per instance and camera (the median is reported).
-        #[arg(long, default_value_t = 3)]
+        #[arg(long, default_value_t = 3, value_parser = super::at_least_one)]
         batches: usize,
     },
 }

@@ -11,7 +11,7 @@ use vifo_protocols::runner::read_records;
 use vifo_protocols::studies;
 use vifo_protocols::vqa::VqaScores;
 use vifo_cues::SetName;
-use vifo_protocols::spec::EpisodeRecord;
+use vifo_protocols::spec::{EpisodeRecord, RESULTS_VERSION};
 use vifo_protocols::CueForm;
 
 #[derive(ClapArgs)]
@@ -39,10 +39,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut records = Vec::new();
     let files = results_files(&args.results)?;
     for path in &files {
-        anyhow::ensure!(path.is_file(), "{}: no such results file", path.display());
+        anyhow::ensure!(path.exists(), "{}: no such results file", path.display());
         let loaded = read_records(path)?;
         if loaded.truncated_tail > 0 {
             eprintln!("note: {}: ignored a cut-off last line", path.display());
+        }
+        // Another version's fields may mean something else: its rows would be wrong, not missing.
+        if let Some(r) = loaded.records.iter().find(|r| r.version != RESULTS_VERSION) {
+            anyhow::bail!(
+                "{}: holds records of results version {}; this vifo reads version {RESULTS_VERSION}",
+                path.display(),
+                r.version
+            );
         }
         records.extend(loaded.records);
     }

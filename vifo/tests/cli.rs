@@ -96,7 +96,7 @@ fn an_empty_expert_selection_is_an_error() {
     for (args, says) in [
         (&["--suite", "libero_goal", "--task", "11"][..], "--task 11: libero_goal has tasks 0 to 9"),
         (&["--suite", "libero_goal", "--task", "0", "--first", "60"][..], "--first 60: libero_goal/0 has initial states 0 to 49"),
-        (&["--suite", "libero_goal", "--episodes", "0"][..], "--episodes 0"),
+        (&["--suite", "libero_goal", "--episodes", "0"][..], "'0' for '--episodes <EPISODES>': expected 1 or more"),
     ] {
         let out = Command::new(env!("CARGO_BIN_EXE_vifo")).arg("expert").args(args).output().expect("run vifo");
         let stderr = String::from_utf8_lossy(&out.stderr);

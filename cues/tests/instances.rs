@@ -6,7 +6,7 @@ mod common;
 use std::collections::BTreeSet;
 
 use vifo_cues::composition::coverage;
-use vifo_cues::instances::{InstanceSet, TaskDescription};
+use vifo_cues::instances::{InstanceError, InstanceSet, TaskDescription};
 use vifo_cues::signage::Category;
 use vifo_cues::variants::Form;
 use vifo_cues::{Family, Inserter, VARIANTS};
@@ -161,6 +161,14 @@ fn an_unparseable_task_is_reported_by_key() {
     let mut tasks = common::descriptions();
     tasks[5].instruction = "juggle the bowls".into();
     let err = InstanceSet::build(&tasks).unwrap_err();
-    assert_eq!(err.task, "libero_spatial/5");
+    assert!(matches!(&err, InstanceError::Parse { task, .. } if task == "libero_spatial/5"), "{err}");
     assert!(err.to_string().contains("juggle"));
+}
+
+#[test]
+fn a_task_described_twice_is_refused() {
+    let mut tasks = common::descriptions();
+    tasks.push(tasks[3].clone());
+    let err = InstanceSet::build(&tasks).unwrap_err();
+    assert_eq!(err, InstanceError::Repeated("libero_spatial/3".into()));
 }

@@ -16,7 +16,7 @@
 //! the variant's first fitting step has the id `<task>/<family>/<variant>`; one showing a later
 //! step adds `@<step number>` (`libero_10/4/F2/straight_arrow_red@2`).
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use serde::{Deserialize, Serialize};
 
@@ -65,10 +65,12 @@ impl TaskDescription {
 
 /// Why the instance set could not be built.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("task {task}: {source}")]
-pub struct InstanceError {
-    pub task: String,
-    pub source: ParseError,
+pub enum InstanceError {
+    #[error("task {task}: {source}")]
+    Parse { task: String, source: ParseError },
+    /// Its instances' ids would repeat, and a run would count their episodes twice.
+    #[error("task {0} is described more than once (each task once: cue ids are made from it)")]
+    Repeated(String),
 }
 
 /// The step of `parsed` a variant with these needs shows first, or `None` if the task cannot
@@ -138,9 +140,13 @@ impl InstanceSet {
     /// task order.
     pub fn build(tasks: &[TaskDescription]) -> Result<InstanceSet, InstanceError> {
         let mut instances = Vec::new();
+        let mut seen = BTreeSet::new();
         for task in tasks {
             let key = task.key();
-            let parsed = task.parse().map_err(|source| InstanceError { task: key.clone(), source })?;
+            if !seen.insert(key.clone()) {
+                return Err(InstanceError::Repeated(key));
+            }
+            let parsed = task.parse().map_err(|source| InstanceError::Parse { task: key.clone(), source })?;
             for (variant, step) in compatible(&parsed) {
                 // `step` comes from `parsed.steps`, so the spec is always constructible.
                 if let Ok(spec) = CueSpec::new(&key, &parsed, step, variant) {

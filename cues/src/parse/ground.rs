@@ -14,10 +14,47 @@ use super::relation::Relation;
 
 /// A goal predicate as LIBERO writes it: `On`, `In`, `Open`, `Close`, `Turnon`, `Turnoff`
 /// with body or region names as arguments.
+/// Read from JSON (a task description's `goals`) with the same checks as from text.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "RawGoalAtom")]
 pub struct GoalAtom {
     pub predicate: String,
     pub args: Vec<String>,
+}
+
+/// A goal atom's JSON fields before [`check_arity`].
+#[derive(Deserialize)]
+struct RawGoalAtom {
+    predicate: String,
+    args: Vec<String>,
+}
+
+impl TryFrom<RawGoalAtom> for GoalAtom {
+    type Error = String;
+
+    fn try_from(raw: RawGoalAtom) -> Result<GoalAtom, String> {
+        let shown = format!("({} {})", raw.predicate, raw.args.join(" "));
+        if raw.predicate.contains(|c: char| c.is_whitespace() || c == '(' || c == ')')
+            || raw.args.iter().any(|a| a.is_empty() || a.contains(|c: char| c.is_whitespace() || c == '(' || c == ')'))
+        {
+            return Err(format!("goal atom {shown:?}: a predicate and arguments are single names"));
+        }
+        check_arity(&shown, &raw.predicate, raw.args.len())?;
+        Ok(GoalAtom { predicate: raw.predicate, args: raw.args })
+    }
+}
+
+/// One of the predicates a goal can link to, with its number of arguments.
+fn check_arity(shown: &str, predicate: &str, args: usize) -> Result<(), String> {
+    let arity = match predicate.to_ascii_lowercase().as_str() {
+        "on" | "in" => 2,
+        "open" | "close" | "turnon" | "turnoff" => 1,
+        _ => return Err(format!("goal atom {shown:?}: unknown predicate {predicate:?} (expected On, In, Open, Close, TurnOn or TurnOff)")),
+    };
+    if args != arity {
+        return Err(format!("goal atom {shown:?}: {predicate} takes {arity} argument{}, found {args}", if arity == 1 { "" } else { "s" }));
+    }
+    Ok(())
 }
 
 impl GoalAtom {
@@ -49,14 +86,7 @@ impl FromStr for GoalAtom {
         let predicate =
             words.next().ok_or_else(|| format!("goal atom {s:?}: expected a predicate name, found nothing"))?;
         let args: Vec<String> = words.map(str::to_string).collect();
-        let arity = match predicate.to_ascii_lowercase().as_str() {
-            "on" | "in" => 2,
-            "open" | "close" | "turnon" | "turnoff" => 1,
-            _ => return Err(format!("goal atom {s:?}: unknown predicate {predicate:?} (expected On, In, Open, Close, TurnOn or TurnOff)")),
-        };
-        if args.len() != arity {
-            return Err(format!("goal atom {s:?}: {predicate} takes {arity} argument{}, found {}", if arity == 1 { "" } else { "s" }, args.len()));
-        }
+        check_arity(s, predicate, args.len())?;
         Ok(GoalAtom { predicate: predicate.to_string(), args })
     }
 }

@@ -25,6 +25,21 @@ fn goal_atoms_need_balanced_parentheses_a_known_predicate_and_its_arguments() {
 }
 
 #[test]
+fn goal_atoms_from_json_are_checked_as_from_text() {
+    let read = |json: &str| serde_json::from_str::<GoalAtom>(json).map_err(|e| e.to_string());
+    assert_eq!(read(r#"{"predicate": "On", "args": ["bowl_1", "plate_1"]}"#), Ok(GoalAtom::new("On", &["bowl_1", "plate_1"])));
+    for (bad, why) in [
+        (r#"{"predicate": "On", "args": ["bowl_1"]}"#, "On takes 2 arguments, found 1"),
+        (r#"{"predicate": "Stack", "args": ["a", "b"]}"#, "unknown predicate \"Stack\""),
+        (r#"{"predicate": "Open", "args": ["top drawer"]}"#, "single names"),
+        (r#"{"predicate": "Open", "args": [""]}"#, "single names"),
+    ] {
+        let err = read(bad).unwrap_err();
+        assert!(err.contains(why), "{bad}: {err}");
+    }
+}
+
+#[test]
 fn names_ground_steps_without_goal_atoms() {
     let mut parsed = parse("put the cream cheese in the bowl").unwrap();
     ground_to_names(&mut parsed.steps, &["plate_1", "akita_black_bowl_1", "cream_cheese_1", "flat_stove_1"]);

@@ -292,7 +292,16 @@ impl<'a> Parser<'a> {
     }
 
     /// The arguments of an atom whose `(` and predicate were read, up to its `)`.
+    /// A `(` after the predicate is a nested group such as `(Not (On a b))`, which LIBERO's
+    /// grammar has no place for: said as such rather than as a misplaced parenthesis.
     fn atom_args(&mut self, open: Pos, predicate: Word<'a>) -> Result<RawAtom<'a>, BddlError> {
+        if self.peek().tok == Tok::Open {
+            return self.fail_at(
+                predicate.pos,
+                "an atom of names: LIBERO's atoms are (Predicate name ...), joined only by one (And ...) in the goal, without Not, Or or nesting",
+                format!("'({} (' opening a nested group", predicate.text),
+            );
+        }
         let args = self.words_until_close(&format!("({}", predicate.text))?;
         Ok(RawAtom { open, predicate, args })
     }

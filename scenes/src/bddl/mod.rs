@@ -226,6 +226,11 @@ mod tests {
         assert_eq!(err.expected, "an object, fixture or region key as argument 2 of (On red_cup_1 tray_9)");
         assert_eq!((err.line, err.found.as_str()), (46, "'tray_9'"));
 
+        // A negated goal is named as a nested group LIBERO's grammar has no place for.
+        let err = replaced("(On red_cup_1 tray_1)", "(Not (On red_cup_1 tray_1))");
+        assert!(err.expected.contains("without Not, Or or nesting"), "{err}");
+        assert_eq!((err.line, err.found.as_str()), (46, "'(Not (' opening a nested group"));
+
         let err = replaced("(Turnon flat_stove_1)", "(Turnon flat_stove_1 red_cup_1)");
         assert_eq!((err.expected.as_str(), err.found.as_str()), ("1 argument for TurnOn", "2 in (Turnon flat_stove_1 red_cup_1)"));
 

@@ -98,7 +98,22 @@ fn results_files(given: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
         found.sort();
         files.extend(found);
     }
-    Ok(files)
+    Ok(once_each(files))
+}
+
+/// `files` without a file met again (by its canonical path, so a folder and a file in it, or
+/// two spellings of one file, count its episodes once); says which were dropped.
+fn once_each(files: Vec<PathBuf>) -> Vec<PathBuf> {
+    let mut seen = std::collections::BTreeSet::new();
+    let mut kept = Vec::new();
+    for path in files {
+        if seen.insert(std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone())) {
+            kept.push(path);
+        } else {
+            eprintln!("note: {} was given more than once; its episodes are counted once", path.display());
+        }
+    }
+    kept
 }
 
 /// `POLICY=FILE` items of VQA scores (`vifo vqa score --out`) of the `form` export: scores
@@ -145,7 +160,11 @@ mod tests {
         }
         let other = PathBuf::from("elsewhere.jsonl");
         let files = results_files(&[dir.clone(), other.clone()]).unwrap();
-        assert_eq!(files, vec![dir.join("results-expert-cue.jsonl"), dir.join("results-zero.jsonl"), other]);
+        assert_eq!(files, vec![dir.join("results-expert-cue.jsonl"), dir.join("results-zero.jsonl"), other.clone()]);
+        // A file met again, through its folder or another spelling, is read once.
+        let again = dir.join(".").join("results-zero.jsonl");
+        let files = results_files(&[dir.join("results-zero.jsonl"), dir.clone(), again]).unwrap();
+        assert_eq!(files, vec![dir.join("results-zero.jsonl"), dir.join("results-expert-cue.jsonl")]);
         let empty = dir.join("empty");
         std::fs::create_dir_all(&empty).unwrap();
         let err = results_files(&[empty]).unwrap_err().to_string();

@@ -213,6 +213,9 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
         ([&goal_zero[..], &["--episodes", "1000000000000"]].concat(), "at most 10000 episodes per instance"),
         (vec!["expert", "--episodes", "20000"], "at most 10000 episodes per instance"),
         (vec!["cues", "render", "caption_bar", "put the bowl on the plate", "--source", "nan,1", "--out", out_arg], "NaN is not a finite number"),
+        // A JPEG's name held PNG bytes.
+        (vec!["render", "--task", "libero_spatial/0", "-o", "frame.jpg"], "as PNG: give a name ending in .png"),
+        (vec!["render", "--task", "libero_spatial/0", "--gif", "rollout.png"], "as GIF: give a name ending in .gif"),
         // Server addresses are checked before any episode runs: a port that is not one was
         // quietly sent to port 80, a missing one gave an error per episode.
         (vec!["run", "--suite", "libero_goal", "--protocol", "original", "--policy", "ws://127.0.0.1:99999", "--out", out_arg], "port \"99999\" is not a number"),

@@ -76,7 +76,7 @@ enum Command {
         #[arg(long, default_value = "paper", value_parser = super::parse_set)]
         set: SetName,
         /// The figure's file.
-        #[arg(long, default_value = "cue-statistics.png")]
+        #[arg(long, default_value = "cue-statistics.png", value_parser = super::png_file)]
         out: PathBuf,
     },
     /// One contact-sheet PNG per family: every variant drawn on a real scene frame.
@@ -169,7 +169,7 @@ fn parse_cmd(instruction: &str, goals: &[String], json: bool) -> anyhow::Result<
     Ok(())
 }
 
-fn instances_cmd(path: &PathBuf, json: bool) -> anyhow::Result<()> {
+fn instances_cmd(path: &Path, json: bool) -> anyhow::Result<()> {
     let text = vifo_protocols::text_file::read(path).with_context(|| format!("reading {}", path.display()))?;
     let tasks: Vec<TaskDescription> = serde_json::from_str(&text)
         .with_context(|| format!("{}: expected a JSON list of task descriptions", path.display()))?;

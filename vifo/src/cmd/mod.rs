@@ -13,6 +13,8 @@ pub mod run;
 pub mod init_states;
 pub mod web;
 
+use std::path::PathBuf;
+
 use anyhow::Context;
 use vifo_cues::{Family, SetName};
 use vifo_protocols::CueForm;
@@ -26,6 +28,25 @@ pub fn at_least_one(s: &str) -> Result<usize, String> {
         Ok(0) => Err("expected 1 or more: 0 would run nothing".into()),
         Ok(n) => Ok(n),
         Err(e) => Err(e.to_string()),
+    }
+}
+
+/// A file `vifo` writes as PNG: a name ending otherwise (`x.jpg`) would hold PNG bytes under
+/// another format's name.
+pub fn png_file(s: &str) -> Result<PathBuf, String> {
+    file_ending(s, "png")
+}
+
+/// A file `vifo` writes as an animated GIF.
+pub fn gif_file(s: &str) -> Result<PathBuf, String> {
+    file_ending(s, "gif")
+}
+
+fn file_ending(s: &str, ending: &str) -> Result<PathBuf, String> {
+    let path = PathBuf::from(s);
+    match path.extension().and_then(|e| e.to_str()) {
+        Some(e) if e.eq_ignore_ascii_case(ending) => Ok(path),
+        _ => Err(format!("vifo writes this file as {}: give a name ending in .{ending}", ending.to_uppercase())),
     }
 }
 

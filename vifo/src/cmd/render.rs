@@ -56,10 +56,10 @@ pub struct RenderArgs {
     #[arg(long, value_name = "PROFILE", requires = "cue")]
     pub model_profile: Option<String>,
     /// PNG of the initial frame.
-    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    #[arg(short = 'o', long = "output", value_name = "FILE", value_parser = super::png_file)]
     pub output: Option<PathBuf>,
     /// Animated GIF of a rollout under the hold action.
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", value_parser = super::gif_file)]
     pub gif: Option<PathBuf>,
     /// Folder for one PNG per rollout frame.
     #[arg(long, value_name = "DIR")]

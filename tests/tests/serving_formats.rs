@@ -298,7 +298,7 @@ fn malformed_internvla() {
             ("error_status", "`ok` = false, `status` = \"error\"): scripted failure"),
             ("missing_ok", "no `ok`"),
             ("nan", "`data.actions`[0, 1, 2] is NaN"),
-            ("not_msgpack", "reply is nil, expected a map"),
+            ("not_msgpack", "reply is not a msgpack document: it starts with byte 0xc1"),
         ],
     );
 }

@@ -315,16 +315,10 @@ fn open(
         PolicyError::Timeout(_) => slow("with the server's metadata"),
         other => other,
     })?;
-    let mut rest = &bytes[..];
-    let metadata = rmpv::decode::read_value(&mut rest)
-        .map_err(|e| PolicyError::Malformed(format!("server metadata is not msgpack: {e}")))?;
+    let metadata = ndarray::document(&bytes, "server metadata").map_err(PolicyError::Malformed)?;
     // openpi sends one dict; anything else is not an openpi server's handshake.
-    if !rest.is_empty() || !matches!(metadata, Value::Map(_)) {
-        return Err(PolicyError::Malformed(format!(
-            "server metadata is {} with {} bytes after it, expected one msgpack map",
-            ndarray::kind(&metadata),
-            rest.len()
-        )));
+    if !matches!(metadata, Value::Map(_)) {
+        return Err(PolicyError::Malformed(format!("server metadata is {}, expected one msgpack map", ndarray::kind(&metadata))));
     }
     Ok((ws, metadata))
 }
@@ -406,11 +400,7 @@ pub fn encode_request(obs: &Observation, image_size: u32) -> Result<Vec<u8>, Pol
 /// Checks and decodes one reply.
 pub fn parse_reply(bytes: &[u8]) -> Result<Reply, PolicyError> {
     let bad = |m: String| PolicyError::Malformed(m);
-    let mut rest = bytes;
-    let doc = rmpv::decode::read_value(&mut rest).map_err(|e| bad(format!("reply is not a msgpack document: {e}")))?;
-    if !rest.is_empty() {
-        return Err(bad(format!("{} unexpected bytes after the msgpack reply", rest.len())));
-    }
+    let doc = ndarray::document(bytes, "reply").map_err(bad)?;
     let Value::Map(map) = doc else {
         return Err(bad(format!("reply is {}, expected a map with `actions`", ndarray::kind(&doc))));
     };

@@ -120,6 +120,21 @@ impl NdArray {
     }
 }
 
+/// The one msgpack document `bytes` holds; `what` names it in errors ("reply", "server
+/// metadata"). A leading 0xc1, the byte msgpack never uses, is refused by name: the decoder
+/// would read it as nil and the error would speak of a nil reply.
+pub fn document(bytes: &[u8], what: &str) -> Result<Value, String> {
+    if bytes.first() == Some(&0xc1) {
+        return Err(format!("{what} is not a msgpack document: it starts with byte 0xc1, which msgpack never uses"));
+    }
+    let mut rest = bytes;
+    let doc = rmpv::decode::read_value(&mut rest).map_err(|e| format!("{what} is not a msgpack document: {e}"))?;
+    if !rest.is_empty() {
+        return Err(format!("{what} is {} with {} unexpected bytes after it", kind(&doc), rest.len()));
+    }
+    Ok(doc)
+}
+
 /// A short name of a msgpack value's type, for error messages.
 pub fn kind(v: &Value) -> &'static str {
     match v {
@@ -138,6 +153,20 @@ pub fn kind(v: &Value) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_document_is_one_msgpack_value_and_its_faults_are_named() {
+        assert_eq!(document(&[0x81, 0xa1, b'a', 0x01], "reply"), Ok(Value::Map(vec![(Value::from("a"), Value::from(1))])));
+        for (bytes, says) in [
+            (&[0xc1, 0x00][..], "reply is not a msgpack document: it starts with byte 0xc1"),
+            (&[][..], "reply is not a msgpack document"),
+            (&[0x92, 0x01][..], "reply is not a msgpack document"),
+            (&[0xc0, 0x01, 0x02][..], "reply is nil with 2 unexpected bytes after it"),
+        ] {
+            let err = document(bytes, "reply").unwrap_err();
+            assert!(err.contains(says), "{bytes:?}: {err}");
+        }
+    }
 
     /// The byte-exact example of the research note (packed by openpi-client 0.1.2):
     /// `{"prompt": "hi", "observation/state": np.arange(6, dtype=float32).reshape(2, 3)}`.

@@ -118,11 +118,7 @@ fn floats(v: &Value, field: &str) -> Result<(Vec<usize>, Vec<f64>), PolicyError>
 
 /// Checks and decodes one reply into the chunk the LIBERO client would execute.
 pub fn parse(bytes: &[u8]) -> Result<Vec<[f64; 7]>, PolicyError> {
-    let mut rest = bytes;
-    let doc = rmpv::decode::read_value(&mut rest).map_err(|e| bad(format!("reply is not a msgpack document: {e}")))?;
-    if !rest.is_empty() {
-        return Err(bad(format!("{} unexpected bytes after the msgpack reply", rest.len())));
-    }
+    let doc = ndarray::document(bytes, "reply").map_err(bad)?;
     let Value::Map(m) = &doc else {
         return Err(bad(format!("reply is {}, expected a map", kind(&doc))));
     };

@@ -311,9 +311,10 @@ fn malformed_openvla_oft() {
             ("error", "answered \"error\""),
             ("wrong_shape", "`actions` has 8 rows of 6"),
             ("wrong_dtype", "`actions[0]` has dtype \"<i8\""),
-            ("missing_field", "`actions[0].__numpy__` is not a string"),
+            ("missing_field", "`actions[0]` is an object without `__numpy__`"),
             ("http_500", "HTTP status 500"),
             ("not_json", "not JSON"),
+            ("oversize", "the reply is larger than 64 MiB"),
         ],
     );
 }

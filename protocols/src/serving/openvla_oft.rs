@@ -70,10 +70,14 @@ fn bad(m: String) -> PolicyError {
 
 /// A json_numpy object as `(shape, values)`; `field` names it in errors.
 fn decode_array(obj: &Map<String, Value>, field: &str) -> Result<(Vec<usize>, Vec<f64>), PolicyError> {
-    let data = obj
-        .get("__numpy__")
-        .and_then(Value::as_str)
-        .ok_or_else(|| bad(format!("`{field}.__numpy__` is not a string")))?;
+    let Some(data) = obj.get("__numpy__") else {
+        let keys: Vec<&str> = obj.keys().map(String::as_str).take(8).collect();
+        return Err(bad(format!(
+            "`{field}` is an object without `__numpy__` (keys: {}), expected a json_numpy array or a list of numbers",
+            keys.join(", ")
+        )));
+    };
+    let data = data.as_str().ok_or_else(|| bad(format!("`{field}.__numpy__` is not a string")))?;
     let bytes = STANDARD.decode(data).map_err(|e| bad(format!("`{field}.__numpy__` is not base64: {e}")))?;
     let dtype =
         obj.get("dtype").and_then(Value::as_str).ok_or_else(|| bad(format!("`{field}` has no string `dtype`")))?;
@@ -169,6 +173,9 @@ fn exact7(rows: Vec<[f64; 7]>, cols: usize) -> Result<Vec<[f64; 7]>, PolicyError
     Ok(rows)
 }
 
+/// A reply larger than this is refused unread: an action chunk is a few kilobytes.
+const MAX_REPLY_BYTES: u64 = 64 << 20;
+
 impl Transport for OftTransport {
     fn infer(&mut self, input: &ModelInput) -> Result<Vec<[f64; 7]>, PolicyError> {
         let url = &self.url;
@@ -180,9 +187,15 @@ impl Transport for OftTransport {
         let text = response
             .body_mut()
             .with_config()
-            .limit(64 << 20)
+            .limit(MAX_REPLY_BYTES)
             .read_to_string()
-            .map_err(|e| PolicyError::Connection(format!("{url}: reading the reply: {e}")))?;
+            .map_err(|e| match e {
+                ureq::Error::BodyExceedsLimit(_) => {
+                    bad(format!("{url}: the reply is larger than {} MiB, far more than an action chunk", MAX_REPLY_BYTES >> 20))
+                }
+                ureq::Error::Timeout(_) => PolicyError::Timeout(self.timeout_s),
+                other => PolicyError::Connection(format!("{url}: reading the reply: {other}")),
+            })?;
         if !(200..300).contains(&status) {
             let snippet: String = text.chars().take(300).collect();
             return Err(PolicyError::Other(format!("{url}: HTTP status {status}: {snippet}")));
@@ -205,7 +218,8 @@ mod tests {
         assert_eq!(parse("[[0,0,0,0,0,0,1]]").unwrap()[0][6], 1.0);
         let cases = [
             ("\"error\"".to_string(), "answered \"error\""),
-            ("{\"x\": 1}".to_string(), "`actions.__numpy__` is not a string"),
+            ("{\"x\": 1}".to_string(), "`actions` is an object without `__numpy__` (keys: x)"),
+            ("{\"__numpy__\": 1}".to_string(), "`actions.__numpy__` is not a string"),
             (json!([array("<i8", &[7], &[0; 56])]).to_string(), "dtype \"<i8\""),
             (json!([array("<f8", &[7], &[0; 48])]).to_string(), "needs 56 bytes, got 48"),
             ("[[0,0,0,0,0,0]]".to_string(), "1 rows of 6"),

@@ -214,6 +214,37 @@ mod tests {
     use super::*;
     use vifo_cues::RgbImage;
 
+    /// A reply sent before its request, and a connection closed since the last reply, are
+    /// found before the next request is sent; a quiet connection passes.
+    #[test]
+    fn what_arrived_between_requests_is_named() {
+        use std::io::Write;
+        use std::net::TcpListener;
+        use std::time::{Duration, Instant};
+        // The check once it sees what the server did (local delivery takes a moment).
+        let settled = |conn: &TcpStream| {
+            let start = Instant::now();
+            loop {
+                match nothing_waiting(conn) {
+                    Ok(()) if start.elapsed() < Duration::from_secs(5) => std::thread::sleep(Duration::from_millis(5)),
+                    other => return other,
+                }
+            }
+        };
+        let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+        let client = TcpStream::connect(listener.local_addr().unwrap()).unwrap();
+        let (mut server, _) = listener.accept().unwrap();
+        assert!(nothing_waiting(&client).is_ok());
+        server.write_all(b"stale").unwrap();
+        let err = settled(&client).unwrap_err().to_string();
+        assert!(err.contains("a second reply to an earlier one"), "{err}");
+
+        let client = TcpStream::connect(listener.local_addr().unwrap()).unwrap();
+        drop(listener.accept().unwrap());
+        let err = settled(&client).unwrap_err().to_string();
+        assert!(err.contains("closed the connection since its last reply"), "{err}");
+    }
+
     #[test]
     fn the_seed_json_is_canonical() {
         let input = ModelInput {

@@ -530,7 +530,6 @@ fn print_conflicts() -> anyhow::Result<()> {
     Ok(())
 }
 
-/// A policy name or address as part of a file name (`ws://h:8000` → `ws___h_8000`).
 /// Prefix and suffix of a policy's results file name in a run's folder.
 const RESULTS_NAME: (&str, &str) = ("results-", ".jsonl");
 
@@ -544,6 +543,7 @@ pub(crate) fn is_results_name(name: &str) -> bool {
     name.starts_with(RESULTS_NAME.0) && name.ends_with(RESULTS_NAME.1)
 }
 
+/// A policy name or address as part of a file name (`ws://h:8000` → `ws___h_8000`).
 fn file_safe(s: &str) -> String {
     s.chars().map(|c| if c.is_ascii_alphanumeric() || "-_.".contains(c) { c } else { '_' }).collect()
 }

@@ -295,6 +295,26 @@ fn a_full_disk_stops_the_writer_without_a_partial_line() {
     assert!(second.contains("an earlier write failed"), "{second}");
 }
 
+/// A file of one policy renamed to another's is not resumed under the other's name: its
+/// completed episodes would be skipped as done and reported as the first policy's.
+#[test]
+fn a_file_of_another_policy_is_not_resumed() {
+    let all = specs(8);
+    let (_dir, path) = temp();
+    runner::run(&all[..4], episode, &options(&path, 1)).unwrap();
+    let before = std::fs::read(&path).unwrap();
+    let other = runner::run(&all, episode, &RunOptions { resume: true, policy: "zero".into(), ..options(&path, 1) });
+    match other {
+        Err(RunError::OtherPolicy { found, wanted, .. }) => assert_eq!((found.as_str(), wanted.as_str()), ("scripted", "zero")),
+        other => panic!("expected OtherPolicy, got {other:?}"),
+    }
+    assert_eq!(std::fs::read(&path).unwrap(), before, "the refused run wrote nothing");
+    // Its own name resumes it; so does a driver that gives no name (it checks nothing).
+    let summary = runner::run(&all, episode, &RunOptions { resume: true, ..options(&path, 1) }).unwrap();
+    assert_eq!((summary.already_done, summary.ran), (4, 4));
+    runner::run(&all, episode, &RunOptions { resume: true, policy: String::new(), ..options(&path, 1) }).unwrap();
+}
+
 #[test]
 fn records_carry_the_set_and_a_file_of_another_set_is_not_resumed() {
     let all = specs(8);

@@ -12,7 +12,7 @@ use vifo_protocols::benchmark::specs::{self, Selection};
 use vifo_protocols::env::EnvConfig;
 use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
 use vifo_protocols::policies::builtin;
-use vifo_protocols::remote::RemotePolicy;
+use vifo_protocols::remote::{RemoteConfig, RemotePolicy};
 use vifo_protocols::runner::{OpenResults, RunError, RunOptions, read_records};
 use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec};
 use vifo_protocols::{Policy, report, studies};
@@ -108,7 +108,9 @@ pub fn run_specs(
         crate::look::use_look(py, assets, robot_assets, builtin_look, quiet)?;
     }
     let config = EnvConfig { size, cameras: if render { CameraName::ALL.to_vec() } else { Vec::new() }, cue_facing, ..EnvConfig::default() };
-    let options = RunOptions { threads, resume, quiet, policy: policy.to_string(), set: parse_set(set)?, ..RunOptions::new(output) };
+    // The name the policy's records carry, which a resumed file must hold.
+    let name = builtin(policy).map_or_else(|| RemoteConfig::new(policy).policy_name(), |p| p.name());
+    let options = RunOptions { threads, resume, quiet, policy: name, set: parse_set(set)?, ..RunOptions::new(output) };
     let make = || -> Result<Box<dyn Policy>, String> {
         match builtin(policy) {
             Some(p) => Ok(p),

@@ -185,7 +185,8 @@ fn a_run_whose_episodes_ended_in_errors_exits_with_an_error_after_its_report() {
     let results = std::fs::read_to_string(dir.path().join(format!("results-ws___127.0.0.1_{port}.jsonl"))).unwrap();
     assert_eq!(results.lines().count(), 10, "{results}");
     let table = std::fs::read_to_string(dir.path().join("report").join("table1.md")).unwrap();
-    assert!(table.contains(&format!("| {url} |")), "{table}");
+    // Named as the policy's completed episodes would be, so that one server is one row.
+    assert!(table.contains(&format!("| openpi@{url} |")), "{table}");
 }
 
 /// Counts and selections that would run nothing, server options given to built-in policies
@@ -259,6 +260,18 @@ fn a_policy_named_twice_runs_once() {
         let stderr = String::from_utf8_lossy(&report.stderr);
         assert!(!report.status.success() && stderr.contains(says), "{stderr}");
     }
+
+    // The zero policy's file renamed to the random policy's is not resumed as random's: its
+    // episodes would be skipped as done and its rows read as zero's.
+    std::fs::rename(&results, dir.path().join("results-random.jsonl")).unwrap();
+    let resumed = Command::new(env!("CARGO_BIN_EXE_vifo"))
+        .args(["run", "--suite", "libero_goal", "--protocol", "original", "--episodes", "1", "--sample", "1"])
+        .args(["--policy", "random", "--resume", "--quiet", "--clips", "none", "--builtin-look", "--out"])
+        .arg(dir.path())
+        .output()
+        .expect("run vifo");
+    let stderr = String::from_utf8_lossy(&resumed.stderr);
+    assert!(!resumed.status.success() && stderr.contains("holds completed episodes of the policy zero, not of random"), "{stderr}");
 }
 
 /// `--resume` without selection options continues the quick default, not the run the folder

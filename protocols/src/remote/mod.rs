@@ -57,6 +57,11 @@ pub struct RemoteConfig {
 }
 
 impl RemoteConfig {
+    /// The name its records carry: `name`, or `openpi@<url>`.
+    pub fn policy_name(&self) -> String {
+        self.name.clone().unwrap_or_else(|| format!("openpi@{}", self.url))
+    }
+
     pub fn new(url: &str) -> RemoteConfig {
         RemoteConfig {
             url: url.to_string(),
@@ -205,7 +210,7 @@ impl RemotePolicy {
 
 impl Policy for RemotePolicy {
     fn name(&self) -> String {
-        self.config.name.clone().unwrap_or_else(|| format!("openpi@{}", self.config.url))
+        self.config.policy_name()
     }
 
     /// Clears the action queue; reconnects if the last episode lost the connection.

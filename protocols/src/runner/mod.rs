@@ -49,6 +49,8 @@ pub enum RunError {
     Pool(String),
     #[error("{path} holds episodes of the {found} instance set, this run is of the {wanted} set; resume it with that set or choose another file")]
     OtherSet { path: PathBuf, found: SetName, wanted: SetName },
+    #[error("{path} holds completed episodes of the policy {found}, not of {wanted} (was the file renamed?): resuming would skip them as done; choose another output")]
+    OtherPolicy { path: PathBuf, found: String, wanted: String },
 }
 
 impl RunError {
@@ -104,7 +106,10 @@ pub struct RunOptions {
     pub shard: Option<Shard>,
     /// No progress bar.
     pub quiet: bool,
-    /// Policy name written into records the runner makes itself (a panicking episode).
+    /// The policy's name ([`Policy::name`](crate::policy::Policy::name)), written into records
+    /// the runner makes itself (a panicking episode). A file resumed under a name must hold no
+    /// completed episode of another policy (a renamed file would have its episodes skipped as
+    /// done); empty checks nothing.
     pub policy: String,
     /// The instance set written into every record; resuming a file of another set is an error.
     pub set: SetName,
@@ -242,7 +247,8 @@ pub struct OpenResults {
 }
 
 /// Takes the lock on `options.output` and checks what it holds: without `resume` it must be
-/// empty; with it, its records must be of this [`RESULTS_VERSION`] and `options.set`.
+/// empty; with it, its records must be of this [`RESULTS_VERSION`] and `options.set`, and
+/// its completed ones of `options.policy`.
 pub fn open_results(options: &RunOptions) -> Result<OpenResults, RunError> {
     let lock = RunLock::take(&options.output)?;
     let loaded = read_records(&options.output)?;
@@ -259,7 +265,15 @@ pub fn open_results(options: &RunOptions) -> Result<OpenResults, RunError> {
     if let Some(other) = loaded.records.iter().find(|r| r.set != options.set) {
         return Err(RunError::OtherSet { path: options.output.clone(), found: other.set, wanted: options.set });
     }
-    let done = loaded.records.iter().filter(|r| results::is_completed(r)).map(|r| r.spec.key()).collect();
+    let completed = || loaded.records.iter().filter(|r| results::is_completed(r));
+    if let Some(other) = completed().find(|r| !options.policy.is_empty() && r.policy != options.policy) {
+        return Err(RunError::OtherPolicy {
+            path: options.output.clone(),
+            found: other.policy.clone(),
+            wanted: options.policy.clone(),
+        });
+    }
+    let done = completed().map(|r| r.spec.key()).collect();
     let writer = ResultsWriter::append(&options.output, loaded.valid_len)?;
     Ok(OpenResults { lock, writer, done, truncated_tail: loaded.truncated_tail })
 }

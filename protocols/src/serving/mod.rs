@@ -184,6 +184,11 @@ pub struct ServingConfig {
 }
 
 impl ServingConfig {
+    /// The name its records carry: `<profile>@<url>`.
+    pub fn policy_name(&self) -> String {
+        format!("{}@{}", self.profile.name, self.url)
+    }
+
     /// Whether the server holds one client at a time, so that a run must send it one episode at
     /// a time: its format's server does ([`Format::serves_one_client`]), or the profile's adapter
     /// keeps one episode's session for the whole server (`Profile::session`: a second client's
@@ -233,8 +238,7 @@ impl ServedPolicy {
             Format::Xiaomi => Box::new(xiaomi::XiaomiTransport::connect(config)?),
             Format::LeRobot => Box::new(lerobot::LeRobotTransport::connect(config)?),
         };
-        let name = format!("{}@{}", config.profile.name, config.url);
-        Ok(ServedPolicy::new(config.profile.clone(), name, transport))
+        Ok(ServedPolicy::new(config.profile.clone(), config.policy_name(), transport))
     }
 
     /// A policy over any transport (tests use in-process ones).

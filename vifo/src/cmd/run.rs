@@ -28,7 +28,7 @@ use vifo_protocols::env::film::Filming;
 use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
 use vifo_protocols::env::EnvConfig;
 use vifo_protocols::policies::{self, builtin};
-use vifo_protocols::remote::RemotePolicy;
+use vifo_protocols::remote::{RemoteConfig, RemotePolicy};
 use vifo_protocols::runner::{ErrorTally, RunOptions, Shard, read_records};
 use vifo_protocols::serving::{Format, ServedPolicy, ServingConfig};
 use vifo_protocols::spec::{CueForm, EpisodeSpec};
@@ -428,12 +428,18 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&P
             }
         }
     };
+    // The name the policy's records carry, which a resumed file must hold.
+    let name = match (builtin(policy), &served) {
+        (Some(p), _) => p.name(),
+        (None, Some(config)) => config.policy_name(),
+        (None, None) => RemoteConfig::new(policy).policy_name(),
+    };
     let options = RunOptions {
         threads,
         resume: args.resume,
         shard: args.shard,
         quiet: args.quiet,
-        policy: policy.to_string(),
+        policy: name,
         set: args.set,
         ..RunOptions::new(path)
     };

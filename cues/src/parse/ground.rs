@@ -14,6 +14,7 @@ use super::relation::Relation;
 
 /// A goal predicate as LIBERO writes it: `On`, `In`, `Open`, `Close`, `Turnon`, `Turnoff`
 /// with body or region names as arguments.
+///
 /// Read from JSON (a task description's `goals`) with the same checks as from text.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(try_from = "RawGoalAtom")]

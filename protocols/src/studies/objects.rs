@@ -5,8 +5,9 @@
 //! stays 0 for every model.
 //!
 //! The table is the paper's comparison figure as numbers: per policy and family, each metric in
-//! both forms and the change (object − overlay, points), and an Avg. row (unweighted mean of
-//! the families measured in both forms, as the paper's average drops are formed).
+//! both forms over the same episodes and the change (object − overlay, points), and an Avg. row
+//! (unweighted mean of the families measured in both forms, as the paper's average drops are
+//! formed).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -116,12 +117,33 @@ pub struct Row {
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Table {
     pub rows: Vec<Row>,
+    /// Episodes of an instance run as an object whose other form is not in the results (an
+    /// interrupted run), left out of both sides.
+    pub unpaired: usize,
+}
+
+/// The episodes present in both forms. Each side then holds the same episodes (instance,
+/// protocol, initial state, repetition), so a change is the change of form alone, not of
+/// instance: other overlay episodes of F1, F6 and F8 in the same results file (the main
+/// benchmark's, the safety study's F1 captions) are left out. Returns them and how many
+/// episodes of the instances run as objects lack their other form.
+fn paired(episodes: Vec<EpisodeRecord>) -> (Vec<EpisodeRecord>, usize) {
+    let keys: BTreeSet<String> = episodes.iter().map(|r| r.spec.key()).collect();
+    let has_partner = |r: &EpisodeRecord| {
+        let other = if r.spec.cue_form.is_overlay() { CueForm::Object } else { CueForm::Overlay };
+        keys.contains(&EpisodeSpec { cue_form: other, ..r.spec.clone() }.key())
+    };
+    let as_objects: BTreeSet<String> =
+        episodes.iter().filter(|r| !r.spec.cue_form.is_overlay()).filter_map(|r| r.spec.instance.clone()).collect();
+    let (kept, alone): (Vec<EpisodeRecord>, Vec<EpisodeRecord>) = episodes.into_iter().partition(has_partner);
+    let unpaired = alone.iter().filter(|r| r.spec.instance.as_ref().is_some_and(|i| as_objects.contains(i))).count();
+    (kept, unpaired)
 }
 
 /// The table of the policies that have object-form episodes in `records` or object-form VQA
 /// scores in `vqa` (repeated records of one episode: the last completed one counts, as in the
-/// main report), and with two policies or more an Avg. row over them (the paper's §4.2 figures
-/// are such averages over its models).
+/// main report; only episodes present in both forms, see [`paired`]), and with two policies or
+/// more an Avg. row over them (the paper's §4.2 figures are such averages over its models).
 pub fn build(records: &[EpisodeRecord], vqa: &FormVqa) -> Table {
     let sets: BTreeSet<_> = records.iter().map(|r| r.set).collect();
     let name = |r: &EpisodeRecord| if sets.len() > 1 { format!("{} [{}]", r.policy, r.set) } else { r.policy.clone() };
@@ -140,7 +162,8 @@ pub fn build(records: &[EpisodeRecord], vqa: &FormVqa) -> Table {
     }
     let mut table = Table::default();
     for (row_name, (policy, rs)) in by_policy {
-        let episodes: Vec<EpisodeRecord> = final_records(rs).into_values().collect();
+        let (episodes, unpaired) = paired(final_records(rs).into_values().collect());
+        table.unpaired += unpaired;
         let mut rows = Vec::new();
         for family in OBJECT_FAMILIES {
             let of_family: Vec<&EpisodeRecord> =
@@ -224,8 +247,12 @@ impl Table {
                 .collect();
             s += &format!("| {} | {} | {} | {} | {} |\n", r.policy, family_name(r.family), cells.join(" | "), r.episodes, r.errors);
         }
-        s += "\nΔ = object − overlay in points; Avg. is the unweighted mean of those of F1, F6 and F8 measured in both forms. VQA needs \
-              `vifo report --vqa` / `--vqa-object` scores of the two exports (`vifo vqa export --form`).\n";
+        s += "\nΔ = object − overlay in points, over the same episodes in both forms; Avg. is the unweighted mean of those of F1, F6 \
+              and F8 measured in both forms. VQA needs `vifo report --vqa` / `--vqa-object` scores of the two exports \
+              (`vifo vqa export --form`).\n";
+        if self.unpaired > 0 {
+            s += &format!("\nEpisodes of these instances run in one form only, left out: {}.\n", self.unpaired);
+        }
         s
     }
 
@@ -360,8 +387,13 @@ mod tests {
             record("p", f1, Protocol::Authorized, CueForm::Object, 1, Some(false)),
             record("p", f6, Protocol::NoLanguage, CueForm::Object, 0, None),
             record("p", f6, Protocol::NoLanguage, CueForm::Object, 0, Some(true)),
-            // F6's AVF only as an overlay: the Avg. row leaves it out of both sides.
+            record("p", f6, Protocol::NoLanguage, CueForm::Overlay, 0, Some(false)),
+            // F6's AVF only as an overlay (a run cut short): left out, and counted as unpaired;
+            // the Avg. row then has F1 alone on both sides.
             record("p", f6, Protocol::Authorized, CueForm::Overlay, 0, Some(false)),
+            // Another F1 instance, run only as an overlay (the main benchmark's): left out, and
+            // not counted as unpaired.
+            record("p", "libero_goal/1/F1/caption_bar", Protocol::Authorized, CueForm::Overlay, 0, Some(false)),
             // A policy without object episodes (or object-form VQA scores) has no row; conflict
             // episodes are not counted.
             record("q", f1, Protocol::Authorized, CueForm::Overlay, 0, Some(true)),
@@ -379,6 +411,10 @@ mod tests {
         let f6_row = &table.rows[1];
         // The resumed episode's completed record counts, the error line does not.
         assert_eq!((f6_row.uvi.object, f6_row.uvi.object_n, f6_row.errors), (Some(100.0), 1, 0));
+        assert_eq!((f6_row.uvi.overlay, f6_row.avf.overlay, f6_row.episodes), (Some(0.0), None, 2));
+        assert_eq!((f1_row.avf.overlay_n, f1_row.episodes), (2, 4));
+        assert_eq!(table.unpaired, 1);
+        assert!(table.markdown().contains("run in one form only, left out: 1."));
         let avg = &table.rows[3];
         assert_eq!(avg.family, None);
         assert_eq!((avg.avf.overlay, avg.avf.object, avg.avf.change()), (Some(100.0), Some(50.0), Some(-50.0)));

@@ -170,6 +170,20 @@ fn sets_are_reported_apart() {
     assert_eq!(names, ["oft [full]", "oft [paper]", "pi [paper]"]);
     assert_eq!((two.table1[0].orig_sr.correct, two.table1[0].orig_sr.total), (0, 1));
     assert_eq!((two.table1[1].orig_sr.correct, two.table1[1].orig_sr.total), (1, 1));
+    // VQA scores go with the row of their own set; scores naming no set, with neither of two.
+    let mut scores = VqaScores::default();
+    scores.stages.insert(Stage::Detection, Accuracy { correct: 1, total: 2 });
+    scores.families.insert(Family::F1, Accuracy { correct: 1, total: 2 });
+    scores.family_stages.insert(Family::F1, [(Stage::Detection, Accuracy { correct: 1, total: 2 })].into());
+    let with = |set| BTreeMap::from([("oft".to_string(), VqaScores { set, ..scores.clone() })]);
+    let scored = |r: &report::Table1Row| r.det.is_some();
+    let full = report::build(&records, &with(Some(SetName::Full)));
+    assert_eq!(full.table1.iter().map(scored).collect::<Vec<_>>(), [true, false, false]);
+    let unnamed = report::build(&records, &with(None));
+    assert_eq!(unnamed.table1.iter().map(scored).collect::<Vec<_>>(), [false, false, false]);
+    records.retain(|r| r.policy != "oft" || r.set == SetName::Full);
+    let single = report::build(&records, &with(None));
+    assert_eq!(single.table1.iter().map(scored).collect::<Vec<_>>(), [true, false]);
 }
 
 #[test]

@@ -217,21 +217,30 @@ pub fn build(records: &[EpisodeRecord], vqa: &BTreeMap<String, VqaScores>) -> Re
     let records: Vec<&EpisodeRecord> = records.iter().filter(|r| r.spec.cue_form.is_overlay()).collect();
     let sets: Vec<SetName> = records.iter().map(|r| r.set).collect::<std::collections::BTreeSet<_>>().into_iter().collect();
     let name = |policy: &str, set: SetName| if sets.len() > 1 { format!("{policy} [{set}]") } else { policy.to_string() };
-    let mut by_row: BTreeMap<String, (String, Vec<EpisodeRecord>)> = BTreeMap::new();
+    let mut by_row: BTreeMap<String, (String, SetName, Vec<EpisodeRecord>)> = BTreeMap::new();
     for r in records {
-        by_row.entry(name(&r.policy, r.set)).or_insert_with(|| (r.policy.clone(), Vec::new())).1.push((*r).clone());
+        by_row.entry(name(&r.policy, r.set)).or_insert_with(|| (r.policy.clone(), r.set, Vec::new())).2.push((*r).clone());
     }
-    let mut rows: Vec<(String, String)> = by_row.iter().map(|(row, (policy, _))| (row.clone(), policy.clone())).collect();
-    rows.extend(vqa.keys().filter(|p| !by_row.values().any(|(policy, _)| policy == *p)).map(|p| (p.clone(), p.clone())));
+    let mut rows: Vec<(String, String, Option<SetName>)> =
+        by_row.iter().map(|(row, (policy, set, _))| (row.clone(), policy.clone(), Some(*set))).collect();
+    rows.extend(vqa.keys().filter(|p| !by_row.values().any(|(policy, ..)| policy == *p)).map(|p| (p.clone(), p.clone(), None)));
     rows.sort();
+    let names: Vec<String> = rows.iter().map(|(_, policy, _)| policy.clone()).collect();
+    let one_row = |policy: &str| names.iter().filter(|p| *p == policy).count() == 1;
     let mut report = Report { sets, looks, ..Report::default() };
-    for (row, policy) in rows {
+    for (row, policy, set) in rows {
         let episodes: Vec<EpisodeRecord> =
-            by_row.remove(&row).map(|(_, rs)| final_records(rs).into_values().collect()).unwrap_or_default();
+            by_row.remove(&row).map(|(.., rs)| final_records(rs).into_values().collect()).unwrap_or_default();
         if drawn && !episodes.is_empty() && episodes.iter().all(|r| r.look == NO_IMAGES) {
             report.no_images.push(row.clone());
         }
-        let scores = vqa.get(&policy);
+        // With several sets, a policy's VQA scores go with the row of their own set only (sets
+        // are never pooled); scores that name no set, only where the policy has one row.
+        let scores = vqa.get(&policy).filter(|s| match (set, s.set) {
+            (Some(row_set), Some(theirs)) => row_set == theirs,
+            (Some(_), None) => one_row(&policy),
+            (None, _) => true,
+        });
         report.table1.push(table1_row(&row, &episodes, scores));
         let (table2, counts) = table2_rows(&row, &episodes, scores);
         report.table2.extend(table2);

@@ -28,13 +28,14 @@ const COLUMNS: [Column; 11] = [
     ("UVI↓", false, |r| r.uvi.percent()),
 ];
 
-/// Cells with the best value bold and the second best underlined (only among ≥ 2 values).
+/// Cells with the best value bold and the second best underlined (only where the values differ:
+/// a column of equal values, such as a family every model fails, ranks nothing).
 pub(crate) fn ranked_cells(values: &[Option<f64>], higher_is_better: bool) -> Vec<String> {
     let key = |v: f64| if higher_is_better { v } else { -v };
     let mut distinct: Vec<f64> = values.iter().flatten().map(|&v| round1(key(v))).collect();
     distinct.sort_by(|a, b| b.total_cmp(a));
     distinct.dedup();
-    let marked = values.iter().flatten().count() >= 2;
+    let marked = distinct.len() >= 2;
     values
         .iter()
         .map(|v| match v {
@@ -203,6 +204,7 @@ mod tests {
         assert_eq!(ranked_cells(&v, true), ["10.0", "**30.0**", "–", "<u>20.0</u>"]);
         assert_eq!(ranked_cells(&v, false), ["**10.0**", "30.0", "–", "<u>20.0</u>"]);
         assert_eq!(ranked_cells(&[Some(5.0)], true), ["5.0"]);
+        assert_eq!(ranked_cells(&[Some(0.0), None, Some(0.0)], true), ["0.0", "–", "0.0"]);
         // 1/16 = 6.25 shows as 6.2, as 31/500 does: the two rank alike.
         assert_eq!(ranked_cells(&[Some(6.25), Some(6.2), Some(1.0)], true), ["**6.2**", "**6.2**", "<u>1.0</u>"]);
         assert_eq!(csv_field("a,b"), "\"a,b\"");

@@ -198,6 +198,8 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
     let out = dir.path().join("out");
     let out_arg = out.to_str().unwrap();
     let goal_zero = ["run", "--suite", "libero_goal", "--protocol", "original", "--policy", "zero", "--out", out_arg];
+    let cue_ppm = dir.path().join("cue.ppm");
+    let cue_ppm = cue_ppm.to_str().unwrap();
     let cases: Vec<(Vec<&str>, &str)> = vec![
         ([&goal_zero[..], &["--episodes", "0"]].concat(), "'--episodes <EPISODES>': expected 1 or more"),
         ([&goal_zero[..], &["--sample", "0"]].concat(), "'--sample <SAMPLE>': expected 1 or more"),
@@ -213,7 +215,11 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
         (vec!["cues", "gallery", "--size", "100000", "-o", out_arg], "--size must be between 16 and 4096"),
         ([&goal_zero[..], &["--episodes", "1000000000000"]].concat(), "at most 10000 episodes per instance"),
         (vec!["expert", "--episodes", "20000"], "at most 10000 episodes per instance"),
-        (vec!["cues", "render", "caption_bar", "put the bowl on the plate", "--source", "nan,1", "--out", out_arg], "NaN is not a finite number"),
+        (vec!["cues", "render", "caption_bar", "put the bowl on the plate", "--source", "nan,1", "--out", cue_ppm], "NaN is not a finite number"),
+        (vec!["cues", "render", "caption_bar", "put the bowl on the plate", "--out", "cue.png"], "as PPM: give a name ending in .ppm"),
+        // A timeout too long for a duration panicked.
+        (vec!["vqa", "answer", out_arg, "--endpoint", "http://127.0.0.1:1", "--model", "m", "--timeout", "1e30"], "--timeout 1000000000000000000000000000000: give a positive number"),
+        (vec!["vqa", "answer", out_arg, "--endpoint", "http://127.0.0.1:1", "--model", "m", "--timeout", "0"], "--timeout 0: give a positive number"),
         // A JPEG's name held PNG bytes.
         (vec!["render", "--task", "libero_spatial/0", "-o", "frame.jpg"], "as PNG: give a name ending in .png"),
         (vec!["render", "--task", "libero_spatial/0", "--gif", "rollout.png"], "as GIF: give a name ending in .gif"),

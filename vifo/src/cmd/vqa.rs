@@ -117,14 +117,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     match args.command {
         Command::Export { out, size, set, form, look } => export(&out, size, set, form, &look),
         Command::Answer { dir, endpoint, model, api_key, concurrency, retries, timeout, max_tokens, out, quiet } => {
-            anyhow::ensure!(timeout.is_finite() && timeout > 0.0, "--timeout must be a positive number of seconds");
+            let timeout = Duration::try_from_secs_f64(timeout)
+                .ok()
+                .filter(|t| !t.is_zero())
+                .with_context(|| format!("--timeout {timeout}: give a positive number of seconds a request may take (at most about 10^19)"))?;
             let questions = read_questions(&dir)?;
             let client = ChatClient::new(ClientConfig {
                 model,
                 api_key,
                 concurrency,
                 retries,
-                timeout: Duration::from_secs_f64(timeout),
+                timeout,
                 max_tokens,
                 quiet,
                 ..ClientConfig::new(&endpoint)

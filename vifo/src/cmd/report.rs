@@ -128,7 +128,8 @@ fn read_scores(items: &[String], option: &str, form: CueForm) -> anyhow::Result<
         if let Some(theirs) = scores.form.filter(|&f| f != form) {
             anyhow::bail!("{file}: scores of the {} export (vqa export --form {}); {option} takes the {} export's", theirs.name(), theirs.name(), form.name());
         }
-        out.insert(policy.to_string(), scores);
+        anyhow::ensure!(!policy.is_empty(), "{option} {item}: name the policy before `=`");
+        anyhow::ensure!(out.insert(policy.to_string(), scores).is_none(), "{option}: {policy} is given scores twice; give one file per policy");
     }
     Ok(out)
 }

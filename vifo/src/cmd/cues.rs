@@ -49,8 +49,8 @@ enum Command {
         json: bool,
     },
     /// An instance set of the 40 built-in tasks: counts per family and per task, the variants;
-    /// with --ids, the instance ids that `vifo render --cue`, `vifo run --instance` and
-    /// Python's `cue=` take.
+    /// with --ids, the instance ids that `vifo render --cue`, `vifo web episode --cue` and
+    /// Python's `cue=` take (`vifo run --instance` selects among a study's own instances).
     List {
         /// paper (the paper's 1,347 instances) or full (every instance the library makes).
         #[arg(long, default_value = "paper", value_parser = super::parse_set)]
@@ -103,8 +103,8 @@ enum Command {
         variant: String,
         /// The instruction the cue encodes.
         instruction: String,
-        /// The PPM image to write.
-        #[arg(long, default_value = "cue.ppm")]
+        /// The PPM image to write (a name ending in .ppm).
+        #[arg(long, default_value = "cue.ppm", value_parser = super::ppm_file)]
         out: PathBuf,
         /// Frame width and height in pixels.
         #[arg(long, default_value_t = 256)]

@@ -37,6 +37,11 @@ pub fn png_file(s: &str) -> Result<PathBuf, String> {
     file_ending(s, "png")
 }
 
+/// A file `vifo` writes as a binary PPM image.
+pub fn ppm_file(s: &str) -> Result<PathBuf, String> {
+    file_ending(s, "ppm")
+}
+
 /// A file `vifo` writes as an animated GIF.
 pub fn gif_file(s: &str) -> Result<PathBuf, String> {
     file_ending(s, "gif")

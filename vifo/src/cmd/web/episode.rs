@@ -14,7 +14,8 @@ pub struct Args {
     /// Shipped initial state (0..50).
     #[arg(long, default_value_t = 0)]
     init: usize,
-    /// Cue instance id (`libero_goal/0/F1/caption_bar`); not used by `original`.
+    /// Cue instance id (`libero_goal/0/F1/caption_bar`; `vifo cues list --ids` lists them):
+    /// needed by every condition but `original`.
     #[arg(long)]
     cue: Option<String>,
     /// Language condition: original, authorized, conflict or no_language.

@@ -189,6 +189,30 @@ fn a_run_whose_episodes_ended_in_errors_exits_with_an_error_after_its_report() {
     assert!(table.contains(&format!("| openpi@{url} |")), "{table}");
 }
 
+/// The same episodes in two results files (a copy, overlapping shards) are counted once, and
+/// the report says so: before, the order of the files decided silently which outcome counted.
+#[test]
+fn episodes_repeated_across_results_files_are_noted() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = Command::new(env!("CARGO_BIN_EXE_vifo"))
+        .args(["run", "--builtin-look", "--quiet", "--suite", "libero_goal", "--protocol", "original", "--episodes", "1", "--sample", "1"])
+        .args(["--policy", "zero", "--out"])
+        .arg(dir.path())
+        .output()
+        .expect("run vifo");
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let first = dir.path().join("results-zero.jsonl");
+    let copy = dir.path().join("copy.jsonl");
+    std::fs::copy(&first, &copy).unwrap();
+    let report = |files: &[&std::path::Path]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_vifo")).arg("report").args(files).arg("--out").arg(dir.path().join("r")).output().unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    assert!(report(&[&first, &copy]).contains("completed episodes in more than one results file: 1 (the first: zero libero_goal/"));
+    assert!(!report(&[&first]).contains("more than one results file"));
+}
+
 /// Counts and selections that would run nothing, server options given to built-in policies
 /// and an unknown gallery task are refused before anything is written (each once ran nothing,
 /// ignored the option or drew another task, and exited 0).

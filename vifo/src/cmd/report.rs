@@ -11,7 +11,7 @@ use vifo_protocols::runner::read_records;
 use vifo_protocols::studies;
 use vifo_protocols::vqa::VqaScores;
 use vifo_cues::SetName;
-use vifo_protocols::spec::{EpisodeRecord, RESULTS_VERSION};
+use vifo_protocols::spec::{EpisodeRecord, Outcome, RESULTS_VERSION};
 use vifo_protocols::CueForm;
 
 #[derive(ClapArgs)]
@@ -37,6 +37,8 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let mut records = Vec::new();
+    // Per episode (policy, set, key), the files holding a completed record of it.
+    let mut seen_in: BTreeMap<(String, SetName, String), Vec<PathBuf>> = BTreeMap::new();
     let files = results_files(&args.results)?;
     for path in &files {
         anyhow::ensure!(path.exists(), "{}: no such results file", path.display());
@@ -52,8 +54,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 r.version
             );
         }
+        for r in loaded.records.iter().filter(|r| matches!(r.outcome, Outcome::Completed { .. })) {
+            let files = seen_in.entry((r.policy.clone(), r.set, r.spec.key())).or_default();
+            if files.last() != Some(path) {
+                files.push(path.clone());
+            }
+        }
         records.extend(loaded.records);
     }
+    note_repeats(&seen_in);
     let vqa = read_scores(&args.vqa, "--vqa", CueForm::Overlay)?;
     let vqa_object = read_scores(&args.vqa_object, "--vqa-object", CueForm::Object)?;
     check_sets(&records, vqa.iter().chain(&vqa_object))?;
@@ -114,6 +123,22 @@ fn once_each(files: Vec<PathBuf>) -> Vec<PathBuf> {
         }
     }
     kept
+}
+
+/// Says when files overlap (a copied file, overlapping shards): of an episode completed in
+/// several files, the one given last counts, so the order of the arguments would change the
+/// tables without a word.
+fn note_repeats(seen_in: &BTreeMap<(String, SetName, String), Vec<PathBuf>>) {
+    let repeated: Vec<_> = seen_in.iter().filter(|(_, files)| files.len() > 1).collect();
+    if let Some(((policy, _, key), files)) = repeated.first() {
+        let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+        eprintln!(
+            "note: completed episodes in more than one results file: {} (the first: {policy} {key} in {}); each counts once, \
+             as recorded in the file given last",
+            repeated.len(),
+            names.join(" and ")
+        );
+    }
 }
 
 /// `POLICY=FILE` items of VQA scores (`vifo vqa score --out`) of the `form` export: scores

@@ -224,6 +224,9 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
     let goal_zero = ["run", "--suite", "libero_goal", "--protocol", "original", "--policy", "zero", "--out", out_arg];
     let cue_ppm = dir.path().join("cue.ppm");
     let cue_ppm = cue_ppm.to_str().unwrap();
+    let answers = dir.path().join("pred-model.jsonl");
+    std::fs::write(&answers, "{\"id\": \"q1\", \"prediction\": \"A\"}\n").unwrap();
+    let answers = answers.to_str().unwrap();
     let cases: Vec<(Vec<&str>, &str)> = vec![
         ([&goal_zero[..], &["--episodes", "0"]].concat(), "'--episodes <EPISODES>': expected 1 or more"),
         ([&goal_zero[..], &["--sample", "0"]].concat(), "'--sample <SAMPLE>': expected 1 or more"),
@@ -241,6 +244,9 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
         (vec!["expert", "--episodes", "20000"], "at most 10000 episodes per instance"),
         (vec!["cues", "render", "caption_bar", "put the bowl on the plate", "--source", "nan,1", "--out", cue_ppm], "NaN is not a finite number"),
         (vec!["cues", "render", "caption_bar", "put the bowl on the plate", "--out", "cue.png"], "as PPM: give a name ending in .ppm"),
+        (vec!["vqa", "blind", out_arg, "--set", "full"], "cannot be used with"),
+        // The answer key replaced a model's answers.
+        (vec!["vqa", "oracle", out_arg, "--out", answers], "already holds predictions"),
         // A timeout too long for a duration panicked.
         (vec!["vqa", "answer", out_arg, "--endpoint", "http://127.0.0.1:1", "--model", "m", "--timeout", "1e30"], "--timeout 1000000000000000000000000000000: give a positive number"),
         (vec!["vqa", "answer", out_arg, "--endpoint", "http://127.0.0.1:1", "--model", "m", "--timeout", "0"], "--timeout 0: give a positive number"),

@@ -104,8 +104,9 @@ enum Command {
         /// Export folder; without it, the questions of `--set` are generated here (the
         /// baselines need no images).
         dir: Option<PathBuf>,
-        /// The instance set whose questions are generated without DIR: paper or full.
-        #[arg(long, default_value = "paper", value_parser = super::parse_set)]
+        /// The instance set whose questions are generated without DIR: paper or full (an
+        /// export folder's questions are those of its own set).
+        #[arg(long, default_value = "paper", value_parser = super::parse_set, conflicts_with = "dir")]
         set: SetName,
         /// Also write each strategy's predictions into this folder.
         #[arg(long)]
@@ -185,6 +186,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             Ok(())
         }
         Command::Oracle { dir, out } => {
+            // A model's answers (`vqa answer` appends to its file) must not be replaced by the key.
+            anyhow::ensure!(
+                std::fs::metadata(&out).map_or(true, |m| m.len() == 0),
+                "{}: already holds predictions; the answer key goes to a new file (name another --out)",
+                out.display()
+            );
             let questions = read_questions(&dir)?;
             write(&out, "")?;
             append_predictions(&out, &answerers::oracle(&questions))?;

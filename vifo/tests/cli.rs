@@ -245,6 +245,8 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
         (vec!["cues", "render", "caption_bar", "put the bowl on the plate", "--source", "nan,1", "--out", cue_ppm], "NaN is not a finite number"),
         (vec!["cues", "render", "caption_bar", "put the bowl on the plate", "--out", "cue.png"], "as PPM: give a name ending in .ppm"),
         (vec!["vqa", "blind", out_arg, "--set", "full"], "cannot be used with"),
+        // A trial count overwrote the shipped states.
+        (vec!["init-states", "generate", "--suite", "libero_goal", "--states", "5"], "--states 5: the shipped files hold 50 states per task"),
         // The answer key replaced a model's answers.
         (vec!["vqa", "oracle", out_arg, "--out", answers], "already holds predictions"),
         // A timeout too long for a duration panicked.

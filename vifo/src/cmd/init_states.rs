@@ -30,7 +30,8 @@ enum Command {
         /// One suite (default: all four).
         #[arg(long)]
         suite: Option<String>,
-        /// Output folder (default: the repository's `scenes/init_states`).
+        /// Output folder (default: the repository's `scenes/init_states`, for the shipped 50
+        /// states only).
         #[arg(long)]
         out: Option<PathBuf>,
         /// States per task.
@@ -61,7 +62,10 @@ enum Command {
 pub fn run(args: Args) -> Result<()> {
     match args.command {
         Command::Generate { suite, out, states, threads } => {
-            let out = out.unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scenes/init_states"));
+            let out = match out {
+                Some(out) => out,
+                None => shipped_folder(states)?,
+            };
             // Fail before the minutes of work, not after.
             vifo_protocols::runner::create_folder(&out)?;
             for suite in selected(suite.as_deref())? {
@@ -92,6 +96,20 @@ pub fn run(args: Args) -> Result<()> {
             Ok(())
         }
     }
+}
+
+/// The repository's `scenes/init_states`, the default of `generate`: only in the source checkout
+/// this program was built from, and only for the shipped count of states, so that a trial run
+/// (`--states 5`) cannot overwrite the shipped files.
+fn shipped_folder(states: usize) -> Result<PathBuf> {
+    let folder = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scenes/init_states");
+    anyhow::ensure!(folder.is_dir(), "{}: no source checkout here to regenerate; give --out FOLDER", folder.display());
+    let shipped = vifo_protocols::benchmark::specs::INIT_STATES;
+    anyhow::ensure!(
+        states == shipped,
+        "--states {states}: the shipped files hold {shipped} states per task; write other counts elsewhere with --out FOLDER"
+    );
+    Ok(folder)
 }
 
 fn selected(name: Option<&str>) -> Result<Vec<&'static Suite>> {

@@ -66,6 +66,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let vqa = read_scores(&args.vqa, "--vqa", CueForm::Overlay)?;
     let vqa_object = read_scores(&args.vqa_object, "--vqa-object", CueForm::Object)?;
     check_sets(&records, vqa.iter().chain(&vqa_object))?;
+    note_unmatched_scores(&records, vqa.keys().chain(vqa_object.keys()));
     let mut by_form: studies::objects::FormVqa = BTreeMap::new();
     for (forms, form) in [(&vqa, CueForm::Overlay), (&vqa_object, CueForm::Object)] {
         by_form.extend(forms.iter().map(|(p, s)| ((p.clone(), form), s.clone())));
@@ -123,6 +124,20 @@ fn once_each(files: Vec<PathBuf>) -> Vec<PathBuf> {
         }
     }
     kept
+}
+
+/// Scores under a name no episode has get a row of their own (a VLM evaluated on VQA only);
+/// said aloud, since a served policy's episodes are named by its address (`openpi@ws://…`).
+fn note_unmatched_scores<'a>(records: &[EpisodeRecord], names: impl Iterator<Item = &'a String>) {
+    let policies: std::collections::BTreeSet<&str> = records.iter().map(|r| r.policy.as_str()).collect();
+    if policies.is_empty() {
+        return;
+    }
+    let unmatched: std::collections::BTreeSet<&String> = names.filter(|n| !policies.contains(n.as_str())).collect();
+    for name in unmatched {
+        let listed: Vec<&str> = policies.iter().copied().collect();
+        eprintln!("note: VQA scores of {name}: no episodes of that name (the results hold {}), so they get a row of their own", listed.join(", "));
+    }
 }
 
 /// Says when files overlap (a copied file, overlapping shards): of an episode completed in

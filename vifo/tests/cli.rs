@@ -235,6 +235,7 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
         (vec!["run", "--suite", "libero_nope", "--out", out_arg], "unknown suite \"libero_nope\""),
         ([&goal_zero[..], &["--model-profile", "pi05"]].concat(), "say how to talk to a policy server; zero is built-in"),
         (vec!["bench", "physics", "--steps", "0"], "expected 1 or more"),
+        (vec!["bench", "scaling", "--threads", "0,2", "--scratch", out_arg], "--threads 0,2: a thread count is at least 1"),
         (vec!["init-states", "generate", "--suite", "libero_goal", "--states", "0", "--out", out_arg], "expected 1 or more"),
         (vec!["cues", "gallery", "--task", "libero_goal/99", "-o", out_arg], "task 'libero_goal/99': no such task"),
         // A huge count or tile was allocated before it was checked (a 120 GB sheet, a list of

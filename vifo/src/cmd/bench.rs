@@ -155,8 +155,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 let mut counts = threads.clone();
                 counts.sort_unstable();
                 counts.dedup();
-                anyhow::ensure!(counts.first() != Some(&0), "--threads {threads:?}: a thread count is at least 1");
-                anyhow::ensure!(counts.first() == Some(&1), "--threads {threads:?}: name 1 among the counts (the speedup is against one thread)");
+                anyhow::ensure!(counts.first() != Some(&0), "--threads {}: a thread count is at least 1", list(threads));
+                anyhow::ensure!(counts.first() == Some(&1), "--threads {}: name 1 among the counts (the speedup is against one thread)", list(threads));
                 counts
             };
             let rounds = *rounds as usize;
@@ -231,4 +231,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// Thread counts as the command line gave them (`1,2,4`).
+fn list(counts: &[usize]) -> String {
+    counts.iter().map(ToString::to_string).collect::<Vec<_>>().join(",")
 }

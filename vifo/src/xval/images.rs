@@ -108,7 +108,7 @@ pub fn reference_image(path: &Path, camera: CameraName, t: usize) -> PathBuf {
 pub fn compare(path: &Path, rec: &Recording, out: &Path, look: Option<&Look>) -> Result<Vec<ImageReport>> {
     let last = IMAGE_STEPS[IMAGE_STEPS.len() - 1];
     if rec.steps.len() <= last {
-        bail!("{}: {} records; the image check needs record {last}", path.display(), rec.steps.len());
+        bail!("{} records; the image check needs record {last}", rec.steps.len());
     }
     vifo_protocols::runner::create_folder(out)?;
     let file = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();

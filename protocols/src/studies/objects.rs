@@ -142,7 +142,7 @@ fn paired(episodes: Vec<EpisodeRecord>) -> (Vec<EpisodeRecord>, usize) {
 
 /// The table of the policies that have object-form episodes in `records` or object-form VQA
 /// scores in `vqa` (repeated records of one episode: the last completed one counts, as in the
-/// main report; only episodes present in both forms, see [`paired`]), and with two policies or
+/// main report; only episodes present in both forms, as `paired` picks them), and with two policies or
 /// more an Avg. row over them (the paper's §4.2 figures are such averages over its models).
 pub fn build(records: &[EpisodeRecord], vqa: &FormVqa) -> Table {
     let sets: BTreeSet<_> = records.iter().map(|r| r.set).collect();

@@ -314,6 +314,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::episode_specs, m)?)?;
     m.add_function(wrap_pyfunction!(run::run_specs, m)?)?;
     m.add_function(wrap_pyfunction!(run::check_policy, m)?)?;
+    m.add_function(wrap_pyfunction!(run::policy_name, m)?)?;
     m.add_function(wrap_pyfunction!(run::record_keys, m)?)?;
     m.add_function(wrap_pyfunction!(run::write_report, m)?)?;
     m.add_function(wrap_pyfunction!(tasks, m)?)?;

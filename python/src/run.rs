@@ -74,6 +74,13 @@ pub fn check_policy(policy: &str) -> PyResult<()> {
     Ok(())
 }
 
+/// The name `policy`'s records carry (`vifo run`'s): a built-in's, or `openpi@<url>`.
+#[pyfunction]
+pub fn policy_name(policy: &str) -> PyResult<String> {
+    check_policy(policy)?;
+    Ok(builtin(policy).map_or_else(|| RemoteConfig::new(policy).policy_name(), |p| p.name()))
+}
+
 /// Runs the episodes `specs` (JSON, from `episode_specs`) with `policy` into the results file
 /// `output` exactly as `vifo run` does (threads, resume, the cameras only for policies that
 /// look, fast-forward, the look `vifo run` would find with `--assets`, `--robot-assets` and
@@ -109,8 +116,7 @@ pub fn run_specs(
     }
     let config = EnvConfig { size, cameras: if render { CameraName::ALL.to_vec() } else { Vec::new() }, cue_facing, ..EnvConfig::default() };
     // The name the policy's records carry, which a resumed file must hold.
-    let name = builtin(policy).map_or_else(|| RemoteConfig::new(policy).policy_name(), |p| p.name());
-    let options = RunOptions { threads, resume, quiet, policy: name, set: parse_set(set)?, ..RunOptions::new(output) };
+    let options = RunOptions { threads, resume, quiet, policy: policy_name(policy)?, set: parse_set(set)?, ..RunOptions::new(output) };
     let make = || -> Result<Box<dyn Policy>, String> {
         match builtin(policy) {
             Some(p) => Ok(p),
@@ -133,10 +139,11 @@ pub struct ResultsFile {
 #[pymethods]
 impl ResultsFile {
     #[new]
-    #[pyo3(signature = (path, set = "paper", resume = false))]
-    fn new(path: PathBuf, set: &str, resume: bool) -> PyResult<ResultsFile> {
+    #[pyo3(signature = (path, set = "paper", resume = false, policy = ""))]
+    fn new(path: PathBuf, set: &str, resume: bool, policy: &str) -> PyResult<ResultsFile> {
         let set = parse_set(set)?;
-        let options = RunOptions { resume, set, ..RunOptions::new(&path) };
+        // With a policy name, a resumed file's completed records must be that policy's.
+        let options = RunOptions { resume, set, policy: policy.to_string(), ..RunOptions::new(&path) };
         let open = vifo_protocols::runner::open_results(&options).map_err(run_err)?;
         Ok(ResultsFile { open: Some(open), set, path })
     }

@@ -85,11 +85,17 @@ def test_batches_drawn_with_another_look_than_the_files_are_not_written(cluster,
     first = json.loads(out.read_text().splitlines()[0])
     # The built-in policy was sent no images: its record has no look, so it goes with any.
     assert first["look"] == "none", first
-    out.write_text(json.dumps({**first, "look": "libero-assets:0123456789abcdef"}) + "\n")
+    served = {**first, "look": "libero-assets:0123456789abcdef", "policy": _native.policy_name("ws://127.0.0.1:1")}
+    out.write_text(json.dumps(served) + "\n")
     s = run_benchmark(SELECTION, "ws://127.0.0.1:1", output=out, resume=True, batch_size=4, quiet=True)
     assert (s["already_done"], s["ran"], s["failed_batches"], s["missing"]) == (1, 0, 2, 7)
     said = capsys.readouterr().out
     assert "episodes was drawn with look " in said and "this run's with libero-assets:0123456789abcdef; not written" in said, said
+    # Resuming with another policy would count the served policy's episode as done: refused,
+    # as `vifo run --resume` refuses it (before, the built-in's records joined the file).
+    with pytest.raises(RuntimeError, match="holds completed episodes of the policy openpi@ws://127.0.0.1:1, not of expert-cue"):
+        run_benchmark(SELECTION, "expert-cue", output=out, resume=True, batch_size=4, quiet=True)
+    out.write_text(json.dumps(first) + "\n")
     s = run_benchmark(SELECTION, "expert-cue", output=out, resume=True, batch_size=4, quiet=True)
     assert (s["already_done"], s["ran"], s["failed_batches"], s["missing"]) == (1, 7, 0, 0)
     with pytest.raises(ValueError, match="builtin_look=True draws no asset files"):
@@ -114,7 +120,7 @@ def test_a_sigkilled_worker_is_recovered_without_missing_or_duplicate_episodes(t
     assert len(records) == 20 and len({k for k, _ in records}) == 20 and all(ok for _, ok in records)
 
 
-def test_batches_go_to_one_openpi_server_each(cluster, tmp_path):
+def test_batches_are_spread_over_the_openpi_servers(cluster, tmp_path):
     missing = [m for m in ("openpi_client", "websockets") if importlib.util.find_spec(m) is None]
     if missing:
         print(f"SKIPPED: the scripted openpi server needs {', '.join(missing)}")
@@ -139,4 +145,4 @@ def test_batches_go_to_one_openpi_server_each(cluster, tmp_path):
     # Both servers answered, and every record names one policy (one row in the report).
     assert all(log.exists() and log.read_text().count("\n") > 0 for log in logs)
     policies = {json.loads(line)["policy"] for line in out.read_text().splitlines()}
-    assert len(policies) == 1 and policies.pop().startswith("openpi@ws://127.0.0.1:")
+    assert policies == {f"openpi@{urls[0]}"}, policies

@@ -189,6 +189,27 @@ fn a_run_whose_episodes_ended_in_errors_exits_with_an_error_after_its_report() {
     assert!(table.contains(&format!("| openpi@{url} |")), "{table}");
 }
 
+/// The request timeout was fixed at 180 s: a server that took a connection and never answered
+/// cost three minutes per episode, and a slow first compile could not be waited for longer.
+#[test]
+fn a_server_that_never_answers_times_out_after_policy_timeout() {
+    let dir = tempfile::tempdir().unwrap();
+    // Connections queue in the listener's backlog; nothing ever reads or answers them.
+    let listener = std::net::TcpListener::bind(("127.0.0.1", 0)).unwrap();
+    let url = format!("http://127.0.0.1:{}/act", listener.local_addr().unwrap().port());
+    let start = std::time::Instant::now();
+    let out = Command::new(env!("CARGO_BIN_EXE_vifo"))
+        .args(["run", "--builtin-look", "--quiet", "--suite", "libero_goal", "--protocol", "original", "--episodes", "1"])
+        .args(["--threads", "1", "--policy", &url, "--policy-timeout", "0.5", "--out"])
+        .arg(dir.path())
+        .output()
+        .expect("run vifo");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(!out.status.success() && stdout.contains("timed out after 0.5 s"), "{stdout}");
+    assert!(start.elapsed().as_secs() < 120, "{:?}", start.elapsed());
+    drop(listener);
+}
+
 /// The same episodes in two results files (a copy, overlapping shards) are counted once, and
 /// the report says so: before, the order of the files decided silently which outcome counted.
 #[test]
@@ -253,6 +274,8 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
         // A timeout too long for a duration panicked.
         (vec!["vqa", "answer", out_arg, "--endpoint", "http://127.0.0.1:1", "--model", "m", "--timeout", "1e30"], "--timeout 1000000000000000000000000000000: give a positive number"),
         (vec!["vqa", "answer", out_arg, "--endpoint", "http://127.0.0.1:1", "--model", "m", "--timeout", "0"], "--timeout 0: give a positive number"),
+        ([&goal_zero[..], &["--policy-timeout", "0"]].concat(), "0: give a number of seconds above 0"),
+        ([&goal_zero[..], &["--policy-timeout", "1e30"]].concat(), "at most 86400"),
         // A JPEG's name held PNG bytes.
         (vec!["render", "--task", "libero_spatial/0", "-o", "frame.jpg"], "as PNG: give a name ending in .png"),
         (vec!["render", "--task", "libero_spatial/0", "--gif", "rollout.png"], "as GIF: give a name ending in .gif"),

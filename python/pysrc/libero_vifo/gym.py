@@ -24,6 +24,13 @@ import numpy as np
 from gymnasium import spaces
 from gymnasium.vector.utils import batch_space
 
+try:  # gymnasium >= 1.1 names the mode with an enum, which its vector wrappers require
+    from gymnasium.vector import AutoresetMode
+
+    _NEXT_STEP = AutoresetMode.NEXT_STEP
+except ImportError:  # gymnasium 1.0: a string
+    _NEXT_STEP = "NextStep"
+
 from . import _native
 from ._args import action as _action
 from ._args import index
@@ -128,7 +135,7 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
     ``cue_facing`` as :class:`LiberoVifoEnv`'s.
     """
 
-    metadata = {"autoreset_mode": "NextStep"}
+    metadata = {"autoreset_mode": _NEXT_STEP}
 
     def __init__(self, num_envs=1, suite=None, task=None, size=256, cue=None, language_condition=None, threads=None, episodes=None,
                  cue_facing="upright"):

@@ -84,8 +84,9 @@ def run_benchmark(
       ``suites``, ``protocols``, ``families``, ``per_family``, ``episodes``.
     - ``policy``: a built-in (``expert-cue``, ``expert-language``, ``expert-authorized``,
       ``random``, ``zero``), an openpi server ``ws://host:port``, or a list of servers: batch
-      ``j`` goes to server ``j % len(list)``, so with one server per worker each worker
-      talks to its own; the records carry one policy name (the first record's server's).
+      ``j`` goes to server ``j % len(list)`` (Ray gives a batch to whichever worker is free,
+      so two workers may share a server for a while); the records carry one policy name, the
+      first server's, and a resumed file must hold that policy's records.
     - ``address``: the cluster (``"auto"``, ``"ray://head:10001"``); ``None`` starts a local
       one with ``num_workers`` CPUs unless Ray is already initialised.
     - ``output``: the JSONL file (default ``vifo-run-ray/results-<policy>.jsonl``); ``resume``
@@ -132,7 +133,10 @@ def run_benchmark(
     look = {"assets": assets, "robot_assets": robot_assets, "builtin_look": builtin_look, "cue_facing": cue_facing}
     specs = _native.episode_specs(set=set_name, **selection)
     expected = {key for key, _ in specs}
-    results = _native.ResultsFile(output, set=set_name, resume=resume)
+    # One run, one policy row in the report: records served by several servers carry the
+    # first server's name.
+    run_name = _native.policy_name(servers[0])
+    results = _native.ResultsFile(output, set=set_name, resume=resume, policy=run_name)
     start = time.monotonic()
     try:
         done = set(results.done())
@@ -151,7 +155,7 @@ def run_benchmark(
             task.remote([s for _, s in batch], servers[j % len(servers)], set_name, size, look): batch
             for j, batch in enumerate(batches)
         }
-        written, messages, failed, run_name = set(), collections.Counter(), 0, None
+        written, messages, failed = set(), collections.Counter(), 0
         while pending:
             ready, _ = ray.wait(list(pending), num_returns=1)
             for ref in ready:
@@ -177,10 +181,7 @@ def run_benchmark(
                 for key, line, record in records:
                     if key in written or key not in expected:
                         continue
-                    # One run, one policy row in the report: records served by several
-                    # servers carry the name of the first record's server.
-                    run_name = run_name or record["policy"]
-                    if len(servers) > 1 and record["policy"] != run_name:
+                    if record["policy"] != run_name:
                         line = json.dumps({**record, "policy": run_name})
                     results.write(line)
                     written.add(key)

@@ -17,7 +17,7 @@
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use anyhow::{Context, bail};
 use clap::Args as ClapArgs;
@@ -76,6 +76,11 @@ pub struct Args {
     /// Wire format where the URL scheme is ambiguous (ws://: openpi or internvla).
     #[arg(long)]
     policy_format: Option<String>,
+    /// Seconds a policy server may take to answer one request before its episode is recorded as
+    /// an error (retried by --resume). The first requests of a fresh server can compile the
+    /// model (JAX, CUDA kernels): give it minutes, or warm the server up first.
+    #[arg(long, value_name = "SECONDS", default_value = "180", value_parser = policy_timeout)]
+    policy_timeout: Duration,
     /// Which way cues drawn over the frames face. upright: readable in the upright frame; every
     /// model profile receives that frame mirrored left-right (LIBERO's "180° rotation"), so the
     /// model sees a cue's text backwards, as it sees the scene. model: drawn readable in the
@@ -424,7 +429,8 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&P
                 ServedPolicy::connect(config).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string())
             }
             (None, None) => {
-                RemotePolicy::connect(policy).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string())
+                let config = RemoteConfig { request_timeout: args.policy_timeout, ..RemoteConfig::new(policy) };
+                RemotePolicy::with_config(config).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string())
             }
         }
     };
@@ -494,7 +500,20 @@ fn serving_config(url: &str, args: &Args) -> anyhow::Result<Option<ServingConfig
         vifo_protocols::remote::parse_url(url)?;
         return Ok(None);
     }
-    Ok(Some(ServingConfig { frame_size: args.size, ..ServingConfig::new(url, format, profile)? }))
+    Ok(Some(ServingConfig {
+        frame_size: args.size,
+        request_timeout: args.policy_timeout,
+        ..ServingConfig::new(url, format, profile)?
+    }))
+}
+
+/// `--policy-timeout`: seconds, more than 0 and at most a day (deadlines are computed from it).
+fn policy_timeout(s: &str) -> Result<Duration, String> {
+    let secs: f64 = s.parse().map_err(|_| format!("{s:?} is not a number of seconds"))?;
+    if !(secs > 0.0 && secs <= 86_400.0) {
+        return Err(format!("{s}: give a number of seconds above 0 and at most 86400 (a day)"));
+    }
+    Ok(Duration::from_secs_f64(secs))
 }
 
 /// Tables and charts of every results file in the folder, and the clips of `policies` (name,

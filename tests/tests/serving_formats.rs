@@ -347,6 +347,28 @@ fn malformed_lerobot() {
     );
 }
 
+/// gRPC reconnects by itself to a restarted LeRobot server, which then has no policy loaded:
+/// every later episode failed as "empty actions". After a failed request the next episode sets
+/// the policy up again.
+#[test]
+fn lerobot_sets_its_policy_up_again_after_a_failed_request() {
+    if !python::ready("lerobot_sets_its_policy_up_again_after_a_failed_request", modules(Format::LeRobot)) {
+        return;
+    }
+    let case = cases().into_iter().find(|c| c.format == Format::LeRobot).unwrap();
+    let server = Server::for_format(Format::LeRobot, case.chunk, &[]);
+    let mut policy = connect(&case, &server).unwrap();
+    let setups = || server.log().matches("SETUP ").count();
+    policy.reset().unwrap();
+    policy.act(&observation("pick up the bowl")).unwrap();
+    policy.reset().unwrap();
+    assert_eq!(setups(), 1, "a good episode needs no new set-up: {}", server.log());
+    assert!(policy.act(&observation("malformed:error_status")).is_err());
+    policy.reset().unwrap();
+    assert_eq!(setups(), 2, "{}", server.log());
+    policy.act(&observation("pick up the bowl")).unwrap();
+}
+
 #[test]
 fn internvla_metadata_is_checked() {
     if !python::ready("internvla_metadata_is_checked", modules(Format::InternVla)) {

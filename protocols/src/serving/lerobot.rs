@@ -129,6 +129,9 @@ pub struct LeRobotTransport {
     setup: Setup,
     image_side: usize,
     timestep: i64,
+    /// A request failed: the server may have restarted since its policy was set up (gRPC
+    /// reconnects by itself, to a server that has none), so the next episode sets it up again.
+    set_up_again: bool,
 }
 
 /// An error with its causes: tonic's own says only "transport error", its sources why.
@@ -171,11 +174,33 @@ impl LeRobotTransport {
             setup,
             image_side: config.profile.image_size.unwrap_or(config.frame_size) as usize,
             timestep: 0,
+            set_up_again: false,
         };
-        t.unary::<Empty, Empty>("Ready", Empty {})?;
-        let data = policy_setup(&t.setup, t.image_side);
-        t.unary::<PolicySetup, Empty>("SendPolicyInstructions", PolicySetup { data })?;
+        t.set_up()?;
         Ok(t)
+    }
+
+    /// Tells the server a client is ready and which policy to load.
+    fn set_up(&mut self) -> Result<(), PolicyError> {
+        self.unary::<Empty, Empty>("Ready", Empty {})?;
+        let data = policy_setup(&self.setup, self.image_side);
+        self.unary::<PolicySetup, Empty>("SendPolicyInstructions", PolicySetup { data })?;
+        Ok(())
+    }
+
+    fn request(&mut self, input: &ModelInput) -> Result<Vec<[f64; 7]>, PolicyError> {
+        let timestep = self.timestep;
+        self.timestep += 1;
+        let now = SystemTime::now().duration_since(UNIX_EPOCH).map_or(0.0, |d| d.as_secs_f64());
+        self.send_observation(observation(input, &self.setup.wrist, timestep, now))?;
+        let reply: Actions = self.unary("GetActions", Empty {})?;
+        if reply.data.is_empty() {
+            return Err(PolicyError::Other(format!(
+                "the server answered no actions for observation #{timestep}: its policy failed on it \
+                 (LeRobot answers an empty chunk when the policy raises; the server's log has the error)"
+            )));
+        }
+        parse(&reply.data, timestep)
     }
 
     fn unary<A, B>(&mut self, method: &'static str, message: A) -> Result<B, PolicyError>
@@ -369,18 +394,17 @@ pub fn parse(data: &[u8], timestep: i64) -> Result<Vec<[f64; 7]>, PolicyError> {
 
 impl Transport for LeRobotTransport {
     fn infer(&mut self, input: &ModelInput) -> Result<Vec<[f64; 7]>, PolicyError> {
-        let timestep = self.timestep;
-        self.timestep += 1;
-        let now = SystemTime::now().duration_since(UNIX_EPOCH).map_or(0.0, |d| d.as_secs_f64());
-        self.send_observation(observation(input, &self.setup.wrist, timestep, now))?;
-        let reply: Actions = self.unary("GetActions", Empty {})?;
-        if reply.data.is_empty() {
-            return Err(PolicyError::Other(format!(
-                "the server answered no actions for observation #{timestep}: its policy failed on it \
-                 (LeRobot answers an empty chunk when the policy raises; the server's log has the error)"
-            )));
+        let reply = self.request(input);
+        self.set_up_again |= reply.is_err();
+        reply
+    }
+
+    fn reset(&mut self) -> Result<(), PolicyError> {
+        if self.set_up_again {
+            self.set_up()?;
+            self.set_up_again = false;
         }
-        parse(&reply.data, timestep)
+        Ok(())
     }
 }
 

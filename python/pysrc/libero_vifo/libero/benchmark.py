@@ -90,9 +90,17 @@ def _suite_class(suite):
 BENCHMARK_MAPPING = {s: _suite_class(s) for s in SUITES}
 
 
+class _Suites(dict):
+    """A dict whose missing suite (LIBERO's ``libero_90``, which LIBERO-VIFO does not port)
+    raises a ``KeyError`` that names the known ones, as ``get_benchmark`` does."""
+
+    def __missing__(self, name):
+        raise KeyError(f"unknown suite {name!r}; known: {', '.join(SUITES)}")
+
+
 def get_benchmark_dict():
     """Suite name -> suite class (call it to get the suite), as LIBERO's."""
-    return dict(BENCHMARK_MAPPING)
+    return _Suites(BENCHMARK_MAPPING)
 
 
 def get_benchmark(name):

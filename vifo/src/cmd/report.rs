@@ -134,9 +134,9 @@ fn note_unmatched_scores<'a>(records: &[EpisodeRecord], names: impl Iterator<Ite
         return;
     }
     let unmatched: std::collections::BTreeSet<&String> = names.filter(|n| !policies.contains(n.as_str())).collect();
+    let listed = policies.into_iter().collect::<Vec<_>>().join(", ");
     for name in unmatched {
-        let listed: Vec<&str> = policies.iter().copied().collect();
-        eprintln!("note: VQA scores of {name}: no episodes of that name (the results hold {}), so they get a row of their own", listed.join(", "));
+        eprintln!("note: VQA scores of {name}: no episodes of that name (the results hold {listed}), so they get a row of their own");
     }
 }
 

@@ -349,7 +349,8 @@ mod tests {
         }
     }
 
-    fn observation() -> Observation {
+    /// A small observation, for the transports' tests too.
+    pub(super) fn observation() -> Observation {
         Observation {
             agentview: RgbImage::filled(8, 8, [1, 2, 3]).unwrap(),
             wrist: RgbImage::filled(8, 8, [4, 5, 6]).unwrap(),

@@ -173,13 +173,29 @@ fn exact7(rows: Vec<[f64; 7]>, cols: usize) -> Result<Vec<[f64; 7]>, PolicyError
     Ok(rows)
 }
 
+/// Whether the server closed the connection under the request (rather than refused it or let
+/// it time out).
+fn closed_by_peer(e: &std::io::Error) -> bool {
+    use std::io::ErrorKind::*;
+    matches!(e.kind(), ConnectionReset | ConnectionAborted | BrokenPipe | UnexpectedEof)
+}
+
 /// A reply larger than this is refused unread: an action chunk is a few kilobytes.
 const MAX_REPLY_BYTES: u64 = 64 << 20;
 
 impl Transport for OftTransport {
     fn infer(&mut self, input: &ModelInput) -> Result<Vec<[f64; 7]>, PolicyError> {
         let url = &self.url;
-        let mut response = self.agent.post(url).send_json(encode(input)).map_err(|e| match e {
+        let body = encode(input);
+        let send = || self.agent.post(url).send_json(&body);
+        // A kept-alive connection that the server's keep-alive closes just as the request goes
+        // out ends in a reset before any reply: one fresh connection is safe to try, because
+        // inference keeps no server state (the websocket clients reconnect likewise).
+        let sent = match send() {
+            Err(ureq::Error::Io(e)) if closed_by_peer(&e) => send(),
+            other => other,
+        };
+        let mut response = sent.map_err(|e| match e {
             ureq::Error::Timeout(_) => PolicyError::Timeout(self.timeout_s),
             other => PolicyError::Connection(format!("{url}: {other}")),
         })?;
@@ -230,5 +246,54 @@ mod tests {
             let e = parse(&body).unwrap_err().to_string();
             assert!(e.contains(expected), "{body}: {e}");
         }
+    }
+
+    /// Reads one HTTP request (headers and a `Content-Length` body) from `s`.
+    fn read_request(s: &mut std::net::TcpStream) {
+        use std::io::Read;
+        let mut buf = Vec::new();
+        let mut byte = [0u8; 1];
+        while !buf.ends_with(b"\r\n\r\n") {
+            s.read_exact(&mut byte).unwrap();
+            buf.push(byte[0]);
+        }
+        let head = String::from_utf8_lossy(&buf).to_ascii_lowercase();
+        let len: usize = head
+            .lines()
+            .find_map(|l| l.strip_prefix("content-length:"))
+            .map_or(0, |v| v.trim().parse().unwrap());
+        s.read_exact(&mut vec![0; len]).unwrap();
+    }
+
+    /// A kept-alive connection that the server closes just as the next request goes out (its
+    /// keep-alive ran out) costs that request one fresh connection, not the episode.
+    #[test]
+    fn a_kept_alive_connection_closed_by_the_server_is_tried_once_afresh() {
+        use std::io::Write;
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let url = format!("http://{}/act", listener.local_addr().unwrap());
+        let server = std::thread::spawn(move || {
+            let reply = |s: &mut std::net::TcpStream| {
+                let body = "[[0,0,0,0,0,0,1]]";
+                write!(s, "HTTP/1.1 200 OK\r\ncontent-type: application/json\r\ncontent-length: {}\r\n\r\n{body}", body.len())
+                    .unwrap();
+            };
+            let (mut first, _) = listener.accept().unwrap();
+            read_request(&mut first);
+            reply(&mut first);
+            // The second request arrives on the kept-alive connection: close it unanswered,
+            // with the request unread (the client then sees a reset or an early end).
+            first.peek(&mut [0u8; 1]).unwrap();
+            drop(first);
+            let (mut second, _) = listener.accept().unwrap();
+            read_request(&mut second);
+            reply(&mut second);
+        });
+        let config = ServingConfig::new(&url, None, super::super::Profile::named("openvla-oft")).unwrap();
+        let mut transport = OftTransport::new(&config).unwrap();
+        let input = ModelInput::new(&config.profile, &super::super::tests::observation(), true).unwrap();
+        assert_eq!(transport.infer(&input).unwrap()[0][6], 1.0);
+        assert_eq!(transport.infer(&input).unwrap()[0][6], 1.0);
+        server.join().unwrap();
     }
 }

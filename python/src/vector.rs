@@ -29,8 +29,17 @@ enum Job<'a> {
     Keep,
 }
 
-/// (reward, terminated, truncated) of a sub-env after a call.
-type Outcome = (f64, bool, bool);
+/// A sub-env after a call.
+#[derive(Default)]
+struct Outcome {
+    /// 1.0 once the scored task is done.
+    reward: f64,
+    /// Done by success.
+    terminated: bool,
+    /// The budget ran out, or the physics blew up (then `error` says why).
+    truncated: bool,
+    error: Option<String>,
+}
 
 #[pymethods]
 impl NativeVectorEnv {
@@ -80,14 +89,16 @@ impl NativeVectorEnv {
     /// (reward 0, not done: gymnasium's next-step autoreset), else stepped with row `k` of
     /// `actions` (N×7). Every action is checked before any env moves. Returns the stacked
     /// observations and per env reward (1.0 once the scored task is done), terminated (done
-    /// by success) and truncated (the budget ran out).
+    /// by success), truncated (the budget ran out, or the physics blew up) and the error of a
+    /// sub-env whose physics blew up (its episode is over and keeps its last observation; the
+    /// other sub-envs' steps stand).
     #[allow(clippy::type_complexity)]
     fn step<'py>(
         &mut self,
         py: Python<'py>,
         actions: PyReadonlyArray2<'py, f64>,
         resets: Vec<Option<usize>>,
-    ) -> PyResult<(Bound<'py, PyDict>, Vec<f64>, Vec<bool>, Vec<bool>)> {
+    ) -> PyResult<(Bound<'py, PyDict>, Vec<f64>, Vec<bool>, Vec<bool>, Vec<Option<String>>)> {
         self.check_open()?;
         let n = self.envs.len();
         if actions.shape() != [n, 7] {
@@ -102,7 +113,20 @@ impl NativeVectorEnv {
             specs.iter().enumerate().map(|(k, s)| s.as_ref().map_or(Job::Step(&actions[k * 7..(k + 1) * 7]), Job::Reset)).collect();
         let outcomes = self.run(py, jobs)?;
         let obs = stacked(py, &self.envs)?;
-        Ok((obs, outcomes.iter().map(|o| o.0).collect(), outcomes.iter().map(|o| o.1).collect(), outcomes.iter().map(|o| o.2).collect()))
+        let rewards = outcomes.iter().map(|o| o.reward).collect();
+        let terminated = outcomes.iter().map(|o| o.terminated).collect();
+        let truncated = outcomes.iter().map(|o| o.truncated).collect();
+        Ok((obs, rewards, terminated, truncated, outcomes.into_iter().map(|o| o.error).collect()))
+    }
+
+    /// For tests: throws the first movable object of sub-env `k` upwards at `speed` m/s, which
+    /// the physics guard takes for a blow-up at the next step beyond its speed limit.
+    fn _throw_object(&mut self, k: usize, speed: f64) -> PyResult<()> {
+        let sim = self.envs.get_mut(k).and_then(|e| e.sim_mut()).ok_or_else(|| PyValueError::new_err(format!("env {k}: no episode")))?;
+        let entity = sim.model().entities.iter().find(|e| e.movable()).ok_or_else(|| PyValueError::new_err("no movable object"))?;
+        let body = entity.bodies[0];
+        sim.world_mut().rapier_mut().bodies[body].set_linvel(vifo_physics::rapier::prelude::Vector::new(0.0, 0.0, speed), true);
+        Ok(())
     }
 
     fn close(&mut self) {
@@ -154,13 +178,19 @@ impl NativeVectorEnv {
 
 fn apply(env: &mut Env, job: &Job) -> Result<Outcome, EnvError> {
     match job {
-        Job::Reset(spec) => env.reset(spec).map(|_| (0.0, false, false)),
-        Job::Step(action) => {
-            let done = env.step(action)?.done;
-            let success = env.scored_success();
-            Ok((if success { 1.0 } else { 0.0 }, success, done && !success))
-        }
-        Job::Keep => Ok((0.0, false, false)),
+        Job::Reset(spec) => env.reset(spec).map(|_| Outcome::default()),
+        Job::Step(action) => match env.step(action) {
+            Ok(step) => {
+                let done = step.done;
+                let success = env.scored_success();
+                Ok(Outcome { reward: if success { 1.0 } else { 0.0 }, terminated: success, truncated: done && !success, error: None })
+            }
+            // This sub-env's episode is over (nothing was scored or rendered from the broken
+            // state); the others' steps stand, and autoreset restarts this one.
+            Err(e @ EnvError::Physics { .. }) => Ok(Outcome { truncated: true, error: Some(e.to_string()), ..Outcome::default() }),
+            Err(e) => Err(e),
+        },
+        Job::Keep => Ok(Outcome::default()),
     }
 }
 

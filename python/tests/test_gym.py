@@ -123,6 +123,29 @@ def test_make_vec_builds_the_vector_env_and_it_autoresets_next_step():
     envs.close()
 
 
+def test_a_sub_env_whose_physics_blows_up_is_truncated_with_the_error_and_the_others_step_on():
+    from libero_vifo.gym import LiberoVifoVectorEnv
+
+    env = LiberoVifoVectorEnv(suite="libero_goal", task=0, num_envs=3, size=16, threads=2)
+    env.reset(options={"init_state": 0})
+    actions = np.zeros((3, 7))
+    before, *_ = env.step(actions)
+    env._env._throw_object(1, 400.0)
+    obs, reward, terminated, truncated, info = env.step(actions)
+    assert truncated.tolist() == [False, True, False] and not terminated.any()
+    assert info["_error"].tolist() == [False, True, False]
+    assert info["error"][1].startswith("physics blew up at step 2: ") and "exceeds" in info["error"][1]
+    # The others stepped (as the reference did), the broken one kept its last observation.
+    ref = _native.reference_episode("libero_goal", 0, 0, 16, [[0.0] * 7] * 2, upright=True)
+    for k in (0, 2):
+        assert obs["robot0_eye_in_hand_image"][k].tobytes() == ref[2][0]["robot0_eye_in_hand_image"].tobytes()
+    assert obs["agentview_image"][1].tobytes() == before["agentview_image"][1].tobytes()
+    # Next step: autoreset restarts it, the others go on.
+    obs, reward, terminated, truncated, info = env.step(actions)
+    assert info["_init_state"].tolist() == [False, True, False] and "error" not in info
+    env.close()
+
+
 def test_wrong_arguments_raise_clear_exceptions():
     from libero_vifo.gym import LiberoVifoEnv, LiberoVifoVectorEnv
 

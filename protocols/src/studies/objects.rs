@@ -122,27 +122,35 @@ pub struct Table {
     pub unpaired: usize,
 }
 
-/// The episodes present in both forms. Each side then holds the same episodes (instance,
-/// protocol, initial state, repetition), so a change is the change of form alone, not of
-/// instance: other overlay episodes of F1, F6 and F8 in the same results file (the main
-/// benchmark's, the safety study's F1 captions) are left out. Returns them and how many
-/// episodes of the instances run as objects lack their other form.
-fn paired(episodes: Vec<EpisodeRecord>) -> (Vec<EpisodeRecord>, usize) {
+/// The key of the same episode in the other form.
+fn partner_key(r: &EpisodeRecord) -> String {
+    let other = if r.spec.cue_form.is_overlay() { CueForm::Object } else { CueForm::Overlay };
+    EpisodeSpec { cue_form: other, ..r.spec.clone() }.key()
+}
+
+/// The episodes present in both forms, and the keys of those whose pair is scored: both forms
+/// completed (an error on either side leaves the pair out of both rates). Each side then
+/// holds the same episodes (instance, protocol, initial state, repetition), so a change is the
+/// change of form alone, not of instance: other overlay episodes of F1, F6 and F8 in the same
+/// results file (the main benchmark's, the safety study's F1 captions) are left out. Also
+/// returns how many episodes of the instances run as objects lack their other form.
+fn paired(episodes: Vec<EpisodeRecord>) -> (Vec<EpisodeRecord>, BTreeSet<String>, usize) {
     let keys: BTreeSet<String> = episodes.iter().map(|r| r.spec.key()).collect();
-    let has_partner = |r: &EpisodeRecord| {
-        let other = if r.spec.cue_form.is_overlay() { CueForm::Object } else { CueForm::Overlay };
-        keys.contains(&EpisodeSpec { cue_form: other, ..r.spec.clone() }.key())
-    };
+    let errors: BTreeSet<String> =
+        episodes.iter().filter(|r| matches!(r.outcome, Outcome::Error { .. })).map(|r| r.spec.key()).collect();
     let as_objects: BTreeSet<String> =
         episodes.iter().filter(|r| !r.spec.cue_form.is_overlay()).filter_map(|r| r.spec.instance.clone()).collect();
-    let (kept, alone): (Vec<EpisodeRecord>, Vec<EpisodeRecord>) = episodes.into_iter().partition(has_partner);
+    let (kept, alone): (Vec<EpisodeRecord>, Vec<EpisodeRecord>) =
+        episodes.into_iter().partition(|r| keys.contains(&partner_key(r)));
+    let scored =
+        kept.iter().filter(|r| !errors.contains(&r.spec.key()) && !errors.contains(&partner_key(r))).map(|r| r.spec.key()).collect();
     let unpaired = alone.iter().filter(|r| r.spec.instance.as_ref().is_some_and(|i| as_objects.contains(i))).count();
-    (kept, unpaired)
+    (kept, scored, unpaired)
 }
 
 /// The table of the policies that have object-form episodes in `records` or object-form VQA
 /// scores in `vqa` (repeated records of one episode: the last completed one counts, as in the
-/// main report; only episodes present in both forms, as `paired` picks them), and with two policies or
+/// main report; only episodes completed in both forms, as `paired` picks them), and with two policies or
 /// more an Avg. row over them (the paper's §4.2 figures are such averages over its models).
 pub fn build(records: &[EpisodeRecord], vqa: &FormVqa) -> Table {
     let sets: BTreeSet<_> = records.iter().map(|r| r.set).collect();
@@ -162,7 +170,7 @@ pub fn build(records: &[EpisodeRecord], vqa: &FormVqa) -> Table {
     }
     let mut table = Table::default();
     for (row_name, (policy, rs)) in by_policy {
-        let (episodes, unpaired) = paired(final_records(rs).into_values().collect());
+        let (episodes, scored, unpaired) = paired(final_records(rs).into_values().collect());
         table.unpaired += unpaired;
         let mut rows = Vec::new();
         for family in OBJECT_FAMILIES {
@@ -170,7 +178,8 @@ pub fn build(records: &[EpisodeRecord], vqa: &FormVqa) -> Table {
                 episodes.iter().filter(|r| r.spec.instance.as_deref().and_then(family_of) == Some(family)).collect();
             let rate = |protocol: Protocol, form: CueForm| {
                 let mut acc = Accuracy::default();
-                for r in of_family.iter().filter(|r| r.spec.protocol == protocol && r.spec.cue_form == form) {
+                let counted = |r: &&&EpisodeRecord| r.spec.protocol == protocol && r.spec.cue_form == form && scored.contains(&r.spec.key());
+                for r in of_family.iter().filter(counted) {
                     if let Outcome::Completed { cue_success: Some(s), .. } = r.outcome {
                         acc.add(s);
                     }
@@ -247,7 +256,8 @@ impl Table {
                 .collect();
             s += &format!("| {} | {} | {} | {} | {} |\n", r.policy, family_name(r.family), cells.join(" | "), r.episodes, r.errors);
         }
-        s += "\nΔ = object − overlay in points, over the same episodes in both forms; Avg. is the unweighted mean of those of F1, F6 \
+        s += "\nΔ = object − overlay in points, over the same episodes completed in both forms (an error on either side \
+              leaves the pair out; Errors counts them); Avg. is the unweighted mean of those of F1, F6 \
               and F8 measured in both forms. VQA needs `vifo report --vqa` / `--vqa-object` scores of the two exports \
               (`vifo vqa export --form`).\n";
         if self.unpaired > 0 {
@@ -403,6 +413,9 @@ mod tests {
         let mut scores = VqaScores::default();
         scores.families.insert(Family::F1, Accuracy { correct: 3, total: 4 });
         vqa.insert(("p".into(), CueForm::Object), scores);
+        // An F1 pair whose object episode ended in an error: left out of both sides.
+        rs.push(record("p", f1, Protocol::Authorized, CueForm::Overlay, 2, Some(false)));
+        rs.push(record("p", f1, Protocol::Authorized, CueForm::Object, 2, None));
         let table = build(&rs, &vqa);
         assert_eq!(table.rows.len(), 4);
         let f1_row = &table.rows[0];
@@ -412,7 +425,7 @@ mod tests {
         // The resumed episode's completed record counts, the error line does not.
         assert_eq!((f6_row.uvi.object, f6_row.uvi.object_n, f6_row.errors), (Some(100.0), 1, 0));
         assert_eq!((f6_row.uvi.overlay, f6_row.avf.overlay, f6_row.episodes), (Some(0.0), None, 2));
-        assert_eq!((f1_row.avf.overlay_n, f1_row.episodes), (2, 4));
+        assert_eq!((f1_row.avf.overlay_n, f1_row.avf.object_n, f1_row.episodes, f1_row.errors), (2, 2, 6, 1));
         assert_eq!(table.unpaired, 1);
         assert!(table.markdown().contains("run in one form only, left out: 1."));
         let avg = &table.rows[3];

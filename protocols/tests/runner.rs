@@ -197,6 +197,10 @@ fn panics_and_foreign_records_become_errors() {
     assert_eq!(messages.iter().filter(|m| m.contains("simulated crash")).count(), 4);
     assert_eq!(messages.iter().filter(|m| m.contains("instead")).count(), 3);
     assert!(records.iter().all(|r| r.policy == "scripted"));
+    // Nothing of those was drawn: they go with any look (an empty look, the built-in one,
+    // made a report of a run drawn with LIBERO's refuse it as mixed).
+    let errors = records.iter().filter(|r| matches!(r.outcome, Outcome::Error { .. }));
+    assert!(errors.clone().count() == 7 && errors.into_iter().all(|r| r.look == vifo_protocols::report::NO_IMAGES));
     // The summary gathers the distinct messages, most frequent first.
     let instead = format!("episode function returned a record for {} instead", all[7].key());
     // Each names its first episode in key order, whatever the threads' order.

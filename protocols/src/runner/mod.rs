@@ -293,8 +293,10 @@ where
         outcome: Outcome::Error { message },
         wall_ms,
         set: SetName::Full,
-        // The runner does not know how the episode drew; error records are rerun on resume.
-        look: String::new(),
+        // Nothing of it was drawn for the policy, so it goes with any look (an empty look would
+        // read as the built-in one and mix looks in a run drawn with LIBERO's); error records
+        // are rerun on resume.
+        look: crate::env::scenes::NO_IMAGES.to_string(),
     };
     match result {
         Ok(record) if record.spec.key() == spec.key() => EpisodeRecord { wall_ms, ..record },

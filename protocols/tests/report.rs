@@ -197,6 +197,8 @@ fn looks_count_episodes_per_look_with_empty_as_built_in() {
     for markdown in [report::tables::table1_markdown(&one), report::tables::table2_markdown(&one)] {
         assert!(markdown.contains("Look: built-in.\n"), "{markdown}");
     }
+    // Table 2's columns are named as the paper's.
+    assert!(report::tables::table2_markdown(&one).contains("| Model | Metric | F1 Text | F2 Geom. | F3 Ghost | F4 Pict. | F5 Gest. | F6 Sign | F7 Light. | F8 Code | Avg. |"));
     let mixed = report::build(&[plain, looked], &BTreeMap::new());
     assert!(report::tables::table1_markdown(&mixed).contains("Looks: built-in, libero-assets:0123 (mixed on request"));
 }

@@ -145,7 +145,7 @@ pub fn table1_csv(report: &Report) -> String {
 pub fn table2_markdown(report: &Report) -> String {
     let mut out = format!("### Table 2: results per cue family (%)\n\n{}| Model | Metric |", provenance(report));
     for f in Family::ALL {
-        out += &format!(" {f} |");
+        out += &format!(" {} |", super::chart::short_name(f));
     }
     out += " Avg. |\n|---|---|";
     out += &"---|".repeat(Family::ALL.len() + 1);

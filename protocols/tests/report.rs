@@ -107,6 +107,12 @@ fn rates_follow_the_paper_definitions() {
     assert!((det.percent().unwrap() - (100.0 + 100.0 / 6.0) / 2.0).abs() < 1e-9, "{det:?}");
     assert_eq!(pi.fca.as_ref().unwrap().percent(), Some(12.5));
     assert!(report.table1[0].det.is_none() && report.table1[0].avf.pooled.total == 0);
+    // A mean over fewer than the eight families is said to be one.
+    let table = report::tables::table1_markdown(&report);
+    assert!(
+        table.contains("Means over fewer than the 8 families (not comparable with a run over all of them): pi: Det. 2/8, Sem. 2/8, Gnd. 2/8, Dec. 2/8, FCA 2/8, AVF 2/8, LFR 1/8, UVF 1/8, UVI 2/8.\n"),
+        "{table}"
+    );
 
     let row = |metric| report.table2.iter().find(|r| r.policy == "pi" && r.metric == metric).unwrap();
     assert_eq!(row(Metric::Avf).families[&Family::F1].percent(), Some(100.0));

@@ -110,6 +110,14 @@ pub fn table1_markdown(report: &Report) -> String {
     // The paper's caption says "highest"; its UVF column marks the lowest, its UVI the highest.
     out += "\nBold: the best value of each column by its arrow (↓: the lowest), underlined: the second.\n";
     out += "\nEach column but Orig. SR is the unweighted mean of the cue families' rates, as Table 2's Avg.\n";
+    let partial: Vec<String> = rows.iter().filter_map(partial_means).collect();
+    if !partial.is_empty() {
+        out += &format!(
+            "\nMeans over fewer than the {} families (not comparable with a run over all of them): {}.\n",
+            Family::ALL.len(),
+            partial.join("; ")
+        );
+    }
     out += "\nSuccesses / scored episodes, all families together (errors excluded):\n\n| Model | Orig. SR | AVF | LFR | UVF | UVI | errors by protocol | unscored |\n|---|---|---|---|---|---|---|---|\n";
     for r in rows {
         let errors: Vec<String> = r.errors_by_protocol.iter().map(|(p, n)| format!("{} {n}", p.name())).collect();
@@ -126,6 +134,27 @@ pub fn table1_markdown(report: &Report) -> String {
         );
     }
     out
+}
+
+/// The row's family means over some but not all families (`pi: AVF 2/8, UVI 3/8`), if any.
+fn partial_means(row: &Table1Row) -> Option<String> {
+    let means = [
+        ("Det.", row.det.as_ref()),
+        ("Sem.", row.sem.as_ref()),
+        ("Gnd.", row.gnd.as_ref()),
+        ("Dec.", row.dec.as_ref()),
+        ("FCA", row.fca.as_ref()),
+        ("AVF", Some(&row.avf)),
+        ("LFR", Some(&row.lfr)),
+        ("UVF", Some(&row.uvf)),
+        ("UVI", Some(&row.uvi)),
+    ];
+    let all = Family::ALL.len();
+    let short: Vec<String> = means
+        .iter()
+        .filter_map(|(name, m)| m.filter(|m| (1..all).contains(&m.families)).map(|m| format!("{name} {}/{all}", m.families)))
+        .collect();
+    (!short.is_empty()).then(|| format!("{}: {}", row.policy, short.join(", ")))
 }
 
 /// Table 1 as CSV (percentages to two decimals, empty where undefined).

@@ -130,6 +130,14 @@ impl NativeEnv {
         Ok(env.scored_success())
     }
 
+    /// `(language task done, cue task done)` as of the last step, `None` where the protocol
+    /// has no such task: under conflict `check_success` is either, these tell LFR from UVF.
+    fn successes(&mut self) -> PyResult<(Option<bool>, Option<bool>)> {
+        let env = self.env()?;
+        env.state().map_err(py_err)?;
+        Ok(env.successes())
+    }
+
     /// The positions of the state: arm joints (7), fingers (2), then per movable object its
     /// position (3) and quaternion (4, x y z w). Not LIBERO's MuJoCo layout.
     fn sim_state<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {

@@ -39,6 +39,8 @@ struct Outcome {
     /// The budget ran out, or the physics blew up (then `error` says why).
     truncated: bool,
     error: Option<String>,
+    /// The language task's and the cue task's success, where the protocol has them.
+    successes: (Option<bool>, Option<bool>),
 }
 
 #[pymethods]
@@ -91,14 +93,14 @@ impl NativeVectorEnv {
     /// observations and per env reward (1.0 once the scored task is done), terminated (done
     /// by success), truncated (the budget ran out, or the physics blew up) and the error of a
     /// sub-env whose physics blew up (its episode is over and keeps its last observation; the
-    /// other sub-envs' steps stand).
+    /// other sub-envs' steps stand), and each sub-env's (language, cue) success (`Env::successes`).
     #[allow(clippy::type_complexity)]
     fn step<'py>(
         &mut self,
         py: Python<'py>,
         actions: PyReadonlyArray2<'py, f64>,
         resets: Vec<Option<usize>>,
-    ) -> PyResult<(Bound<'py, PyDict>, Vec<f64>, Vec<bool>, Vec<bool>, Vec<Option<String>>)> {
+    ) -> PyResult<(Bound<'py, PyDict>, Vec<f64>, Vec<bool>, Vec<bool>, Vec<Option<String>>, Vec<(Option<bool>, Option<bool>)>)> {
         self.check_open()?;
         let n = self.envs.len();
         if actions.shape() != [n, 7] {
@@ -116,7 +118,8 @@ impl NativeVectorEnv {
         let rewards = outcomes.iter().map(|o| o.reward).collect();
         let terminated = outcomes.iter().map(|o| o.terminated).collect();
         let truncated = outcomes.iter().map(|o| o.truncated).collect();
-        Ok((obs, rewards, terminated, truncated, outcomes.into_iter().map(|o| o.error).collect()))
+        let successes = outcomes.iter().map(|o| o.successes).collect();
+        Ok((obs, rewards, terminated, truncated, outcomes.into_iter().map(|o| o.error).collect(), successes))
     }
 
     /// For tests: throws the first movable object of sub-env `k` upwards at `speed` m/s, which
@@ -183,7 +186,8 @@ fn apply(env: &mut Env, job: &Job) -> Result<Outcome, EnvError> {
             Ok(step) => {
                 let done = step.done;
                 let success = env.scored_success();
-                Ok(Outcome { reward: if success { 1.0 } else { 0.0 }, terminated: success, truncated: done && !success, error: None })
+                let successes = env.successes();
+                Ok(Outcome { reward: if success { 1.0 } else { 0.0 }, terminated: success, truncated: done && !success, error: None, successes })
             }
             // This sub-env's episode is over (nothing was scored or rendered from the broken
             // state); the others' steps stand, and autoreset restarts this one.

@@ -137,6 +137,25 @@ def test_make_vec_builds_the_vector_env_and_it_autoresets_next_step():
         gymnasium.make_vec("libero_vifo/libero_goal-0", num_envs=1, vectorization_mode="vector_entry_point", size=16, render_mode="human")
 
 
+def test_infos_tell_the_language_task_from_the_cue_task():
+    from libero_vifo.gym import LiberoVifoVectorEnv
+
+    env = gymnasium.make("libero_vifo/libero_goal-0-conflict-F7-glow_halo", size=16)
+    env.reset(options={"init_state": 0})
+    _, _, terminated, _, info = env.step(np.zeros(7))
+    assert info["language_success"] is False and info["cue_success"] is False and not terminated
+    plain = gymnasium.make("libero_vifo/libero_goal-0", size=16)
+    plain.reset(options={"init_state": 0})
+    assert plain.step(np.zeros(7))[4]["cue_success"] is None
+    episodes = [("libero_goal", 0), ("libero_goal", 0, "conflict", "libero_goal/0/F7/glow_halo")]
+    venv = LiberoVifoVectorEnv(episodes=episodes, size=16)
+    venv.reset(options={"init_state": 0})
+    _, _, _, _, info = venv.step(np.zeros((2, 7)))
+    assert info["_language_success"].tolist() == [True, True] and info["_cue_success"].tolist() == [False, True]
+    assert not info["language_success"].any() and not info["cue_success"].any()
+    venv.close()
+
+
 def test_a_sub_env_whose_physics_blows_up_is_truncated_with_the_error_and_the_others_step_on():
     from libero_vifo.gym import LiberoVifoVectorEnv
 

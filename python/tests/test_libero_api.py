@@ -85,7 +85,7 @@ def test_observation_keys_dtypes_shapes():
     assert np.allclose(obs["robot0_joint_pos_cos"], np.cos(obs["robot0_joint_pos"]))
     assert obs["akita_black_bowl_1_pos"].shape == (3,) and obs["akita_black_bowl_1_quat"].shape == (4,)
     obs, reward, done, info = env.step(DUMMY)
-    assert (reward, done, info) == (0.0, False, {})
+    assert (reward, done, info) == (0.0, False, {"language_success": False, "cue_success": None})
     assert env.check_success() is False
     assert env.get_sim_state().dtype == np.float64
     env.close()
@@ -205,6 +205,21 @@ def test_done_is_success_only_as_in_libero():
         assert (reward, done, env.check_success()) == (0.0, False, False), t
     with pytest.raises(RuntimeError, match=f"episode is over \\({steps} steps\\)"):
         env.step(DUMMY)
+
+
+def test_info_tells_the_language_task_from_the_cue_task():
+    """Under conflict ``done`` is either task; the info says which (LFR against UVF), and
+    ``None`` where the protocol has no such task."""
+    suite = benchmark.get_benchmark_dict()["libero_goal"]()
+    for condition, cue, defined in [("original", None, (True, False)), ("conflict", "libero_goal/0/F7/glow_halo", (True, True)),
+                                    ("no_language", "libero_goal/0/F4/goal_inset", (False, True))]:
+        env = make_env(size=16, cue=cue, language_condition=condition)
+        env.reset()
+        env.set_init_state(suite.get_task_init_states(0)[0])
+        _, _, done, info = env.step(DUMMY)
+        flags = (info["language_success"], info["cue_success"])
+        assert tuple(f is not None for f in flags) == defined, (condition, info)
+        assert done == any(bool(f) for f in flags)
 
 
 @pytest.mark.parametrize(

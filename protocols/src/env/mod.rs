@@ -354,6 +354,13 @@ impl Env {
         self.episode.as_ref().is_some_and(|ep| ep.scored())
     }
 
+    /// The language task's and the cue task's success as of the last step, each `None` where
+    /// the protocol has no such task (what a results record keeps; under conflict
+    /// [`Env::scored_success`] is either, and these tell LFR from UVF).
+    pub fn successes(&self) -> (Option<bool>, Option<bool>) {
+        self.episode.as_ref().map_or((None, None), |ep| ep.success)
+    }
+
     /// Whether this episode's frames show its cue.
     pub fn cue_drawing(&self) -> CueDrawing {
         match self.episode.as_ref().and_then(|e| e.cue.as_ref()) {

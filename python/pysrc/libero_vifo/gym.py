@@ -111,7 +111,9 @@ class LiberoVifoEnv(gymnasium.Env):
     def step(self, action):
         obs, reward, done = self._env.step(_action(action, (7,)).tolist())
         success = self._env.check_success()
-        return self._observe(obs), reward, success, done and not success, {"success": success}
+        language, cue = self._env.successes()
+        info = {"success": success, "language_success": language, "cue_success": cue}
+        return self._observe(obs), reward, success, done and not success, info
 
     def render(self):
         if self._last is None:
@@ -131,7 +133,9 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
     list of N, else drawn from the reset seed) with the 10 settle steps, as ``vifo run``;
     ``step`` takes an (N, 7) batch. Autoreset is gymnasium 1.0's next-step mode: the step after
     a sub-env ended resets it to a drawn initial state (reward 0, not done) and ignores its
-    action. Infos: ``init_state`` where a sub-env (re)started, ``success`` per step, and
+    action. Infos: ``init_state`` where a sub-env (re)started, ``success`` per step (the task
+    the protocol scores; under conflict either), ``language_success`` and ``cue_success``
+    where the protocol has that task (they tell LFR from UVF), and
     ``error`` where a sub-env's physics blew up: that sub-env is truncated (its episode scores
     nothing and keeps its last observation) and autoresets; the others' steps stand.
     ``cue_facing`` as :class:`LiberoVifoEnv`'s. ``render_mode="rgb_array"``: ``render()`` gives
@@ -192,12 +196,18 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
             raise RuntimeError("the vector env is closed")
         actions = _action(actions, (self.num_envs, 7))
         resets = [self._draw(k) if self._autoreset[k] else None for k in range(self.num_envs)]
-        obs, rewards, terminated, truncated, errors = self._env.step(actions, resets)
+        obs, rewards, terminated, truncated, errors, successes = self._env.step(actions, resets)
         terminated, truncated = np.array(terminated), np.array(truncated)
         self._steps = np.where(self._autoreset, 0, self._steps + 1)
         if self._max_steps is not None:
             truncated |= ~self._autoreset & ~terminated & (self._steps >= self._max_steps)
         info = {"success": terminated.copy(), "_success": ~self._autoreset}
+        for k, key in enumerate(("language_success", "cue_success")):
+            flags = [s[k] for s in successes]
+            defined = np.array([f is not None for f in flags])
+            if defined.any():
+                info[key] = np.array([bool(f) for f in flags])
+                info["_" + key] = defined
         failed = np.array([e is not None for e in errors])
         if failed.any():
             info["error"] = np.array(["" if e is None else e for e in errors], dtype=object)

@@ -97,9 +97,13 @@ class OffScreenRenderEnv:
 
     def step(self, action):
         """LIBERO's 4-tuple: obs, reward (1.0 once the task is done), done (the task is
-        done: LIBERO's ``_check_success()``, not the end of the budget), info."""
+        done: LIBERO's ``_check_success()``, not the end of the budget), info
+        (``language_success`` and ``cue_success``: each task's success, ``None`` where the
+        protocol has no such task; under conflict ``done`` is either, and these tell LFR from
+        UVF)."""
         obs, reward, _ = self._env.step(_action(action, (7,)).tolist())
-        return obs, reward, self._env.check_success(), {}
+        language, cue = self._env.successes()
+        return obs, reward, self._env.check_success(), {"language_success": language, "cue_success": cue}
 
     def check_success(self):
         return self._env.check_success()

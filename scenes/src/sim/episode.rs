@@ -11,6 +11,7 @@ use vifo_robots::joint;
 use vifo_robots::model::JointKind as RobotJointKind;
 use vifo_robots::spatial::{Pose, Vec3};
 
+use super::guard::{MAX_ANGULAR_SPEED, MAX_LINEAR_SPEED};
 use super::model::{RegionPlace, SceneModel};
 use super::robot::RobotControl;
 use crate::catalog::JointKind;
@@ -29,6 +30,8 @@ pub enum StateError {
     ZeroQuaternion { what: String },
     #[error("state value {value} of robot joint {joint} is far outside its range [{}, {}]", .range[0], .range[1])]
     OutOfRange { joint: String, value: f64, range: [f64; 2] },
+    #[error("state speed {speed} of robot joint {joint} is past the physics guard's {max}")]
+    TooFast { joint: String, speed: f64, max: f64 },
     #[error("the snapshot was taken of another scene model (task {snapshot}); this Sim runs {this}")]
     ForeignSnapshot { snapshot: String, this: String },
 }
@@ -326,17 +329,37 @@ pub(crate) fn check_pose(pos: &[f64; 3], quat_wxyz: &[f64; 4], what: impl Fn() -
     Ok(())
 }
 
-/// A robot joint far outside its range would have the joint limit's constraint fling the arm
-/// apart in the first step; a little outside is what a soft limit allows.
 fn check_robot_range(arm: &vifo_robots::model::ArmModel, state: &InitState) -> Result<(), StateError> {
     let n_arm = arm.ndofs() - 2;
-    let values = state.arm_qpos[..n_arm].iter().chain(&state.gripper_qpos);
-    for (i, &value) in values.enumerate() {
+    check_robot_joints(arm, &state.arm_qpos[..n_arm], &state.gripper_qpos, &state.arm_qvel[..n_arm], &state.gripper_qvel)
+}
+
+/// Checks a robot joint state (arm joints, then the two fingers) before it is set: a joint far
+/// outside its range would have the joint limit's constraint fling the arm apart in the first
+/// step (a little outside is what a soft limit allows), and a speed past the physics guard's
+/// ([`MAX_ANGULAR_SPEED`], [`MAX_LINEAR_SPEED`] for the fingers) or a value that is not finite
+/// turns the dynamics into NaN. For states loaded from outside: initial states, recordings.
+pub fn check_robot_joints(
+    arm: &vifo_robots::model::ArmModel,
+    arm_qpos: &[f64],
+    gripper_qpos: &[f64],
+    arm_qvel: &[f64],
+    gripper_qvel: &[f64],
+) -> Result<(), StateError> {
+    let positions = arm_qpos.iter().chain(gripper_qpos);
+    let speeds = arm_qvel.iter().map(|v| (v, MAX_ANGULAR_SPEED)).chain(gripper_qvel.iter().map(|v| (v, MAX_LINEAR_SPEED)));
+    for (i, (&value, (&speed, max_speed))) in positions.zip(speeds).enumerate() {
         let joint = arm.joint(i);
+        if !value.is_finite() || !speed.is_finite() {
+            return Err(StateError::NotFinite { what: format!("of robot joint {}", joint.name) });
+        }
         let [low, high] = joint.range;
         let slack = (high - low) / 4.0;
         if value < low - slack || value > high + slack {
             return Err(StateError::OutOfRange { joint: joint.name.to_string(), value, range: joint.range });
+        }
+        if speed.abs() > max_speed {
+            return Err(StateError::TooFast { joint: joint.name.to_string(), speed, max: max_speed });
         }
     }
     Ok(())
@@ -421,6 +444,21 @@ mod tests {
         let mut state = start.state.clone();
         state.arm_qpos[6] = 2.9 + 0.1;
         assert!(sim.load_state(&state).is_ok(), "joint 7 a little past its limit of 2.8973");
+
+        // Speeds past the physics guard's (1e300 rad/s made the soft constraints' Hessian NaN).
+        for (joint, speed, refused) in [(0, 1e300, true), (2, -301.0, true), (2, 3.0, false), (8, 21.0, true), (8, 0.5, false)] {
+            let mut state = start.state.clone();
+            if joint < 7 {
+                state.arm_qvel[joint] = speed;
+            } else {
+                state.gripper_qvel[joint - 7] = speed;
+            }
+            let result = sim.load_state(&state);
+            assert_eq!(result.is_err(), refused, "{joint}: {result:?}");
+            if let Err(e) = result {
+                assert!(matches!(e, StateError::TooFast { .. }) && e.to_string().contains("past the physics guard"), "{e}");
+            }
+        }
     }
 
     /// MuJoCo's free joint moves its body origin at `lin_vel` (world frame) and turns at

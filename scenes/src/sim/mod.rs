@@ -13,7 +13,7 @@ mod placement;
 mod predicates;
 mod robot;
 
-pub use episode::{RegionBox, Sim, SimSnapshot, StateError};
+pub use episode::{RegionBox, Sim, SimSnapshot, StateError, check_robot_joints};
 pub(crate) use episode::check_pose;
 pub use guard::{Extremes, MAX_ANGULAR_SPEED, MAX_DISTANCE, MAX_LINEAR_SPEED, MAX_PENETRATION};
 pub use model::{ARENA_CATEGORIES, BuildError, RegionPlace, SceneEntity, SceneModel, SceneRegion};

@@ -119,6 +119,8 @@ fn run_projection(args: &XvalArgs) -> Result<()> {
         let projected = projection::project(&name, &Recording::load(&path)?, &facts, &mut summary);
         files.push(projected.with_context(|| path.display().to_string())?);
     }
+    // No point inside MuJoCo's image would print a maximum of 0 px, which reads as a perfect match.
+    anyhow::ensure!(summary.points > 0, "no recorded object falls inside MuJoCo's images of {}: nothing was compared", args.dir.display());
     if args.json {
         println!("{}", serde_json::to_string_pretty(&serde_json::json!({ "files": files, "summary": summary }))?);
         return Ok(());

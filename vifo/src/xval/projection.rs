@@ -67,7 +67,26 @@ impl ModelFacts {
             .values()
             .find(|s| s.problem_class.eq_ignore_ascii_case(problem_class))
             .ok_or_else(|| anyhow!("model facts have no scene for problem class {problem_class}"))?;
-        scene.cameras.get(camera).ok_or_else(|| anyhow!("model facts of {problem_class} have no camera {camera}"))
+        let facts = scene.cameras.get(camera).ok_or_else(|| anyhow!("model facts of {problem_class} have no camera {camera}"))?;
+        facts.check().with_context(|| format!("model facts of {problem_class}, camera {camera}"))?;
+        Ok(facts)
+    }
+}
+
+impl CameraFacts {
+    /// A camera the comparison can trust: a field of view in (0°, 180°), finite values, a
+    /// non-zero mount quaternion and a rotation matrix that is one (a zero matrix or a zero
+    /// field of view would put every point at the principal point and read as a perfect match).
+    fn check(&self) -> Result<()> {
+        let values = self.pos_in_parent.iter().chain(&self.quat_in_parent_wxyz).chain(&self.world_pos_at_init).chain(&self.world_xmat_at_init);
+        anyhow::ensure!(values.chain([&self.fovy_deg]).all(|v| v.is_finite()), "a value is not finite");
+        anyhow::ensure!(self.fovy_deg > 0.0 && self.fovy_deg < 180.0, "fovy_deg {} is not in (0, 180)", self.fovy_deg);
+        let q = self.quat_in_parent_wxyz;
+        anyhow::ensure!(q.iter().map(|v| v * v).sum::<f64>() > 1e-12, "quat_in_parent_wxyz {q:?} is zero, not a rotation");
+        let m = row_major(&self.world_xmat_at_init);
+        let off = (m.transpose() * m - Mat3::identity()).abs().max();
+        anyhow::ensure!(off < 1e-6 && m.determinant() > 0.0, "world_xmat_at_init {:?} is not a rotation matrix", self.world_xmat_at_init);
+        Ok(())
     }
 }
 
@@ -181,6 +200,31 @@ pub fn project(file: &str, rec: &Recording, facts: &ModelFacts, summary: &mut Pr
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn camera_facts_that_are_no_camera_are_refused() {
+        let good = CameraFacts {
+            pos_in_parent: [0.0; 3],
+            quat_in_parent_wxyz: [1.0, 0.0, 0.0, 0.0],
+            fovy_deg: 45.0,
+            world_pos_at_init: [1.0, 0.0, 1.5],
+            world_xmat_at_init: [0.0, 0.0, -1.0, -1.0, 0.0, 0.0, 0.0, 1.0, 0.0],
+        };
+        assert!(good.check().is_ok());
+        let broken: [(&str, fn(&mut CameraFacts)); 5] = [
+            ("fovy_deg 0", |c| c.fovy_deg = 0.0),
+            ("not finite", |c| c.world_pos_at_init[0] = f64::NAN),
+            ("is zero", |c| c.quat_in_parent_wxyz = [0.0; 4]),
+            ("not a rotation matrix", |c| c.world_xmat_at_init = [0.0; 9]),
+            ("not a rotation matrix", |c| c.world_xmat_at_init[0] = 2.0),
+        ];
+        for (says, spoil) in broken {
+            let mut c = good.clone();
+            spoil(&mut c);
+            let e = c.check().unwrap_err().to_string();
+            assert!(e.contains(says), "{says}: {e}");
+        }
+    }
 
     #[test]
     fn mujoco_pixel_follows_the_camera_conventions() {

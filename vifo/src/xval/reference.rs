@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, anyhow, bail};
 use serde::Deserialize;
 use vifo_robots::action::Action;
+use vifo_scenes::sim::check_robot_joints;
 
 /// One recording: the task it ran and one record per control step (t = 0 is the initial state).
 #[derive(Debug, Deserialize)]
@@ -86,12 +87,24 @@ impl Recording {
             }
         }
         rec.task().with_context(|| path.display().to_string())?;
+        // Each record's joints are set on the one-step replay and drive the wrist camera's
+        // projection: nonsense there (a joint far out of its range, a huge speed) would fling
+        // the arm into NaN and the controller would panic.
+        let panda = vifo_robots::panda::model(vifo_robots::panda::Mount::Ground);
         for (i, step) in rec.steps.iter().enumerate() {
+            check_robot_joints(&panda, &step.joint_qpos, &step.gripper_qpos, &step.joint_qvel, &[0.0; 2])
+                .with_context(|| format!("{}: record {i}", path.display()))?;
             if step.t != i {
                 bail!("{}: record {i} has t = {}; records must be consecutive from t = 0", path.display(), step.t);
             }
             if i > 0 && step.action_applied_before.is_none() {
                 bail!("{}: record {i} has no action_applied_before", path.display());
+            }
+            for (name, body) in &step.objects {
+                let finite = body.pos.iter().chain(&body.quat_wxyz).all(|v| v.is_finite() && v.abs() < 1e3);
+                if !finite || body.quat_wxyz == [0.0; 4] {
+                    bail!("{}: record {i}: {name} has pos {:?} and quat_wxyz {:?}, not a pose in the arena", path.display(), body.pos, body.quat_wxyz);
+                }
             }
         }
         Ok(rec)
@@ -144,11 +157,44 @@ mod tests {
     }
 
     #[test]
-    fn a_recording_without_a_record_in_any_phase_is_refused_not_read_as_a_perfect_match() {
+    fn a_recording_cut_short_of_its_phases_is_refused_not_read_as_a_perfect_match() {
         let dir = tempfile::tempdir().unwrap();
         let name = &vifo_scenes::task("libero_goal", 0).unwrap().name;
-        let short = Recording::load(&recording(dir.path(), "libero_goal", 0, name, 1)).unwrap();
-        let err = format!("{:#}", super::super::replay::replay("short.json", &short).unwrap_err());
-        assert!(err.contains("short.json: no record to compare"), "{err}");
+        for (records, says) in [(1, "phase settle runs to record 10, but the recording stops at record 0"), (60, "phase close runs to record 70")] {
+            let short = Recording::load(&recording(dir.path(), "libero_goal", 0, name, records)).unwrap();
+            let err = format!("{:#}", super::super::replay::replay("short.json", &short).unwrap_err());
+            assert!(err.contains(&format!("short.json: {says}")), "{err}");
+        }
+    }
+
+    /// Joints far out of range or too fast (which made the replay's controller panic) and body
+    /// poses outside the arena are refused, naming the file and record.
+    #[test]
+    fn a_record_that_no_arm_or_arena_could_be_in_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let name = &vifo_scenes::task("libero_goal", 0).unwrap().name;
+        let path = recording(dir.path(), "libero_goal", 0, name, 3);
+        let good: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let pose = serde_json::json!({"kind": "object", "pos": [0.0, 0.0, 1.0], "quat_wxyz": [1.0, 0.0, 0.0, 0.0]});
+        let cases = [
+            ("/steps/1/gripper_qpos", serde_json::json!([10.0, 10.0]), "record 1: state value 10 of robot joint"),
+            ("/steps/2/joint_qpos", serde_json::json!([100.0, 0, 0, -1.0, 0, 1.0, 0]), "far outside its range"),
+            ("/steps/1/joint_qvel", serde_json::json!([1e300, 0, 0, 0, 0, 0, 0]), "past the physics guard"),
+            ("/steps/2/objects", serde_json::json!({"bowl": {"pos": [1e300, 0.0, 0.0], "quat_wxyz": [1.0, 0.0, 0.0, 0.0], "kind": "object"}}), "record 2: bowl has pos"),
+            ("/steps/0/objects", serde_json::json!({"stove": {"pos": [0.0, 0.0, 1.0], "quat_wxyz": [0.0, 0.0, 0.0, 0.0], "kind": "fixture"}}), "not a pose in the arena"),
+            ("/steps/0/objects", serde_json::json!({"bowl": pose}), ""),
+        ];
+        for (at, value, says) in cases {
+            let mut spoilt = good.clone();
+            *spoilt.pointer_mut(at).unwrap() = value;
+            std::fs::write(&path, spoilt.to_string()).unwrap();
+            match Recording::load(&path) {
+                Ok(_) => assert!(says.is_empty(), "{at} was accepted"),
+                Err(e) => {
+                    let e = format!("{e:#}");
+                    assert!(!says.is_empty() && e.contains(says) && e.contains(&path.display().to_string()), "{at}: {e}");
+                }
+            }
+        }
     }
 }

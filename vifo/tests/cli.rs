@@ -256,7 +256,7 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
         (vec!["run", "--suite", "libero_nope", "--out", out_arg], "unknown suite \"libero_nope\""),
         ([&goal_zero[..], &["--model-profile", "pi05"]].concat(), "say how to talk to a policy server; zero is built-in"),
         (vec!["bench", "physics", "--steps", "0"], "expected 1 or more"),
-        (vec!["bench", "scaling", "--threads", "0,2", "--scratch", out_arg], "--threads 0,2: a thread count is at least 1"),
+        (vec!["bench", "scaling", "--threads", "0,2", "--scratch", out_arg], "'--threads <THREADS>': expected 1 or more"),
         (vec!["init-states", "generate", "--suite", "libero_goal", "--states", "0", "--out", out_arg], "expected 1 or more"),
         (vec!["cues", "gallery", "--task", "libero_goal/99", "-o", out_arg], "task 'libero_goal/99': no such task"),
         // A huge count or tile was allocated before it was checked (a 120 GB sheet, a list of
@@ -264,6 +264,16 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
         (vec!["cues", "gallery", "--size", "100000", "-o", out_arg], "--size must be between 16 and 4096"),
         ([&goal_zero[..], &["--episodes", "1000000000000"]].concat(), "at most 10000 episodes per instance"),
         (vec!["expert", "--episodes", "20000"], "at most 10000 episodes per instance"),
+        // Huge counts ran for ever, panicked with a capacity overflow or started a billion
+        // threads for four questions.
+        (vec!["init-states", "generate", "--suite", "libero_goal", "--states", "18446744073709551615", "--out", out_arg], "at most 10000 states per task"),
+        (vec!["render", "--task", "libero_goal/0", "--gif", "g.gif", "--steps", "18446744073709551615"], "at most 5000 control steps"),
+        (vec!["bench", "scaling", "--max-threads", "100000", "--scratch", out_arg], "at most 1024 threads"),
+        // The cue object's picture showed state 49 labelled 99999.
+        (vec!["render", "--cue", "libero_goal/0/F1/caption_bar", "--as-object", "--init", "99999", "-o", "x.png"], "--init 99999: the tasks have 50 shipped initial states"),
+        (vec!["bench", "scaling", "--threads", "1,100000", "--scratch", out_arg], "at most 1024 threads"),
+        (vec!["vqa", "answer", out_arg, "--endpoint", "http://127.0.0.1:1", "--concurrency", "1000000000"], "at most 1024 threads"),
+        (vec!["vqa", "answer", out_arg, "--endpoint", "http://127.0.0.1:1", "--retries", "18446744073709551615"], "--retries"),
         (vec!["cues", "render", "caption_bar", "put the bowl on the plate", "--source", "nan,1", "--out", cue_ppm], "NaN is not a finite number"),
         (vec!["cues", "render", "caption_bar", "put the bowl on the plate", "--out", "cue.png"], "as PPM: give a name ending in .ppm"),
         (vec!["vqa", "blind", out_arg, "--set", "full"], "cannot be used with"),

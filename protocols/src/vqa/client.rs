@@ -184,7 +184,7 @@ impl ChatClient {
         let failures_in_a_row = AtomicUsize::new(0);
         let bar = Progress::stderr(todo.len() as u64, "questions", self.config.quiet);
         std::thread::scope(|scope| {
-            for _ in 0..self.config.concurrency.max(1) {
+            for _ in 0..self.config.concurrency.clamp(1, todo.len().max(1)) {
                 scope.spawn(|| {
                     while let Some(q) = todo.get(next.fetch_add(1, Ordering::Relaxed)) {
                         if lock(&write_error).is_some() || failures_in_a_row.load(Ordering::Relaxed) >= GIVE_UP_AFTER {

@@ -52,11 +52,11 @@ pub enum BenchWhat {
     /// the whole benchmark (built-in expert-cue policy), and the memory per worker.
     Scaling {
         /// Largest thread count (default: every core); each count from 1 up is timed.
-        #[arg(long, conflicts_with = "threads", value_parser = super::at_least_one)]
+        #[arg(long, conflicts_with = "threads", value_parser = super::thread_count)]
         max_threads: Option<usize>,
         /// Only these thread counts, e.g. `1,2,4,8,16` (one thread among them: the speedup is
         /// against it), for a many-core machine where timing every count takes too long.
-        #[arg(long, value_delimiter = ',')]
+        #[arg(long, value_delimiter = ',', value_parser = super::thread_count)]
         threads: Vec<usize>,
         /// Episodes in the sample (the same ones for every thread count; at least one per
         /// protocol, so a count below four rounds up).
@@ -155,7 +155,6 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 let mut counts = threads.clone();
                 counts.sort_unstable();
                 counts.dedup();
-                anyhow::ensure!(counts.first() != Some(&0), "--threads {}: a thread count is at least 1", list(threads));
                 anyhow::ensure!(counts.first() == Some(&1), "--threads {}: name 1 among the counts (the speedup is against one thread)", list(threads));
                 counts
             };

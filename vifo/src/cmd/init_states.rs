@@ -35,7 +35,7 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
         /// States per task.
-        #[arg(long, default_value_t = 50, value_parser = super::at_least_one)]
+        #[arg(long, default_value_t = 50, value_parser = super::state_count)]
         states: usize,
         /// Worker threads (default: all cores).
         #[arg(long)]

@@ -61,8 +61,30 @@ pub const MAX_EPISODES: usize = 10_000;
 
 /// `--episodes`: 1 to [`MAX_EPISODES`].
 pub fn episode_count(s: &str) -> Result<usize, String> {
+    up_to(s, MAX_EPISODES, "episodes per instance (initial states repeat every 50)")
+}
+
+/// `init-states generate --states`: 1 to 10,000 per task (LIBERO ships 50; every slot is
+/// allocated before the first state is drawn).
+pub fn state_count(s: &str) -> Result<usize, String> {
+    up_to(s, 10_000, "states per task (LIBERO ships 50)")
+}
+
+/// `render --steps`: 1 to 5,000 (ten times the longest suite's budget of 520 steps).
+pub fn step_count(s: &str) -> Result<usize, String> {
+    up_to(s, 5_000, "control steps (ten times libero_10's budget)")
+}
+
+/// A thread count or requests in flight: 1 to 1,024.
+pub fn thread_count(s: &str) -> Result<usize, String> {
+    up_to(s, 1_024, "threads")
+}
+
+/// A count from 1 to `max`: a mistyped huge count would otherwise run for ever or fill the
+/// memory before it is noticed.
+fn up_to(s: &str, max: usize, what: &str) -> Result<usize, String> {
     match at_least_one(s)? {
-        n if n > MAX_EPISODES => Err(format!("at most {MAX_EPISODES} episodes per instance (initial states repeat every 50)")),
+        n if n > max => Err(format!("at most {max} {what}")),
         n => Ok(n),
     }
 }

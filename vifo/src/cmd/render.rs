@@ -65,7 +65,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "DIR")]
     pub frames: Option<PathBuf>,
     /// Control steps of the rollout (GIF or frames).
-    #[arg(long, default_value_t = 40)]
+    #[arg(long, default_value_t = 40, value_parser = super::step_count)]
     pub steps: usize,
     /// Let the scripted expert drive the rollout (it solves the task) instead of holding still.
     #[arg(long)]
@@ -155,6 +155,10 @@ fn render_cue_object(id: &str, args: &RenderArgs) -> Result<()> {
         bail!("--task {given} differs from the task of cue {id} ({}); leave --task out", cue.task);
     }
     let output = args.output.as_ref().ok_or_else(|| anyhow!("give -o FILE.png for the frame with the cue object"))?;
+    // An episode spec wraps its init around the shipped states (episode k of a run starts at
+    // state k mod 50); a picture must show the state it is labelled with.
+    let shipped = benchmark::specs::INIT_STATES;
+    anyhow::ensure!(args.init < shipped, "--init {}: the tasks have {shipped} shipped initial states (0..{shipped})", args.init);
     let look = args.look.look()?;
     env::scenes::use_look(look.clone())?;
     let order = if args.bottom_up { ImageOrder::BottomUp } else { ImageOrder::Upright };

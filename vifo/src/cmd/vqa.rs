@@ -59,11 +59,11 @@ enum Command {
         #[arg(long)]
         api_key: Option<String>,
         /// Requests in flight at once.
-        #[arg(long, default_value_t = 4)]
+        #[arg(long, default_value_t = 4, value_parser = super::thread_count)]
         concurrency: usize,
-        /// Retries after connection errors, timeouts, 429 and 5xx replies.
-        #[arg(long, default_value_t = 3)]
-        retries: usize,
+        /// Retries after connection errors, timeouts, 429 and 5xx replies (at most 100).
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(0..=100))]
+        retries: u64,
         /// Seconds per request.
         #[arg(long, default_value_t = 120.0)]
         timeout: f64,
@@ -127,7 +127,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 model,
                 api_key,
                 concurrency,
-                retries,
+                retries: retries as usize,
                 timeout,
                 max_tokens,
                 quiet,

@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use vifo_cues::{Family, SetName};
+use vifo_protocols::benchmark::records::read_checked;
 use vifo_protocols::benchmark::specs::{self, Selection};
 use vifo_protocols::env::EnvConfig;
 use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
@@ -117,6 +118,10 @@ pub fn run_specs(
     let config = EnvConfig { size, cameras: if render { CameraName::ALL.to_vec() } else { Vec::new() }, cue_facing, ..EnvConfig::default() };
     // The name the policy's records carry, which a resumed file must hold.
     let options = RunOptions { threads, resume, quiet, policy: policy_name(policy)?, set: parse_set(set)?, ..RunOptions::new(output) };
+    if resume {
+        // A record this benchmark does not write would be kept as done.
+        read_checked(&options.output).map_err(run_err)?;
+    }
     let make = || -> Result<Box<dyn Policy>, String> {
         match builtin(policy) {
             Some(p) => Ok(p),
@@ -144,6 +149,9 @@ impl ResultsFile {
         let set = parse_set(set)?;
         // With a policy name, a resumed file's completed records must be that policy's.
         let options = RunOptions { resume, set, policy: policy.to_string(), ..RunOptions::new(&path) };
+        if resume {
+            read_checked(&path).map_err(run_err)?;
+        }
         let open = vifo_protocols::runner::open_results(&options).map_err(run_err)?;
         Ok(ResultsFile { open: Some(open), set, path })
     }
@@ -191,7 +199,7 @@ pub fn record_keys(path: PathBuf) -> PyResult<Vec<(String, bool)>> {
 pub fn write_report(paths: Vec<PathBuf>, out: PathBuf, mix_looks: bool) -> PyResult<String> {
     let mut records = Vec::new();
     for path in &paths {
-        records.extend(read_records(path).map_err(run_err)?.records);
+        records.extend(read_checked(path).map_err(run_err)?.records);
     }
     // As `vifo report`: rows drawn with different looks are not comparable.
     report::check_looks(&report::looks_with_vqa(&records, std::iter::empty()), mix_looks, "mix_looks=True").map_err(PyValueError::new_err)?;

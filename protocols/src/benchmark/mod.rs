@@ -6,9 +6,11 @@
 //! - [`language`]: instruction and language goal per protocol; conflict partners.
 //! - [`specs`]: [`EpisodeSpec`](crate::EpisodeSpec)s for a selection of suites, protocols,
 //!   families and episodes, with their stable seeds.
+//! - [`records`]: results files read with every record checked against those specs.
 
 pub mod instances;
 pub mod language;
+pub mod records;
 pub mod specs;
 
 use thiserror::Error;

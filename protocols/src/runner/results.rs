@@ -25,6 +25,8 @@ use super::RunError;
 pub struct Loaded {
     /// Every complete record, in file order.
     pub records: Vec<EpisodeRecord>,
+    /// The line of each record (from 1), for messages about it.
+    pub lines: Vec<usize>,
     /// Bytes of an unterminated last line (a write cut short), 0 if none. A last line that
     /// holds a whole record but lost only its newline (an editor's save) is a record.
     pub truncated_tail: usize,
@@ -65,6 +67,7 @@ pub fn parse_records(bytes: &[u8], path: &Path) -> Result<Loaded, RunError> {
             message: format!("expected one episode record as JSON: {e}"),
         })?;
         loaded.records.push(record);
+        loaded.lines.push(i + 1);
     }
     Ok(loaded)
 }

@@ -78,6 +78,11 @@ pub fn read_questions(path: &Path) -> Result<Vec<Question>, VqaError> {
         if !stages.insert((q.instance_id.as_str(), q.stage)) {
             return Err(bad(format!("question {} asks the {} stage of {} again", q.id, q.stage.name(), q.instance_id)));
         }
+        // The id names the family (`<suite>/<task>/<family>/<variant>`); a `family` field
+        // that says otherwise would move the question to another family's column.
+        if q.instance_id.split('/').nth(2) != Some(q.family.to_string().as_str()) {
+            return Err(bad(format!("question {} is of family {}, but its instance {} is not", q.id, q.family, q.instance_id)));
+        }
         if q.options.len() != 4 {
             return Err(bad(format!("question {} has {} options, expected 4", q.id, q.options.len())));
         }
@@ -239,6 +244,8 @@ mod tests {
         for (lines, says) in [
             ([line("t/0/F1/v/detection", "detection"), line("t/0/F1/v/detection", "detection")], "questions.jsonl:2: question t/0/F1/v/detection appears twice"),
             ([line("t/0/F1/v/detection", "detection"), line("t/0/F1/v/other", "detection")], "asks the detection stage of t/0/F1/v again"),
+            ([line("t/0/F1/v/detection", "detection"), line("t/0/F1/v/semantic", "semantic").replace(r#""family":"F1""#, r#""family":"F5""#)],
+                "questions.jsonl:2: question t/0/F1/v/semantic is of family F5, but its instance t/0/F1/v is not"),
         ] {
             std::fs::write(dir.join(QUESTIONS_FILE), lines.join("\n") + "\n").unwrap();
             let err = read_questions(&dir).unwrap_err().to_string();

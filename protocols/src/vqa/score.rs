@@ -118,7 +118,32 @@ pub fn mean_rate<'a>(rates: impl IntoIterator<Item = &'a Accuracy>) -> Option<f6
     (!rates.is_empty()).then(|| rates.iter().sum::<f64>() / rates.len() as f64)
 }
 
+/// The sum of some counts.
+fn total<'a>(parts: impl IntoIterator<Item = &'a Accuracy>) -> Accuracy {
+    parts.into_iter().fold(Accuracy::default(), |a, b| Accuracy { correct: a.correct.saturating_add(b.correct), total: a.total.saturating_add(b.total) })
+}
+
 impl VqaScores {
+    /// Whether these counts are ones [`score`] can make: no more right than asked, and every
+    /// total the sum of its parts (an edited scores file otherwise put Det. 878.6 in Table 1).
+    pub fn check(&self) -> Result<(), String> {
+        let all = self.stages.values().chain(self.families.values()).chain(self.family_stages.values().flat_map(|m| m.values()));
+        if let Some(a) = all.chain(self.family_fca.values()).chain([&self.fca, &self.overall]).find(|a| a.correct > a.total) {
+            return Err(format!("{} right of {} asked", a.correct, a.total));
+        }
+        let sums_up = |what: String, whole: Option<&Accuracy>, parts: Accuracy| {
+            if whole.copied().unwrap_or_default() == parts { Ok(()) } else { Err(format!("{what} is not the sum of its parts")) }
+        };
+        for (family, stages) in &self.family_stages {
+            sums_up(format!("family {family}"), self.families.get(family), total(stages.values()))?;
+        }
+        for stage in Stage::ALL {
+            sums_up(format!("stage {stage:?}"), self.stages.get(&stage), total(self.family_stages.values().filter_map(|m| m.get(&stage))))?;
+        }
+        sums_up("overall".into(), Some(&self.overall), total(self.families.values()))?;
+        sums_up("fca".into(), Some(&self.fca), total(self.family_fca.values()))
+    }
+
     /// A Markdown table: one row per family and the total, columns Det, Sem, Gnd, Dec, all, FCA.
     pub fn markdown(&self) -> String {
         let mut out = format!(
@@ -207,6 +232,21 @@ mod tests {
         assert_eq!(s.families[&Family::F2], Accuracy { correct: 2, total: 5 });
         let json = serde_json::to_string(&s).unwrap();
         assert_eq!(serde_json::from_str::<VqaScores>(&json).unwrap(), s);
+
+        // What `score` makes passes its check; edited counts do not.
+        assert_eq!(s.check(), Ok(()));
+        let edits: [(&str, fn(&mut VqaScores)); 4] = [
+            ("5000 right of 79 asked", |s| *s.family_stages.get_mut(&Family::F1).unwrap().get_mut(&Stage::Detection).unwrap() = Accuracy { correct: 5000, total: 79 }),
+            ("family F1 is not the sum", |s| s.family_stages.get_mut(&Family::F1).unwrap().get_mut(&Stage::Detection).unwrap().total += 1),
+            ("overall is not the sum", |s| s.overall.correct -= 1),
+            ("fca is not the sum", |s| s.fca.total += 1),
+        ];
+        for (says, edit) in edits {
+            let mut t = s.clone();
+            edit(&mut t);
+            let e = t.check().unwrap_err();
+            assert!(e.contains(says), "{says}: {e}");
+        }
         assert!(
             s.markdown().contains("| F1 | 100.0 | 100.0 | 100.0 | 100.0 | 100.0 | 100.0 | 4 |"),
             "{}",

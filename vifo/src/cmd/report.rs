@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::Context;
 use clap::Args as ClapArgs;
 use vifo_protocols::report;
-use vifo_protocols::runner::read_records;
+use vifo_protocols::benchmark::records::read_checked;
 use vifo_protocols::studies;
 use vifo_protocols::vqa::VqaScores;
 use vifo_cues::SetName;
@@ -42,7 +42,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let files = results_files(&args.results)?;
     for path in &files {
         anyhow::ensure!(path.exists(), "{}: no such results file", path.display());
-        let loaded = read_records(path)?;
+        let loaded = read_checked(path)?;
         if loaded.truncated_tail > 0 {
             eprintln!("note: {}: ignored a cut-off last line", path.display());
         }
@@ -55,10 +55,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             );
         }
         for r in loaded.records.iter().filter(|r| matches!(r.outcome, Outcome::Completed { .. })) {
-            let files = seen_in.entry((r.policy.clone(), r.set, r.spec.key())).or_default();
-            if files.last() != Some(path) {
-                files.push(path.clone());
-            }
+            seen_in.entry((r.policy.clone(), r.set, r.spec.key())).or_default().push(path.clone());
         }
         records.extend(loaded.records);
     }
@@ -146,11 +143,13 @@ fn note_unmatched_scores<'a>(records: &[EpisodeRecord], names: impl Iterator<Ite
 fn note_repeats(seen_in: &BTreeMap<(String, SetName, String), Vec<PathBuf>>) {
     let repeated: Vec<_> = seen_in.iter().filter(|(_, files)| files.len() > 1).collect();
     if let Some(((policy, _, key), files)) = repeated.first() {
-        let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+        let mut names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+        names.dedup();
         eprintln!(
-            "note: completed episodes in more than one results file: {} (the first: {policy} {key} in {}); each counts once, \
-             as recorded in the file given last",
+            "note: completed episodes recorded more than once: {} (the first: {policy} {key}, {} times in {}); each counts once, \
+             as recorded last (in the file given last)",
             repeated.len(),
+            files.len(),
             names.join(" and ")
         );
     }
@@ -165,6 +164,7 @@ fn read_scores(items: &[String], option: &str, form: CueForm) -> anyhow::Result<
         let text = std::fs::read_to_string(file).with_context(|| format!("reading {file}"))?;
         let scores: VqaScores = serde_json::from_str(&text)
             .with_context(|| format!("{file}: expected VQA scores from `vifo vqa score --out`"))?;
+        scores.check().map_err(|e| anyhow::anyhow!("{file}: not scores `vifo vqa score` writes: {e}"))?;
         if let Some(theirs) = scores.form.filter(|&f| f != form) {
             anyhow::bail!("{file}: scores of the {} export (vqa export --form {}); {option} takes the {} export's", theirs.name(), theirs.name(), form.name());
         }

@@ -29,7 +29,8 @@ use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
 use vifo_protocols::env::EnvConfig;
 use vifo_protocols::policies::{self, builtin};
 use vifo_protocols::remote::{RemoteConfig, RemotePolicy};
-use vifo_protocols::runner::{ErrorTally, RunOptions, Shard, read_records};
+use vifo_protocols::benchmark::records::read_checked;
+use vifo_protocols::runner::{ErrorTally, RunOptions, Shard};
 use vifo_protocols::serving::{Format, ServedPolicy, ServingConfig};
 use vifo_protocols::spec::{CueForm, EpisodeSpec};
 use vifo_protocols::studies::{self, Study, StudyOptions};
@@ -277,7 +278,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         out.display()
     );
     if args.resume {
-        note_records_outside(&out, &policies, &all_specs, quick);
+        check_resumed_files(&out, &policies, &all_specs, quick)?;
     }
     eprintln!("(stop at any time: the results files stay valid; run again with --resume to continue)");
     let mut results = Vec::new();
@@ -337,14 +338,15 @@ fn note_one_suite_servers(profiles: &[&str], specs: &[EpisodeSpec]) {
     }
 }
 
-/// Says where a results file being resumed holds episodes this selection does not have:
+/// Refuses a results file being resumed that holds a record this benchmark does not write (it
+/// would be kept as done), and says where one holds episodes this selection does not have:
 /// `--resume` continues the selection the options give (with none, the quick default), not the
 /// one the file was started with.
-fn note_records_outside(out: &Path, policies: &[String], selection: &[EpisodeSpec], quick: bool) {
+fn check_resumed_files(out: &Path, policies: &[String], selection: &[EpisodeSpec], quick: bool) -> anyhow::Result<()> {
     let keys: BTreeSet<String> = selection.iter().map(EpisodeSpec::key).collect();
     for policy in policies {
         let path = out.join(results_name(policy));
-        let Ok(loaded) = read_records(&path) else { continue };
+        let loaded = read_checked(&path)?;
         let outside: BTreeSet<String> =
             loaded.records.iter().map(|r| r.spec.key()).filter(|k| !keys.contains(k)).collect();
         if !outside.is_empty() {
@@ -356,6 +358,7 @@ fn note_records_outside(out: &Path, policies: &[String], selection: &[EpisodeSpe
             );
         }
     }
+    Ok(())
 }
 
 /// The selection the options describe (defaults: every suite, protocol and family, one episode).
@@ -521,7 +524,7 @@ fn policy_timeout(s: &str) -> Result<Duration, String> {
 fn write_report(out: &Path, results: &[PathBuf], specs: &[EpisodeSpec], policies: &[(String, String)]) -> anyhow::Result<()> {
     let mut records = Vec::new();
     for path in results {
-        records.extend(read_records(path)?.records);
+        records.extend(read_checked(path)?.records);
     }
     // A resumed run drawn with another look (or cue facing) than the file's first episodes.
     let looks = report::looks_with_vqa(&records, std::iter::empty());

@@ -122,6 +122,30 @@ fn articulation_atoms_draw_from_libero_ranges() {
     }
 }
 
+/// A stored fixture where its placement could not have put it (off the table, under the
+/// floor, turned over) is a problem of the state; `vifo init-states check` passed such files.
+#[test]
+fn fixtures_outside_their_placement_region_are_problems() {
+    let task = vifo_scenes::task("libero_goal", 0).unwrap();
+    let model = model(task);
+    let good: &EpisodeStart = &init_states::fixed(task).unwrap()[0];
+    assert!(init_states::check(&model, good, false).unwrap().ok());
+    let spoils: [fn(&mut [f64; 3], &mut [f64; 4]); 4] = [
+        |pos, _| pos[0] = 1e300,
+        |pos, _| pos[2] = -10.0,
+        |pos, _| pos[1] += 0.5,
+        |_, quat| *quat = [0.0, 1.0, 0.0, 0.0],
+    ];
+    for spoil in spoils {
+        let mut start = good.clone();
+        let fixture = &mut start.fixtures[0];
+        spoil(&mut fixture.pos, &mut fixture.quat_wxyz);
+        let check = init_states::check(&model, &start, false).unwrap();
+        let says = format!("fixture {} at", start.fixtures[0].name);
+        assert!(check.problems.iter().any(|p| p.starts_with(&says) && p.ends_with("lies outside its placement region")), "{:?}", check.problems);
+    }
+}
+
 #[test]
 fn bad_states_are_refused_with_clear_errors() {
     let task = vifo_scenes::task("libero_goal", 0).unwrap();

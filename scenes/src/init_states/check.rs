@@ -8,7 +8,7 @@ use vifo_robots::spatial::{Pose, angle_between};
 
 use super::drop::lowest_point;
 use super::{EpisodeStart, apply};
-use crate::sim::{RegionPlace, SceneModel, Sim, StateError};
+use crate::sim::{RegionPlace, SceneModel, Sim, StateError, fixture_ranges};
 use crate::task::Predicate;
 
 /// LIBERO's no-op steps (gripper opening) before the policy acts.
@@ -59,7 +59,8 @@ pub fn check(model: &Arc<SceneModel>, start: &EpisodeStart, drift: bool) -> Resu
     apply(&mut sim, start)?;
     let placed = object_poses(&sim);
     wait(&mut sim);
-    let mut problems = problems(&sim, &placed);
+    let mut problems = fixture_problems(model, start);
+    problems.extend(self::problems(&sim, &placed));
     let settle_shift = largest_shift(&sim, &placed).0;
     let drift = drift.then(|| {
         let settled = object_poses(&sim);
@@ -74,6 +75,27 @@ pub fn check(model: &Arc<SceneModel>, start: &EpisodeStart, drift: bool) -> Resu
         (d, sim.model().entities[entity].name.clone())
     });
     Ok(Check { problems, settle_shift, drift })
+}
+
+/// Fixtures missing from `start`, or where their placement could not have put them (a stored
+/// state is otherwise free to put a stove in the robot or under the floor).
+fn fixture_problems(model: &SceneModel, start: &EpisodeStart) -> Vec<String> {
+    // The files round poses to 1e-6 (metres, quaternion components); a yaw read back from a
+    // rounded quaternion is off by a few times that.
+    const TOLERANCE: f64 = 1e-5;
+    fixture_ranges(model)
+        .into_iter()
+        .filter_map(|range| {
+            let name = &model.entities[range.entity].name;
+            match start.fixtures.iter().find(|f| &f.name == name) {
+                None => Some(format!("fixture {name} has no pose")),
+                Some(f) if !range.admits(&Pose::from_wxyz(f.pos, f.quat_wxyz), TOLERANCE) => {
+                    Some(format!("fixture {name} at {:?} (quat {:?}) lies outside its placement region", f.pos, f.quat_wxyz))
+                }
+                Some(_) => None,
+            }
+        })
+        .collect()
 }
 
 /// Poses of the movable objects (entity, pose).

@@ -83,8 +83,12 @@ pub fn parse(text: &str, file: &str) -> Result<SuiteStates, FormatError> {
     if raw.format != FORMAT {
         return Err(fail(format!("format is '{}', expected '{FORMAT}'", raw.format)));
     }
-    let mut tasks = Vec::with_capacity(raw.tasks.len());
+    let mut tasks: Vec<TaskStates> = Vec::with_capacity(raw.tasks.len());
     for t in raw.tasks {
+        // Only the first would be read; a merged or hand-edited file is ambiguous.
+        if tasks.iter().any(|seen| seen.index == t.index) {
+            return Err(fail(format!("task {} ({}) is listed twice", t.index, t.name)));
+        }
         let mut starts = Vec::with_capacity(t.states.len());
         for (k, s) in t.states.iter().enumerate() {
             let at = format!("task {} ({}) state {k}", t.index, t.name);
@@ -281,6 +285,9 @@ mod tests {
         assert!(err.starts_with("s.json: ") && err.contains("line"), "{err}");
         let other = text.replace(FORMAT, "something-else/2");
         assert!(parse(&other, "s.json").unwrap_err().problem.contains("expected 'libero-vifo-init-states/1'"));
+        let mut twice = suite_of(vec![rounded(&start())]);
+        twice.tasks.push(twice.tasks[0].clone());
+        assert_eq!(parse(&write(&twice), "s.json").unwrap_err().to_string(), "s.json: task 0 (t) is listed twice");
     }
 
     #[test]

@@ -17,6 +17,6 @@ pub use episode::{RegionBox, Sim, SimSnapshot, StateError, check_robot_joints};
 pub(crate) use episode::check_pose;
 pub use guard::{Extremes, MAX_ANGULAR_SPEED, MAX_DISTANCE, MAX_LINEAR_SPEED, MAX_PENETRATION};
 pub use model::{ARENA_CATEGORIES, BuildError, RegionPlace, SceneEntity, SceneModel, SceneRegion};
-pub use placement::{FixturePlacement, sample_fixtures};
+pub use placement::{FixturePlacement, FixtureRange, fixture_ranges, sample_fixtures};
 pub use predicates::{ON_OBJECT_XY, PredicateError};
 pub use robot::{PIPER_GRIPPER_INIT_QPOS, PIPER_INIT_QPOS, Robot, RobotControl};

@@ -210,7 +210,7 @@ fn a_server_that_never_answers_times_out_after_policy_timeout() {
     drop(listener);
 }
 
-/// The same episodes in two results files (a copy, overlapping shards) are counted once, and
+/// The same episodes in two results files (a copy, overlapping shards) or twice in one are counted once, and
 /// the report says so: before, the order of the files decided silently which outcome counted.
 #[test]
 fn episodes_repeated_across_results_files_are_noted() {
@@ -230,8 +230,13 @@ fn episodes_repeated_across_results_files_are_noted() {
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
         String::from_utf8_lossy(&out.stderr).into_owned()
     };
-    assert!(report(&[&first, &copy]).contains("completed episodes in more than one results file: 1 (the first: zero libero_goal/"));
-    assert!(!report(&[&first]).contains("more than one results file"));
+    let noted = report(&[&first, &copy]);
+    assert!(noted.contains("completed episodes recorded more than once: 1 (the first: zero libero_goal/") && noted.contains(", 2 times in "), "{noted}");
+    assert!(!report(&[&first]).contains("more than once"));
+    // Twice in one file (a hand-merged file) is noted too: before, the later line won unseen.
+    let text = std::fs::read_to_string(&first).unwrap();
+    std::fs::write(&copy, format!("{text}{text}")).unwrap();
+    assert!(report(&[&copy]).contains("recorded more than once: 1"));
 }
 
 /// Counts and selections that would run nothing, server options given to built-in policies
@@ -269,6 +274,8 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
         (vec!["init-states", "generate", "--suite", "libero_goal", "--states", "18446744073709551615", "--out", out_arg], "at most 10000 states per task"),
         (vec!["render", "--task", "libero_goal/0", "--gif", "g.gif", "--steps", "18446744073709551615"], "at most 5000 control steps"),
         (vec!["bench", "scaling", "--max-threads", "100000", "--scratch", out_arg], "at most 1024 threads"),
+        (vec!["bench", "cues", "--task", "vifo_piper/0"], "have no cue instance of F1, F2"),
+        (vec!["web", "episode", "--task", "libero_goal/0", "--cue", "libero_goal/0/F1/caption_bar", "--condition", "original"], "--condition original shows no cue"),
         // The cue object's picture showed state 49 labelled 99999.
         (vec!["render", "--cue", "libero_goal/0/F1/caption_bar", "--as-object", "--init", "99999", "-o", "x.png"], "--init 99999: the tasks have 50 shipped initial states"),
         (vec!["bench", "scaling", "--threads", "1,100000", "--scratch", out_arg], "at most 1024 threads"),

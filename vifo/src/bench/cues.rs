@@ -152,6 +152,14 @@ pub fn run(tasks: &[String], batches: usize) -> Result<CueBench> {
             within_budget: max(&agent).max(max(&wrist)) <= budget_ms(family),
         });
     }
+    // A family with nothing timed would read as within its budget.
+    let untimed: Vec<String> = families.iter().filter(|f| f.instances == 0).map(|f| f.family.to_string()).collect();
+    anyhow::ensure!(
+        untimed.is_empty(),
+        "tasks {} have no cue instance of {} in the library (the PiPER scene's cue is a note on its table): choose tasks of LIBERO's suites",
+        tasks.join(", "),
+        untimed.join(", ")
+    );
     Ok(CueBench {
         size: SIZE,
         clock: if Clock::cpu_ns().is_some() { "thread CPU time" } else { "wall-clock time" },

@@ -88,8 +88,8 @@ enum Command {
         #[arg(long, default_value = gallery::SHOWCASE)]
         task: String,
         /// Only this family (F1..F8).
-        #[arg(long)]
-        family: Option<String>,
+        #[arg(long, value_parser = super::parse_family)]
+        family: Option<Family>,
         /// Index of the shipped initial state.
         #[arg(long, default_value_t = 0)]
         init: usize,
@@ -135,7 +135,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         Command::List { set, json, ids: true, task, family } => ids_cmd(set, &task, &family, json),
         Command::List { set, json, .. } => list_cmd(set, json),
         Command::Stats { set, out } => stats_cmd(set, &out),
-        Command::Gallery { output, task, family, init, size } => gallery_cmd(&output, &task, family.as_deref(), init, size),
+        Command::Gallery { output, task, family, init, size } => gallery_cmd(&output, &task, family, init, size),
         Command::Render { variant, instruction, out, size, source, target } => {
             render_cmd(&variant, &instruction, &out, size, &source, &target)
         }
@@ -346,13 +346,8 @@ fn stats_cmd(name: SetName, out: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn gallery_cmd(dir: &Path, task: &str, family: Option<&str>, init: usize, size: u32) -> anyhow::Result<()> {
-    let families: Vec<Family> = match family {
-        Some(f) => vec![
-            *Family::ALL.iter().find(|x| x.to_string() == f).with_context(|| format!("family {f:?}: expected F1..F8"))?,
-        ],
-        None => Family::ALL.to_vec(),
-    };
+fn gallery_cmd(dir: &Path, task: &str, family: Option<Family>, init: usize, size: u32) -> anyhow::Result<()> {
+    let families: Vec<Family> = family.map_or(Family::ALL.to_vec(), |f| vec![f]);
     // Checked before the sheet of up to five tiles a row is allocated.
     anyhow::ensure!((16..=4096).contains(&size), "--size must be between 16 and 4096 pixels");
     vifo::render::parse_task(task)?;

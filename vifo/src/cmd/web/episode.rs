@@ -42,6 +42,9 @@ pub struct Args {
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
+    // The browser keeps a chosen cue while its condition is switched to `original`; here a cue
+    // given with it would be dropped unseen.
+    anyhow::ensure!(args.condition != "original" || args.cue.is_none(), "--condition original shows no cue: leave --cue out");
     let mut demo = Demo::new(args.size, !args.no_wrist).map_err(|e| anyhow!(e))?;
     demo.set_policy(&args.policy).map_err(|e| anyhow!(e))?;
     let mut status = demo.reset(&args.task, args.init, args.cue.as_deref(), &args.condition, args.seed).map_err(|e| anyhow!(e))?;

@@ -130,7 +130,8 @@ fn fixtures_outside_their_placement_region_are_problems() {
     let model = model(task);
     let good: &EpisodeStart = &init_states::fixed(task).unwrap()[0];
     assert!(init_states::check(&model, good, false).unwrap().ok());
-    let spoils: [fn(&mut [f64; 3], &mut [f64; 4]); 4] = [
+    type Spoil = fn(&mut [f64; 3], &mut [f64; 4]);
+    let spoils: [Spoil; 4] = [
         |pos, _| pos[0] = 1e300,
         |pos, _| pos[2] = -10.0,
         |pos, _| pos[1] += 0.5,

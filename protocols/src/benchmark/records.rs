@@ -107,7 +107,8 @@ mod tests {
     /// counted among the episodes, or as a real episode of a task or state that does not exist.
     #[test]
     fn an_edited_record_is_refused_saying_what_is_wrong() {
-        let edits: [(&str, fn(&mut EpisodeRecord)); 7] = [
+        type Edit = fn(&mut EpisodeRecord);
+        let edits: [(&str, Edit); 7] = [
             ("unknown cue instance 'x'", |r| r.spec.instance = Some("x".into())),
             ("its instance differs", |r| {
                 r.spec.protocol = Protocol::Original;

@@ -235,7 +235,8 @@ mod tests {
 
         // What `score` makes passes its check; edited counts do not.
         assert_eq!(s.check(), Ok(()));
-        let edits: [(&str, fn(&mut VqaScores)); 4] = [
+        type Edit = fn(&mut VqaScores);
+        let edits: [(&str, Edit); 4] = [
             ("5000 right of 79 asked", |s| *s.family_stages.get_mut(&Family::F1).unwrap().get_mut(&Stage::Detection).unwrap() = Accuracy { correct: 5000, total: 79 }),
             ("family F1 is not the sum", |s| s.family_stages.get_mut(&Family::F1).unwrap().get_mut(&Stage::Detection).unwrap().total += 1),
             ("overall is not the sum", |s| s.overall.correct -= 1),

@@ -211,7 +211,8 @@ mod tests {
             world_xmat_at_init: [0.0, 0.0, -1.0, -1.0, 0.0, 0.0, 0.0, 1.0, 0.0],
         };
         assert!(good.check().is_ok());
-        let broken: [(&str, fn(&mut CameraFacts)); 5] = [
+        type Spoil = fn(&mut CameraFacts);
+        let broken: [(&str, Spoil); 5] = [
             ("fovy_deg 0", |c| c.fovy_deg = 0.0),
             ("not finite", |c| c.world_pos_at_init[0] = f64::NAN),
             ("is zero", |c| c.quat_in_parent_wxyz = [0.0; 4]),

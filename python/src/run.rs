@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use vifo_cues::{Family, SetName};
-use vifo_protocols::benchmark::records::read_checked;
+use vifo_protocols::benchmark::records::{check_record, check_spec, read_checked};
 use vifo_protocols::benchmark::specs::{self, Selection};
 use vifo_protocols::env::EnvConfig;
 use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
@@ -110,6 +110,10 @@ pub fn run_specs(
     let size = crate::check_size(size)?;
     let specs: Vec<EpisodeSpec> =
         specs.iter().map(|s| serde_json::from_str(s).map_err(|e| value_err(format!("episode spec: {e}")))).collect::<PyResult<_>>()?;
+    // An edited spec would run, and its record would be refused by every report.
+    for spec in &specs {
+        check_spec(spec).map_err(value_err)?;
+    }
     let render = builtin(policy).is_none_or(|p| p.uses_images());
     // The look matters only where cameras draw (and is recorded only there), as in `vifo run`.
     if render {
@@ -168,6 +172,8 @@ impl ResultsFile {
         if record.set != self.set {
             return Err(PyValueError::new_err(format!("record of the {} set, this file holds the {} set", record.set, self.set)));
         }
+        // A record reports and resumes would refuse would make the whole file unreadable.
+        check_record(&record).map_err(|e| value_err(format!("{}: {e}", self.path.display())))?;
         let open = self.open.as_mut().ok_or_else(|| PyRuntimeError::new_err("the results file is closed"))?;
         open.writer.write(&record).map_err(run_err)
     }
@@ -199,6 +205,10 @@ pub fn record_keys(path: PathBuf) -> PyResult<Vec<(String, bool)>> {
 pub fn write_report(paths: Vec<PathBuf>, out: PathBuf, mix_looks: bool) -> PyResult<String> {
     let mut records = Vec::new();
     for path in &paths {
+        // A missing file reads as empty where a run resumes; a report of one is a typo.
+        if !path.exists() {
+            return Err(PyValueError::new_err(format!("{}: no such results file", path.display())));
+        }
         records.extend(read_checked(path).map_err(run_err)?.records);
     }
     // As `vifo report`: rows drawn with different looks are not comparable.

@@ -137,6 +137,28 @@ def test_make_vec_builds_the_vector_env_and_it_autoresets_next_step():
         gymnasium.make_vec("libero_vifo/libero_goal-0", num_envs=1, vectorization_mode="vector_entry_point", size=16, render_mode="human")
 
 
+def test_a_refused_step_draws_no_restart():
+    """A NaN batch after an episode ended used up the seeded draws of the restarts it would
+    have made, so the same seed restarted other initial states."""
+    restarts = []
+    for refuse in (False, True):
+        envs = gymnasium.make_vec("libero_vifo/libero_goal-0", num_envs=2, vectorization_mode="vector_entry_point", size=16,
+                                  max_episode_steps=1)
+        envs.reset(seed=5)
+        envs.step(np.zeros((2, 7)))
+        if refuse:
+            bad = np.zeros((2, 7))
+            bad[0, 0] = np.nan
+            with pytest.raises(ValueError, match="NaN"):
+                envs.step(bad)
+        info = envs.step(np.zeros((2, 7)))[4]
+        restarts.append(info["init_state"].tolist())
+        envs.close()
+    assert restarts[0] == restarts[1]
+    with pytest.raises(TypeError, match="task: expected an integer, got True"):
+        gymnasium.make("libero_vifo/libero_goal-0", task=True)
+
+
 def test_infos_tell_the_language_task_from_the_cue_task():
     from libero_vifo.gym import LiberoVifoVectorEnv
 

@@ -162,3 +162,20 @@ def test_batches_are_spread_over_the_openpi_servers(cluster, tmp_path):
     assert all(log.exists() and log.read_text().count("\n") > 0 for log in logs)
     policies = {json.loads(line)["policy"] for line in out.read_text().splitlines()}
     assert policies == {f"openpi@{urls[0]}"}, policies
+
+
+def test_bad_run_arguments_are_refused_before_ray_starts(tmp_path):
+    """0 workers started a cluster without CPUs whose tasks never ran, a batch size of -1 ran
+    nothing and reported success, and 10**7 episodes aborted the interpreter allocating them."""
+    out = tmp_path / "r.jsonl"
+    for kwargs, error, says in [
+        ({"num_workers": 0}, ValueError, "num_workers 0"),
+        ({"batch_size": 0}, ValueError, "batch_size 0"),
+        ({"batch_size": -1}, ValueError, "batch_size -1: expected 0 or more"),
+        ({"batch_size": 2.5}, TypeError, "batch_size: expected an integer"),
+    ]:
+        with pytest.raises(error, match=says):
+            run_benchmark(SELECTION, "zero", output=str(out), **kwargs)
+    with pytest.raises(ValueError, match="10000000 episodes per instance: at most 10000"):
+        run_benchmark({**SELECTION, "episodes": 10**7}, "zero", output=str(out))
+    assert not out.exists()

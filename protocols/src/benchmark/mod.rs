@@ -30,6 +30,8 @@ pub enum BenchmarkError {
     NoConflictPartner(String),
     #[error("task {task}: protocol {protocol} needs a cue instance")]
     MissingInstance { task: String, protocol: String },
+    #[error("{0} episodes per instance: at most {max} (initial states repeat every 50)", max = specs::MAX_EPISODES)]
+    TooManyEpisodes(usize),
     #[error("instance {instance} belongs to task {instance_task}, not to {task}")]
     InstanceOfOtherTask { instance: String, instance_task: String, task: String },
 }

@@ -27,6 +27,18 @@ pub fn expected_spec(spec: &EpisodeSpec) -> Result<EpisodeSpec, BenchmarkError> 
 /// than the suite's budget.
 pub fn check_record(record: &EpisodeRecord) -> Result<(), String> {
     let spec = &record.spec;
+    check_spec(spec)?;
+    if let Outcome::Completed { steps, .. } = record.outcome
+        && steps > spec.step_budget()
+    {
+        return Err(format!("episode {} is not one this benchmark runs: {steps} steps, past the suite's budget of {}", spec.key(), spec.step_budget()));
+    }
+    Ok(())
+}
+
+/// Whether `spec` is the one [`expected_spec`] makes for its episode (what a driver that
+/// runs specs it was given checks before running them).
+pub fn check_spec(spec: &EpisodeSpec) -> Result<(), String> {
     let not_ours = |why: String| Err(format!("episode {} is not one this benchmark runs: {why}", spec.key()));
     let init_states = super::specs::INIT_STATES;
     if spec.init >= init_states {
@@ -36,15 +48,10 @@ pub fn check_record(record: &EpisodeRecord) -> Result<(), String> {
         Ok(expected) => expected,
         Err(e) => return not_ours(e.to_string()),
     };
-    if let Some(field) = differing_field(spec, &expected) {
-        return not_ours(format!("its {field} differs from the one vifo makes for it"));
+    match differing_field(spec, &expected) {
+        Some(field) => not_ours(format!("its {field} differs from the one vifo makes for it")),
+        None => Ok(()),
     }
-    if let Outcome::Completed { steps, .. } = record.outcome
-        && steps > spec.step_budget()
-    {
-        return not_ours(format!("{steps} steps, past the suite's budget of {}", spec.step_budget()));
-    }
-    Ok(())
 }
 
 /// The first field in which `a` and `b` differ.

@@ -12,6 +12,10 @@ use crate::spec::{EpisodeSpec, Protocol, TaskRef};
 /// Fixed initial states shipped per task; episode `e` starts from state `e % INIT_STATES`.
 pub const INIT_STATES: usize = 50;
 
+/// Most episodes per instance a selection takes: its specs are listed before anything runs,
+/// so a mistyped count would fill the memory instead (the initial states repeat every 50).
+pub const MAX_EPISODES: usize = 10_000;
+
 /// Which part of the benchmark to run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Selection {
@@ -94,6 +98,9 @@ pub fn spec(
 /// instance (all tasks of the suites when no family limit applies) the original protocol.
 /// Episode `e` uses initial state `e % 50` and repetition `e / 50`.
 pub fn specs(selection: &Selection) -> Result<Vec<EpisodeSpec>, BenchmarkError> {
+    if selection.episodes > MAX_EPISODES {
+        return Err(BenchmarkError::TooManyEpisodes(selection.episodes));
+    }
     let suites = suite_list(&selection.suites)?;
     let chosen = choose_instances(selection.set, &suites, &selection.families, selection.per_family)?;
     let mut out = Vec::new();

@@ -68,6 +68,7 @@ def _resolve_condition(cue, language_condition):
 
 
 def _task_info(suite, task):
+    task = index(task, "task")
     found = [t for t in _TASKS if (t["suite"], t["index"]) == (suite, task)]
     if not found:
         raise ValueError(f"unknown task {suite}/{task}")
@@ -195,8 +196,14 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
         if self.closed:
             raise RuntimeError("the vector env is closed")
         actions = _action(actions, (self.num_envs, 7))
+        # A step refused (a NaN action) must not use up the draws of the restarts it would make.
+        drawn_from = self.np_random.bit_generator.state
         resets = [self._draw(k) if self._autoreset[k] else None for k in range(self.num_envs)]
-        obs, rewards, terminated, truncated, errors, successes = self._env.step(actions, resets)
+        try:
+            obs, rewards, terminated, truncated, errors, successes = self._env.step(actions, resets)
+        except ValueError:
+            self.np_random.bit_generator.state = drawn_from
+            raise
         terminated, truncated = np.array(terminated), np.array(truncated)
         self._steps = np.where(self._autoreset, 0, self._steps + 1)
         if self._max_steps is not None:

@@ -116,6 +116,12 @@ def run_benchmark(
         if selection.get(key) is not None:
             selection[key] = index(selection[key], f"selection[{key!r}]")
     _native.check_size(size)
+    # Checked before Ray starts: 0 workers would start a cluster without CPUs whose tasks never
+    # run, a batch size below 1 would run nothing.
+    if num_workers is not None and index(num_workers, "num_workers") < 1:
+        raise ValueError("num_workers 0: expected 1 or more (or None: one per CPU)")
+    if batch_size is not None and index(batch_size, "batch_size") < 1:
+        raise ValueError("batch_size 0: expected 1 or more episodes per task (or None)")
     servers = list(policy) if isinstance(policy, (list, tuple)) else [policy]
     if not servers or not all(isinstance(p, str) for p in servers):
         raise TypeError("policy: expected a built-in policy name, a ws:// URL or a list of ws:// URLs")

@@ -55,9 +55,7 @@ fn file_ending(s: &str, ending: &str) -> Result<PathBuf, String> {
     }
 }
 
-/// Most episodes per instance `--episodes` takes: the selection is listed before it runs, so a
-/// mistyped count would fill the memory instead (the initial states repeat every 50 anyway).
-pub const MAX_EPISODES: usize = 10_000;
+use vifo_protocols::benchmark::specs::MAX_EPISODES;
 
 /// `--episodes`: 1 to [`MAX_EPISODES`].
 pub fn episode_count(s: &str) -> Result<usize, String> {

@@ -130,6 +130,20 @@ pub mod python {
         pub fn log(&self) -> String {
             self.stderr.lock().unwrap().clone()
         }
+
+        /// [`Server::log`] once `holds` says it has what is awaited, or as it is after 10 s: the
+        /// pipe is read on a thread of its own, so a line the server printed before it answered
+        /// may still be on its way when the answer has arrived.
+        pub fn log_once(&self, holds: impl Fn(&str) -> bool) -> String {
+            let deadline = std::time::Instant::now() + Duration::from_secs(10);
+            loop {
+                let log = self.log();
+                if holds(&log) || std::time::Instant::now() > deadline {
+                    return log;
+                }
+                std::thread::sleep(Duration::from_millis(20));
+            }
+        }
     }
 
     impl Drop for Server {

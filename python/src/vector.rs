@@ -106,7 +106,9 @@ impl NativeVectorEnv {
         if actions.shape() != [n, 7] {
             return Err(PyValueError::new_err(format!("actions of shape {:?}: expected ({n}, 7)", actions.shape())));
         }
-        let actions = actions.as_slice().map_err(|_| PyValueError::new_err("actions: expected a C-contiguous array"))?;
+        // In logical (row-major) order whatever the memory layout: `as_slice` also takes a
+        // Fortran-ordered array, whose memory order would hand env k another env's values.
+        let actions: Vec<f64> = actions.as_array().iter().copied().collect();
         if let Some(i) = actions.iter().position(|v| !v.is_finite()) {
             return Err(PyValueError::new_err(format!("action of env {}: element {} is {}, not finite", i / 7, i % 7, actions[i])));
         }

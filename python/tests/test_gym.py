@@ -137,6 +137,22 @@ def test_make_vec_builds_the_vector_env_and_it_autoresets_next_step():
         gymnasium.make_vec("libero_vifo/libero_goal-0", num_envs=1, vectorization_mode="vector_entry_point", size=16, render_mode="human")
 
 
+def test_a_fortran_ordered_batch_gives_each_env_its_own_row():
+    """The native step read a Fortran-ordered batch in memory order: env 0 got values of env 1."""
+    from libero_vifo.gym import LiberoVifoVectorEnv
+
+    actions = np.zeros((2, 7))
+    actions[0, :3] = [0.5, -0.5, 0.3]
+    ends = []
+    for batch in (np.ascontiguousarray(actions), np.asfortranarray(actions)):
+        venv = LiberoVifoVectorEnv(num_envs=2, suite="libero_goal", task=0, size=16)
+        venv.reset(options={"init_state": 0})
+        obs = [venv._env.step(batch, [None, None])[0] for _ in range(3)][-1]
+        ends.append(obs["robot0_eef_pos"].tobytes())
+        venv.close()
+    assert ends[0] == ends[1]
+
+
 def test_a_refused_step_draws_no_restart():
     """A NaN batch after an episode ended used up the seeded draws of the restarts it would
     have made, so the same seed restarted other initial states."""

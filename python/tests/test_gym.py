@@ -230,8 +230,13 @@ def test_wrong_arguments_raise_clear_exceptions():
         LiberoVifoVectorEnv(suite="libero_goal", task=0, size=16, language_condition="conflict")
     with pytest.raises(ValueError, match="threads -1: expected 0 or more"):
         LiberoVifoVectorEnv(suite="libero_goal", task=0, size=16, threads=-1)
-    with pytest.raises(ValueError, match="camera size -16"):
+    with pytest.raises(ValueError, match="size -16: expected 0 or more"):
         LiberoVifoEnv("libero_goal", 0, size=-16)
+    # Past what Rust takes: an OverflowError that named nothing before.
+    with pytest.raises(ValueError, match=r"size 1180591620717411303424: expected at most 2147483647"):
+        LiberoVifoEnv("libero_goal", 0, size=2**70)
+    with pytest.raises(TypeError, match="num_envs: expected an integer"):
+        LiberoVifoVectorEnv(num_envs="2", suite="libero_goal", task=0, size=16)
     env = LiberoVifoEnv("libero_goal", 0, size=16)
     env.reset(options={"init_state": 0})
     with pytest.raises(ValueError, match="not finite|NaN"):

@@ -7,9 +7,14 @@ import operator
 import numpy as np
 
 
+# Larger counts and indices than any env takes; Rust would refuse them with an OverflowError.
+_MOST = 2**31 - 1
+
+
 def index(value, name):
-    """``value`` as a non-negative ``int``: Python and numpy integers pass (LIBERO indexes
-    lists, which take anything with ``__index__``); ``"3"``, ``3.9`` and ``True`` do not."""
+    """``value`` as a non-negative ``int`` up to 2**31 - 1: Python and numpy integers pass
+    (LIBERO indexes lists, which take anything with ``__index__``); ``"3"``, ``3.9`` and
+    ``True`` do not."""
     if isinstance(value, (bool, np.bool_)):
         raise TypeError(f"{name}: expected an integer, got {value!r}")
     try:
@@ -18,6 +23,8 @@ def index(value, name):
         raise TypeError(f"{name}: expected an integer, got {type(value).__name__} {value!r}") from None
     if i < 0:
         raise ValueError(f"{name} {i}: expected 0 or more")
+    if i > _MOST:
+        raise ValueError(f"{name} {i}: expected at most {_MOST}")
     return i
 
 

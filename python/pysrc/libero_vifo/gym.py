@@ -85,6 +85,7 @@ class LiberoVifoEnv(gymnasium.Env):
 
     def __init__(self, suite, task, size=256, render_mode=None, cue=None, language_condition=None, cue_facing="upright"):
         self._info = _task_info(suite, task)
+        size = index(size, "size")
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode {render_mode!r}: only 'rgb_array'")
         self.render_mode = render_mode
@@ -155,7 +156,7 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
         if episodes is None:
             if suite is None or task is None:
                 raise ValueError("name the task (suite=, task=) or pass episodes=[(suite, task[, language_condition, cue]), ...]")
-            episodes = [(suite, task, language_condition, cue)] * num_envs
+            episodes = [(suite, task, language_condition, cue)] * index(num_envs, "num_envs")
         rows = []
         for e in episodes:
             s, t, condition, c = (tuple(e) + (None, None))[:4]
@@ -164,7 +165,7 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
         self.num_envs = len(rows)
         self._counts = [_task_info(s, t)["init_states"] for s, t, _, _ in rows]
         threads = self.num_envs if threads is None else index(threads, "threads")
-        self._env = _native.NativeVectorEnv(rows, size, threads, cue_facing)
+        self._env = _native.NativeVectorEnv(rows, index(size, "size"), threads, cue_facing)
         self.language_instructions = self._env.instructions()
         self.single_observation_space = _observation_space(size)
         self.single_action_space = spaces.Box(-1.0, 1.0, (7,), np.float32)

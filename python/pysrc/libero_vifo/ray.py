@@ -115,7 +115,7 @@ def run_benchmark(
     for key in ("per_family", "episodes"):
         if selection.get(key) is not None:
             selection[key] = index(selection[key], f"selection[{key!r}]")
-    _native.check_size(size)
+    _native.check_size(index(size, "size"))
     # Checked before Ray starts: 0 workers would start a cluster without CPUs whose tasks never
     # run, a batch size below 1 would run nothing.
     if num_workers is not None and index(num_workers, "num_workers") < 1:

@@ -85,6 +85,25 @@ impl NativeEnv {
     }
 }
 
+/// `slf` for a call that changes it. The GIL is released while an env steps, so another
+/// Python thread can call the same object meanwhile; PyO3's own refusal says only "Already
+/// borrowed", this says what was wrong.
+pub(crate) fn exclusive<'py, T: pyo3::PyClass<Frozen = pyo3::pyclass::boolean_struct::False>>(slf: &Bound<'py, T>) -> PyResult<PyRefMut<'py, T>> {
+    slf.try_borrow_mut().map_err(|_| in_use(slf))
+}
+
+/// `slf` for a call that only reads it (refused while another thread's call changes it).
+pub(crate) fn shared<'py, T: pyo3::PyClass>(slf: &Bound<'py, T>) -> PyResult<PyRef<'py, T>> {
+    slf.try_borrow().map_err(|_| in_use(slf))
+}
+
+fn in_use<T: pyo3::PyClass>(slf: &Bound<'_, T>) -> PyErr {
+    let name = slf.as_any().get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "env".to_string());
+    PyRuntimeError::new_err(format!(
+        "this {name} is in use by another thread's call: an env is used from one thread at a time (make one env per thread, or step many in one call with the vector env)"
+    ))
+}
+
 #[pymethods]
 impl NativeEnv {
     /// An env for task `index` of `suite` with `size`² cameras (`cameras`, LIBERO's names; both
@@ -106,17 +125,19 @@ impl NativeEnv {
     }
 
     /// Loads initial state `init` (0..50) without settling; returns the observation.
-    fn reset<'py>(&mut self, py: Python<'py>, init: usize) -> PyResult<Bound<'py, PyDict>> {
-        let spec = episode_spec(&self.task.suite, self.task.index, &self.condition, self.cue.as_deref(), init)?;
-        let env = self.env()?;
+    fn reset<'py>(slf: &Bound<'py, Self>, init: usize) -> PyResult<Bound<'py, PyDict>> {
+        let (py, mut this) = (slf.py(), exclusive(slf)?);
+        let spec = episode_spec(&this.task.suite, this.task.index, &this.condition, this.cue.as_deref(), init)?;
+        let env = this.env()?;
         py.detach(|| env.reset_unsettled(&spec).map(|_| ())).map_err(py_err)?;
         observation(py, env)
     }
 
     /// One control step: `(obs, reward, done)`; reward 1.0 when the task is done, as LIBERO's
     /// sparse reward.
-    fn step<'py>(&mut self, py: Python<'py>, action: Vec<f64>) -> PyResult<(Bound<'py, PyDict>, f64, bool)> {
-        let env = self.env()?;
+    fn step<'py>(slf: &Bound<'py, Self>, action: Vec<f64>) -> PyResult<(Bound<'py, PyDict>, f64, bool)> {
+        let (py, mut this) = (slf.py(), exclusive(slf)?);
+        let env = this.env()?;
         let done = py.detach(|| env.step(&action).map(|r| r.done)).map_err(py_err)?;
         let reward = if env.scored_success() { 1.0 } else { 0.0 };
         Ok((observation(py, env)?, reward, done))
@@ -124,24 +145,27 @@ impl NativeEnv {
 
     /// Whether the task's goal holds as of the last step; before the first reset an error, as
     /// `step` (there is no episode to check).
-    fn check_success(&mut self) -> PyResult<bool> {
-        let env = self.env()?;
+    fn check_success(slf: &Bound<'_, Self>) -> PyResult<bool> {
+        let mut this = exclusive(slf)?;
+        let env = this.env()?;
         env.state().map_err(py_err)?;
         Ok(env.scored_success())
     }
 
     /// `(language task done, cue task done)` as of the last step, `None` where the protocol
     /// has no such task: under conflict `check_success` is either, these tell LFR from UVF.
-    fn successes(&mut self) -> PyResult<(Option<bool>, Option<bool>)> {
-        let env = self.env()?;
+    fn successes(slf: &Bound<'_, Self>) -> PyResult<(Option<bool>, Option<bool>)> {
+        let mut this = exclusive(slf)?;
+        let env = this.env()?;
         env.state().map_err(py_err)?;
         Ok(env.successes())
     }
 
     /// The positions of the state: arm joints (7), fingers (2), then per movable object its
     /// position (3) and quaternion (4, x y z w). Not LIBERO's MuJoCo layout.
-    fn sim_state<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let env = self.env()?;
+    fn sim_state<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let (py, mut this) = (slf.py(), exclusive(slf)?);
+        let env = this.env()?;
         let state = env.state().map_err(py_err)?;
         let obs = env.observation();
         let mut out: Vec<f64> = obs.joint_pos.iter().chain(&obs.gripper_qpos).copied().collect();
@@ -151,13 +175,14 @@ impl NativeEnv {
         Ok(PyArray1::from_vec(py, out))
     }
 
-    fn close(&mut self) {
-        self.env = None;
+    fn close(slf: &Bound<'_, Self>) -> PyResult<()> {
+        exclusive(slf)?.env = None;
+        Ok(())
     }
 
     #[getter]
-    fn closed(&self) -> bool {
-        self.env.is_none()
+    fn closed(slf: &Bound<'_, Self>) -> PyResult<bool> {
+        Ok(shared(slf)?.env.is_none())
     }
 }
 

@@ -10,7 +10,7 @@ use vifo_protocols::env::{Env, EnvConfig, EnvError};
 use vifo_protocols::spec::EpisodeSpec;
 use vifo_scenes::view::ImageOrder;
 
-use crate::{check_size, episode_spec, py_err};
+use crate::{check_size, episode_spec, exclusive, py_err, shared};
 
 /// One sub-env's episode: (suite, task index, condition, cue instance).
 type Episode = (String, usize, String, Option<String>);
@@ -69,22 +69,23 @@ impl NativeVectorEnv {
     }
 
     #[getter]
-    fn num_envs(&self) -> usize {
-        self.envs.len()
+    fn num_envs(slf: &Bound<'_, Self>) -> PyResult<usize> {
+        Ok(shared(slf)?.envs.len())
     }
 
     /// Each instruction (the protocol's).
-    fn instructions(&self) -> PyResult<Vec<String>> {
-        self.episodes.iter().map(|(s, i, c, q)| Ok(episode_spec(s, *i, c, q.as_deref(), 0)?.instruction)).collect()
+    fn instructions(slf: &Bound<'_, Self>) -> PyResult<Vec<String>> {
+        shared(slf)?.episodes.iter().map(|(s, i, c, q)| Ok(episode_spec(s, *i, c, q.as_deref(), 0)?.instruction)).collect()
     }
 
     /// Starts sub-env `k` from initial state `inits[k]` (settled, as `vifo run`) where it is
     /// not `None`; returns every sub-env's observation, stacked.
-    fn reset<'py>(&mut self, py: Python<'py>, inits: Vec<Option<usize>>) -> PyResult<Bound<'py, PyDict>> {
-        let specs = self.specs(&inits)?;
+    fn reset<'py>(slf: &Bound<'py, Self>, inits: Vec<Option<usize>>) -> PyResult<Bound<'py, PyDict>> {
+        let (py, mut this) = (slf.py(), exclusive(slf)?);
+        let specs = this.specs(&inits)?;
         let jobs: Vec<Job> = specs.iter().map(|s| s.as_ref().map_or(Job::Keep, Job::Reset)).collect();
-        self.run(py, jobs)?;
-        stacked(py, &self.envs)
+        this.run(py, jobs)?;
+        stacked(py, &this.envs)
     }
 
     /// One call for all sub-envs: sub-env `k` is reset to `resets[k]` where that is given
@@ -96,13 +97,13 @@ impl NativeVectorEnv {
     /// other sub-envs' steps stand), and each sub-env's (language, cue) success (`Env::successes`).
     #[allow(clippy::type_complexity)]
     fn step<'py>(
-        &mut self,
-        py: Python<'py>,
+        slf: &Bound<'py, Self>,
         actions: PyReadonlyArray2<'py, f64>,
         resets: Vec<Option<usize>>,
     ) -> PyResult<(Bound<'py, PyDict>, Vec<f64>, Vec<bool>, Vec<bool>, Vec<Option<String>>, Vec<(Option<bool>, Option<bool>)>)> {
-        self.check_open()?;
-        let n = self.envs.len();
+        let (py, mut this) = (slf.py(), exclusive(slf)?);
+        this.check_open()?;
+        let n = this.envs.len();
         if actions.shape() != [n, 7] {
             return Err(PyValueError::new_err(format!("actions of shape {:?}: expected ({n}, 7)", actions.shape())));
         }
@@ -112,11 +113,11 @@ impl NativeVectorEnv {
         if let Some(i) = actions.iter().position(|v| !v.is_finite()) {
             return Err(PyValueError::new_err(format!("action of env {}: element {} is {}, not finite", i / 7, i % 7, actions[i])));
         }
-        let specs = self.specs(&resets)?;
+        let specs = this.specs(&resets)?;
         let jobs: Vec<Job> =
             specs.iter().enumerate().map(|(k, s)| s.as_ref().map_or(Job::Step(&actions[k * 7..(k + 1) * 7]), Job::Reset)).collect();
-        let outcomes = self.run(py, jobs)?;
-        let obs = stacked(py, &self.envs)?;
+        let outcomes = this.run(py, jobs)?;
+        let obs = stacked(py, &this.envs)?;
         let rewards = outcomes.iter().map(|o| o.reward).collect();
         let terminated = outcomes.iter().map(|o| o.terminated).collect();
         let truncated = outcomes.iter().map(|o| o.truncated).collect();
@@ -134,8 +135,9 @@ impl NativeVectorEnv {
         Ok(())
     }
 
-    fn close(&mut self) {
-        self.envs.clear();
+    fn close(slf: &Bound<'_, Self>) -> PyResult<()> {
+        exclusive(slf)?.envs.clear();
+        Ok(())
     }
 }
 

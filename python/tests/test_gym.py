@@ -261,3 +261,41 @@ def test_wrong_arguments_raise_clear_exceptions():
     vec.close()
     with pytest.raises(RuntimeError, match="closed"):
         vec.step(np.zeros((2, 7)))
+
+
+def test_an_env_used_from_two_threads_at_once_says_so():
+    """The GIL is released while an env steps; a second thread's call on the same env is refused
+    with a message that says why (PyO3's own said only "Already borrowed"), and the first
+    thread's episode goes on."""
+    import threading
+
+    from libero_vifo.gym import LiberoVifoEnv, LiberoVifoVectorEnv
+
+    for env, action in (
+        (LiberoVifoEnv("libero_goal", 0, size=64), np.zeros(7)),
+        (LiberoVifoVectorEnv(suite="libero_goal", task=0, num_envs=2, size=64, threads=1), np.zeros((2, 7))),
+    ):
+        env.reset(options={"init_state": 0})
+        stop, stepped = threading.Event(), []
+
+        def steady():
+            while not stop.is_set() and len(stepped) < 400:
+                env.step(action)
+                stepped.append(1)
+
+        worker = threading.Thread(target=steady)
+        worker.start()
+        refused = None
+        try:
+            while worker.is_alive() and refused is None:
+                try:
+                    env.step(action)
+                except RuntimeError as e:
+                    refused = str(e)
+        finally:
+            stop.set()
+            worker.join()
+        assert refused is not None and "in use by another thread" in refused, refused
+        assert stepped, "the first thread's steps stood"
+        env.step(action)  # usable again once the other call is over
+        env.close()

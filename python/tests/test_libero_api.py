@@ -249,6 +249,12 @@ def test_bad_actions_raise_value_error_and_change_nothing(action, match):
 def test_wrong_arguments_raise_clear_exceptions():
     with pytest.raises(ValueError, match="no built-in task"):
         OffScreenRenderEnv(bddl_file_name="libero_goal/not_a_task.bddl", camera_heights=64, camera_widths=64)
+    # A task's file under another suite's folder is refused (it resolved by name before); a copy
+    # outside LIBERO's suite folders still resolves by its name.
+    goal0 = benchmark.get_benchmark_dict()["libero_goal"]().get_task(0).bddl_file
+    with pytest.raises(ValueError, match=f"task '{goal0[:-5]}' is in libero_goal, not in 'libero_10'"):
+        OffScreenRenderEnv(bddl_file_name=f"libero_10/{goal0}", camera_heights=64, camera_widths=64)
+    assert OffScreenRenderEnv(bddl_file_name=f"my_copies/{goal0}", camera_heights=16, camera_widths=16)._task["suite"] == "libero_goal"
     with pytest.raises(ValueError, match="square"):
         make_env().__class__(bddl_file_name="x.bddl", camera_heights=64, camera_widths=32)
     with pytest.raises(ValueError, match="camera size"):

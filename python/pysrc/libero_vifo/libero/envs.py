@@ -37,8 +37,14 @@ def _find_task(bddl_file_name):
     stem = os.path.splitext(os.path.basename(path))[0]
     folder = os.path.basename(os.path.dirname(path))
     found = [t for t in _TASKS if t["name"] == stem and (t["suite"] == folder or not folder)]
-    if not found:
+    suites = {t["suite"] for t in _TASKS}
+    if not found and folder not in suites:
+        # A copy of the file outside LIBERO's tree: its name alone says the task.
         found = [t for t in _TASKS if t["name"] == stem]
+    elif not found:
+        elsewhere = sorted(t["suite"] for t in _TASKS if t["name"] == stem)
+        if elsewhere:
+            raise ValueError(f"bddl_file_name {path!r}: task {stem!r} is in {', '.join(elsewhere)}, not in {folder!r}")
     if len(found) != 1:
         raise ValueError(
             f"bddl_file_name {path!r}: no built-in task {stem!r}"

@@ -28,6 +28,14 @@ const COLUMNS: [Column; 11] = [
     ("UVI↓", false, |r| r.uvi.percent()),
 ];
 
+/// What the columns measure (the paper's §3.3), under the table where a reader meets them.
+const COLUMN_LEGEND: &str = "\nColumns. Part I-A (VQA, `vifo vqa`): accuracy on the cue's detection (Det.), its meaning \
+(Sem.), its grounding in the scene (Gnd.) and the action it asks for (Dec.); FCA: all four of one cue instance right. \
+Part I-B (authorized): Orig. SR, language success without cues; AVF, the cue's task done when the language says \
+to follow the cue; VTR = AVF / Orig. SR × 100. Part II-A (conflict: language and cue name different tasks): LFR, the \
+language's task done; UVF, the cue's. Part II-B (no language): UVI, the cue's task done. `episodes` counts this \
+table's episodes (the original protocol's and the cue protocols', not the extended studies').\n";
+
 /// Cells with the best value bold and the second best underlined (only where the values differ:
 /// a column of equal values, such as a family every model fails, ranks nothing).
 pub(crate) fn ranked_cells(values: &[Option<f64>], higher_is_better: bool) -> Vec<String> {
@@ -110,6 +118,7 @@ pub fn table1_markdown(report: &Report) -> String {
     // The paper's caption says "highest"; its UVF column marks the lowest, its UVI the highest.
     out += "\nBold: the best value of each column by its arrow (↓: the lowest), underlined: the second.\n";
     out += "\nEach column but Orig. SR is the unweighted mean of the cue families' rates, as Table 2's Avg.\n";
+    out += COLUMN_LEGEND;
     let partial: Vec<String> = rows.iter().filter_map(partial_means).collect();
     if !partial.is_empty() {
         out += &format!(

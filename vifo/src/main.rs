@@ -33,7 +33,7 @@ enum Command {
     Report(cmd::report::Args),
     /// Render a task through agentview or the wrist camera (PNG, GIF or frames).
     Render(cmd::render::RenderArgs),
-    /// Closed-loop episodes of built-in or remote policies, then the report (quick default without options).
+    /// Closed-loop episodes of built-in or remote policies, then the report (a quick default sample without --suite, --protocol, --family, --per-family, --episodes or --study).
     Run(cmd::run::Args),
     /// The shipped initial states: regenerate them or check them.
     InitStates(cmd::init_states::Args),

@@ -166,31 +166,32 @@ fn a_resumed_run_that_would_mix_looks_writes_no_report() {
     assert!(!out_dir.join("report").exists());
 }
 
-/// A run whose policy server is not up keeps its error records and writes its report, but
-/// exits with an error, so that a script does not take it for a result.
+/// A run whose policy server is not up stops before its first episode, naming the server and
+/// writing nothing: before, every episode became an error record and the report a table of
+/// dashes.
 #[test]
-fn a_run_whose_episodes_ended_in_errors_exits_with_an_error_after_its_report() {
+fn a_run_whose_server_is_not_up_stops_before_any_episode() {
     let dir = tempfile::tempdir().unwrap();
     // A port that was free a moment ago: nothing listens there.
     let port = std::net::TcpListener::bind(("127.0.0.1", 0)).unwrap().local_addr().unwrap().port();
-    let url = format!("ws://127.0.0.1:{port}");
-    let out = Command::new(env!("CARGO_BIN_EXE_vifo"))
-        .args(["run", "--builtin-look", "--quiet", "--suite", "libero_goal", "--protocol", "original", "--episodes", "1"])
-        .args(["--policy", &url, "--out"])
-        .arg(dir.path())
-        .output()
-        .expect("run vifo");
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && stderr.contains("10 episodes ended in errors") && stderr.contains("--resume"), "{stderr}");
-    let results = std::fs::read_to_string(dir.path().join(format!("results-ws___127.0.0.1_{port}.jsonl"))).unwrap();
-    assert_eq!(results.lines().count(), 10, "{results}");
-    let table = std::fs::read_to_string(dir.path().join("report").join("table1.md")).unwrap();
-    // Named as the policy's completed episodes would be, so that one server is one row.
-    assert!(table.contains(&format!("| openpi@{url} |")), "{table}");
+    for url in [format!("ws://127.0.0.1:{port}"), format!("http://127.0.0.1:{port}/act"), format!("tcp://127.0.0.1:{port}")] {
+        let out = Command::new(env!("CARGO_BIN_EXE_vifo"))
+            .args(["run", "--builtin-look", "--quiet", "--suite", "libero_goal", "--protocol", "original", "--episodes", "1"])
+            .args(["--policy", &url, "--out"])
+            .arg(dir.path())
+            .output()
+            .expect("run vifo");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && stderr.contains(&format!("cannot connect to {url}")) && stderr.contains("is the server up?"), "{url}: {stderr}");
+        let written: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).filter(|n| n.to_string_lossy().ends_with(".jsonl")).collect();
+        assert!(written.is_empty(), "{url}: {written:?}");
+    }
 }
 
 /// The request timeout was fixed at 180 s: a server that took a connection and never answered
 /// cost three minutes per episode, and a slow first compile could not be waited for longer.
+/// Such a run keeps its error records and writes its report, under the name given to the
+/// model, but exits with an error, so that a script does not take it for a result.
 #[test]
 fn a_server_that_never_answers_times_out_after_policy_timeout() {
     let dir = tempfile::tempdir().unwrap();
@@ -200,13 +201,20 @@ fn a_server_that_never_answers_times_out_after_policy_timeout() {
     let start = std::time::Instant::now();
     let out = Command::new(env!("CARGO_BIN_EXE_vifo"))
         .args(["run", "--builtin-look", "--quiet", "--suite", "libero_goal", "--protocol", "original", "--episodes", "1"])
-        .args(["--threads", "1", "--policy", &url, "--policy-timeout", "0.5", "--out"])
+        .args(["--threads", "1", "--policy", &url, "--policy-timeout", "0.5", "--policy-name", "oft-libero-goal", "--out"])
         .arg(dir.path())
         .output()
         .expect("run vifo");
     let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && stdout.contains("timed out after 0.5 s"), "{stdout}");
+    assert!(stderr.contains("10 episodes ended in errors") && stderr.contains("--resume"), "{stderr}");
     assert!(start.elapsed().as_secs() < 120, "{:?}", start.elapsed());
+    let results = std::fs::read_to_string(dir.path().join("results-oft-libero-goal.jsonl")).unwrap();
+    assert_eq!(results.lines().count(), 10, "{results}");
+    assert!(results.lines().all(|l| l.contains("\"policy\":\"oft-libero-goal\"")), "{results}");
+    let table = std::fs::read_to_string(dir.path().join("report").join("table1.md")).unwrap();
+    assert!(table.contains("| oft-libero-goal |"), "{table}");
     drop(listener);
 }
 
@@ -303,6 +311,9 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
         (vec!["run", "--suite", "libero_goal", "--protocol", "original", "--policy", "tcp://127.0.0.1", "--out", out_arg], "no port"),
         (vec!["run", "--suite", "libero_goal", "--protocol", "original", "--policy", "ws://:8000", "--out", out_arg], "no host"),
         (vec!["run", "--suite", "libero_goal", "--protocol", "original", "--policy", "grpc://127.0.0.1:1", "--out", out_arg], "add ?policy_type="),
+        // A name is for one served model: on a built-in it would pass for another policy.
+        ([&goal_zero[..], &["--policy-name", "mine"]].concat(), "--policy-name \"mine\" names one policy server"),
+        (vec!["run", "--suite", "libero_goal", "--policy", "ws://127.0.0.1:1", "--policy-name", "expert-cue", "--out", out_arg], "a built-in policy's name"),
     ];
     for (args, says) in cases {
         let run = Command::new(env!("CARGO_BIN_EXE_vifo")).args(&args).output().expect("run vifo");

@@ -3,7 +3,8 @@
 //! wait to become one error per episode.
 
 use std::fmt;
-use std::net::{SocketAddr, ToSocketAddrs};
+use std::net::{SocketAddr, TcpStream, ToSocketAddrs};
+use std::time::Duration;
 
 use crate::policy::PolicyError;
 
@@ -59,6 +60,23 @@ impl Address {
             .to_socket_addrs()
             .map(Iterator::collect)
             .map_err(|e| PolicyError::Connection(format!("cannot resolve {self}: {e}")))
+    }
+
+    /// A TCP connection to the first of its socket addresses that answers within `timeout`;
+    /// the error names `url` and why the last one failed.
+    pub fn connect(&self, url: &str, timeout: Duration) -> Result<TcpStream, PolicyError> {
+        let mut last = None;
+        for addr in &self.resolve()? {
+            match TcpStream::connect_timeout(addr, timeout) {
+                Ok(s) => {
+                    s.set_nodelay(true).ok();
+                    return Ok(s);
+                }
+                Err(e) => last = Some(e),
+            }
+        }
+        let why = last.map_or("no address".to_string(), |e| e.to_string());
+        Err(PolicyError::Connection(format!("cannot connect to {url}: {why}")))
     }
 }
 

@@ -25,7 +25,6 @@ pub mod ndarray;
 
 use std::collections::VecDeque;
 use std::io;
-use std::net::TcpStream;
 use std::time::Duration;
 
 use rmpv::Value;
@@ -279,23 +278,7 @@ fn open(
     config: &RemoteConfig,
 ) -> Result<(WebSocket<DeadlineStream>, Value), PolicyError> {
     let timeout = config.connect_timeout;
-    let mut last = None;
-    let mut stream = None;
-    for addr in &address.resolve()? {
-        match TcpStream::connect_timeout(addr, timeout) {
-            Ok(s) => {
-                stream = Some(s);
-                break;
-            }
-            Err(e) => last = Some(e),
-        }
-    }
-    let stream = stream.ok_or_else(|| {
-        let why = last.map_or("no address".to_string(), |e| e.to_string());
-        PolicyError::Connection(format!("cannot connect to {}: {why}", config.url))
-    })?;
-    stream.set_nodelay(true).ok();
-    let stream = DeadlineStream::new(stream, timeout);
+    let stream = DeadlineStream::new(address.connect(&config.url, timeout)?, timeout);
     let mut request = ClientRequestBuilder::new(uri.clone());
     if let Some(key) = &config.api_key {
         request = request.with_header("Authorization", format!("Api-Key {key}"));

@@ -181,12 +181,14 @@ pub struct ServingConfig {
     pub connect_timeout: Duration,
     /// One request: sending the observation and receiving the whole reply.
     pub request_timeout: Duration,
+    /// Name in results files; default `<profile>@<url>`.
+    pub name: Option<String>,
 }
 
 impl ServingConfig {
-    /// The name its records carry: `<profile>@<url>`.
+    /// The name its records carry: `name`, or `<profile>@<url>`.
     pub fn policy_name(&self) -> String {
-        format!("{}@{}", self.profile.name, self.url)
+        self.name.clone().unwrap_or_else(|| format!("{}@{}", self.profile.name, self.url))
     }
 
     /// Whether the server holds one client at a time, so that a run must send it one episode at
@@ -214,6 +216,7 @@ impl ServingConfig {
             connect_timeout: Duration::from_secs(10),
             // First inferences compile or warm up CUDA kernels and can take minutes.
             request_timeout: Duration::from_secs(180),
+            name: None,
         })
     }
 }

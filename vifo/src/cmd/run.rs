@@ -436,6 +436,15 @@ fn run_policy(policy: &str, name: &str, specs: &[EpisodeSpec], path: &Path, clip
     if let Some(c) = &served {
         let p = &c.profile;
         println!("{policy}: {} format, profile {} ({})", c.format, p.name, p.source);
+        if p.format != c.format {
+            println!(
+                "  note: profile {} is made for its model's {} server ({}://), and this one speaks {}: check --policy and --model-profile",
+                p.name,
+                p.format,
+                p.format.scheme(),
+                c.format
+            );
+        }
         if p.image_size.is_none() && args.size != 256 {
             println!(
                 "  note: profile {} sends frames as rendered and its model expects 256x256: use --size 256",

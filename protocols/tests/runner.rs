@@ -373,3 +373,24 @@ fn the_suites_with_the_longest_step_budget_run_first_in_list_order() {
     let long_first: Vec<String> = all.iter().filter(|s| s.task.suite == "libero_10").chain(all.iter().filter(|s| s.task.suite == "libero_spatial")).map(|s| s.key()).collect();
     assert_eq!(started.into_inner().unwrap(), long_first);
 }
+
+/// `stop` set by a driver (a Ctrl-C that Python saw) ends the run after the episodes running:
+/// the rest are neither run nor written, and a resumed run does them.
+#[test]
+fn a_stop_takes_no_more_episodes_and_a_resume_does_the_rest() {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, Ordering};
+
+    let all = specs(20);
+    let (_dir, path) = temp();
+    let stop = Arc::new(AtomicBool::new(false));
+    let stopping = |spec: &EpisodeSpec| {
+        stop.store(true, Ordering::Relaxed);
+        episode(spec)
+    };
+    let first = runner::run(&all, stopping, &RunOptions { stop: Some(stop.clone()), ..options(&path, 1) }).unwrap();
+    assert_eq!(first.ran, 1);
+    assert_eq!(read_records(&path).unwrap().records.len(), 1);
+    let rest = runner::run(&all, episode, &RunOptions { resume: true, ..options(&path, 1) }).unwrap();
+    assert_eq!((rest.ran, rest.already_done), (19, 1));
+}

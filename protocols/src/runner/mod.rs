@@ -15,8 +15,8 @@ pub mod seed;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 use thiserror::Error;
@@ -113,6 +113,9 @@ pub struct RunOptions {
     pub policy: String,
     /// The instance set written into every record; resuming a file of another set is an error.
     pub set: SetName,
+    /// Set from elsewhere (a Ctrl-C that Python saw) to stop taking episodes: those running
+    /// finish and are written, the rest stay to do (`resume` continues them).
+    pub stop: Option<Arc<AtomicBool>>,
 }
 
 impl RunOptions {
@@ -125,7 +128,12 @@ impl RunOptions {
             quiet: false,
             policy: String::new(),
             set: SetName::Paper,
+            stop: None,
         }
+    }
+
+    fn stopped(&self) -> bool {
+        self.stop.as_ref().is_some_and(|s| s.load(Ordering::Relaxed))
     }
 }
 
@@ -190,6 +198,7 @@ where
     let progress = Progress::stderr(todo.len() as u64, "episodes", options.quiet);
     let errors: Mutex<BTreeMap<String, (usize, String)>> = Mutex::new(BTreeMap::new());
     let next = AtomicUsize::new(0);
+    let written = AtomicUsize::new(0);
     // No more workers than episodes: `--threads 3000` on a short list would only add start-up.
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(options.threads.min(todo.len().max(1)))
@@ -197,7 +206,7 @@ where
         .map_err(|e| RunError::Pool(e.to_string()))?;
     pool.broadcast(|_| {
         while let Some(spec) = todo.get(next.fetch_add(1, Ordering::Relaxed)) {
-            if lock(&failure).is_some() {
+            if lock(&failure).is_some() || options.stopped() {
                 return;
             }
             let record = EpisodeRecord { set: options.set, ..run_one(spec, &episode, &options.policy) };
@@ -211,8 +220,9 @@ where
                 }
                 progress.note(format!("errors: {}", errors.values().map(|(n, _)| n).sum::<usize>()));
             }
-            if let Err(e) = lock(&writer).write(&record) {
-                lock(&failure).get_or_insert(e);
+            match lock(&writer).write(&record) {
+                Ok(()) => _ = written.fetch_add(1, Ordering::Relaxed),
+                Err(e) => _ = lock(&failure).get_or_insert(e),
             }
             progress.inc();
         }
@@ -221,7 +231,8 @@ where
     if let Some(e) = failure.into_inner().unwrap_or_else(|p| p.into_inner()) {
         return Err(e);
     }
-    summary.ran = todo.len();
+    // All of `todo`, unless a stop left some.
+    summary.ran = written.into_inner();
     let mut messages: Vec<ErrorTally> = errors
         .into_inner()
         .unwrap_or_else(|p| p.into_inner())

@@ -7,6 +7,7 @@
 //! parallel. `vector`: N envs stepped on Rust threads in one call; `run`: benchmark runs
 //! into `vifo run`'s results files (the Ray runner's native half).
 
+mod callable;
 mod look;
 mod run;
 mod vector;
@@ -234,9 +235,21 @@ fn objects(sim: &Sim) -> Vec<(String, [f64; 3], [f64; 4])> {
 /// LIBERO's observation dict of the env's latest observation: `<camera>_image` for each
 /// camera the env draws, then the robot's and the objects' vectors.
 fn observation<'py>(py: Python<'py>, env: &Env) -> PyResult<Bound<'py, PyDict>> {
-    let obs: &Observation = env.observation();
+    let d = robot_observation(py, env.observation(), &env.config().cameras)?;
+    let f = |v: &[f64]| PyArray1::from_slice(py, v);
+    let state = env.state().map_err(py_err)?;
+    for (name, pos, quat) in objects(state.sim) {
+        d.set_item(format!("{name}_pos"), f(&pos))?;
+        d.set_item(format!("{name}_quat"), f(&quat))?;
+    }
+    Ok(d)
+}
+
+/// What a policy is given of `obs`: `<camera>_image` for each of `cameras`, then the robot's
+/// vectors (LIBERO's keys).
+fn robot_observation<'py>(py: Python<'py>, obs: &Observation, cameras: &[CameraName]) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    for &camera in &env.config().cameras {
+    for &camera in cameras {
         let image = obs.image(camera);
         let shape = [image.height as usize, image.width as usize, 3];
         d.set_item(format!("{camera}_image"), PyArray1::from_slice(py, &image.data).reshape(shape)?)?;
@@ -248,11 +261,6 @@ fn observation<'py>(py: Python<'py>, env: &Env) -> PyResult<Bound<'py, PyDict>> 
     d.set_item("robot0_joint_pos", f(&obs.joint_pos))?;
     d.set_item("robot0_joint_pos_cos", f(&obs.joint_pos.map(f64::cos)))?;
     d.set_item("robot0_joint_pos_sin", f(&obs.joint_pos.map(f64::sin)))?;
-    let state = env.state().map_err(py_err)?;
-    for (name, pos, quat) in objects(state.sim) {
-        d.set_item(format!("{name}_pos"), f(&pos))?;
-        d.set_item(format!("{name}_quat"), f(&quat))?;
-    }
     Ok(d)
 }
 

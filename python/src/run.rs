@@ -4,6 +4,8 @@
 //! `vifo run --resume` read what Python wrote.
 
 use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, Mutex};
 
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -19,6 +21,8 @@ use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec};
 use vifo_protocols::{Policy, report, studies};
 use vifo_scenes::view::CameraName;
 
+use crate::callable::{PyPolicy, interruptible};
+
 fn value_err(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())
 }
@@ -32,9 +36,9 @@ fn parse_set(set: &str) -> PyResult<SetName> {
 }
 
 /// The episodes of a selection (`vifo run`'s options: `--set --suite --protocol --family
-/// --per-family --episodes`), as `(key, spec JSON)` in `vifo run`'s order.
+/// --per-family --episodes --sample`), as `(key, spec JSON)` in `vifo run`'s order.
 #[pyfunction]
-#[pyo3(signature = (set = "paper", suites = Vec::new(), protocols = Vec::new(), families = Vec::new(), per_family = None, episodes = 1))]
+#[pyo3(signature = (set = "paper", suites = Vec::new(), protocols = Vec::new(), families = Vec::new(), per_family = None, episodes = 1, sample = None))]
 pub fn episode_specs(
     set: &str,
     suites: Vec<String>,
@@ -42,6 +46,7 @@ pub fn episode_specs(
     families: Vec<String>,
     per_family: Option<usize>,
     episodes: usize,
+    sample: Option<usize>,
 ) -> PyResult<Vec<(String, String)>> {
     let mut selection = Selection::all(episodes);
     selection.set = parse_set(set)?;
@@ -59,7 +64,13 @@ pub fn episode_specs(
         })
         .collect::<PyResult<_>>()?;
     selection.per_family = per_family;
-    let specs = specs::specs(&selection).map_err(value_err)?;
+    let mut specs = specs::specs(&selection).map_err(value_err)?;
+    if let Some(n) = sample {
+        if n == 0 {
+            return Err(PyValueError::new_err("sample 0: expected 1 or more episodes"));
+        }
+        specs = specs::sample(&specs, n);
+    }
     specs.iter().map(|s| Ok((s.key(), serde_json::to_string(s).map_err(value_err)?))).collect()
 }
 
@@ -86,14 +97,16 @@ pub fn policy_name(policy: &str) -> PyResult<String> {
 /// `output` exactly as `vifo run` does (threads, resume, the cameras only for policies that
 /// look, fast-forward, the look `vifo run` would find with `--assets`, `--robot-assets` and
 /// `--builtin-look` as given: see `look`), cues facing as `cue_facing` says (`vifo run
-/// --cue-facing`); returns `(ran, errors, already_done)`.
+/// --cue-facing`); returns `(ran, errors, already_done)`. `policy` is a name `vifo run --policy`
+/// takes, or a Python callable (`callable::PyPolicy`; then `name` is required, and it runs on
+/// one worker). A Ctrl-C stops the run after the episodes running, which are written.
 #[pyfunction]
-#[pyo3(signature = (specs, policy, output, set = "paper", threads = 1, resume = false, size = 256, quiet = true, assets = None, robot_assets = None, builtin_look = false, cue_facing = "upright"))]
+#[pyo3(signature = (specs, policy, output, set = "paper", threads = 1, resume = false, size = 256, quiet = true, assets = None, robot_assets = None, builtin_look = false, cue_facing = "upright", name = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn run_specs(
     py: Python<'_>,
     specs: Vec<String>,
-    policy: &str,
+    policy: &Bound<'_, PyAny>,
     output: PathBuf,
     set: &str,
     threads: usize,
@@ -104,8 +117,9 @@ pub fn run_specs(
     robot_assets: Option<PathBuf>,
     builtin_look: bool,
     cue_facing: &str,
+    name: Option<String>,
 ) -> PyResult<(usize, usize, usize)> {
-    check_policy(policy)?;
+    let driver = Driver::new(policy, name)?;
     let cue_facing = crate::parse_cue_facing(cue_facing)?;
     let size = crate::check_size(size)?;
     let specs: Vec<EpisodeSpec> =
@@ -114,26 +128,90 @@ pub fn run_specs(
     for spec in &specs {
         check_spec(spec).map_err(value_err)?;
     }
-    let render = builtin(policy).is_none_or(|p| p.uses_images());
+    let render = driver.uses_images();
     // The look matters only where cameras draw (and is recorded only there), as in `vifo run`.
     if render {
         crate::look::use_look(py, assets, robot_assets, builtin_look, quiet)?;
     }
     let config = EnvConfig { size, cameras: if render { CameraName::ALL.to_vec() } else { Vec::new() }, cue_facing, ..EnvConfig::default() };
+    let stop = Arc::new(AtomicBool::new(false));
     // The name the policy's records carry, which a resumed file must hold.
-    let options = RunOptions { threads, resume, quiet, policy: policy_name(policy)?, set: parse_set(set)?, ..RunOptions::new(output) };
+    let options = RunOptions {
+        // The GIL serialises a Python policy's calls, and one object serves every episode.
+        threads: if matches!(driver, Driver::Python { .. }) { 1 } else { threads },
+        resume,
+        quiet,
+        policy: driver.name()?,
+        set: parse_set(set)?,
+        stop: Some(stop.clone()),
+        ..RunOptions::new(output)
+    };
     if resume {
         // A record this benchmark does not write would be kept as done.
         read_checked(&options.output).map_err(run_err)?;
     }
+    let raised = Arc::new(Mutex::new(None));
     let make = || -> Result<Box<dyn Policy>, String> {
-        match builtin(policy) {
-            Some(p) => Ok(p),
-            None => RemotePolicy::connect(policy).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string()),
+        match &driver {
+            Driver::Named(policy) => match builtin(policy) {
+                Some(p) => Ok(p),
+                None => RemotePolicy::connect(policy).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string()),
+            },
+            Driver::Python { callable, name } => {
+                let callable = Python::attach(|py| callable.clone_ref(py));
+                Ok(Box::new(PyPolicy::new(callable, name.clone(), raised.clone(), stop.clone())))
+            }
         }
     };
-    let summary = py.detach(|| run_episodes(&specs, make, config, &RolloutOptions::default(), &options)).map_err(run_err)?;
+    let summary = interruptible(py, &stop, || run_episodes(&specs, make, config, &RolloutOptions::default(), &options))?.map_err(run_err)?;
+    // The policy's own exception, with its traceback, after its episode was written.
+    if let Some(e) = raised.lock().unwrap_or_else(|p| p.into_inner()).take() {
+        return Err(e);
+    }
     Ok((summary.ran, summary.errors, summary.already_done))
+}
+
+/// What `run_specs` runs: a policy `vifo run --policy` names, or a Python callable.
+enum Driver {
+    Named(String),
+    Python { callable: Py<PyAny>, name: String },
+}
+
+impl Driver {
+    fn new(policy: &Bound<'_, PyAny>, name: Option<String>) -> PyResult<Driver> {
+        if let Ok(policy) = policy.extract::<String>() {
+            check_policy(&policy)?;
+            if name.is_some() {
+                return Err(PyValueError::new_err("name= names a Python policy; a built-in or server policy has its own name"));
+            }
+            return Ok(Driver::Named(policy));
+        }
+        if !policy.is_callable() {
+            return Err(PyValueError::new_err(format!(
+                "policy {}: expected a policy name, a server URL or a callable (obs, instruction) -> 7 numbers",
+                policy.repr().map_or_else(|_| "?".to_string(), |r| r.to_string())
+            )));
+        }
+        let name = name.ok_or_else(|| PyValueError::new_err("a Python policy needs name= (its records and report rows carry it)"))?;
+        if name.trim().is_empty() || name.chars().count() > 100 || name.chars().any(char::is_control) || builtin(&name).is_some() {
+            return Err(PyValueError::new_err(format!("name {name:?}: give 1 to 100 printable characters, not a built-in policy's name")));
+        }
+        Ok(Driver::Python { callable: policy.clone().unbind(), name })
+    }
+
+    fn uses_images(&self) -> bool {
+        match self {
+            Driver::Named(policy) => builtin(policy).is_none_or(|p| p.uses_images()),
+            Driver::Python { .. } => true,
+        }
+    }
+
+    fn name(&self) -> PyResult<String> {
+        match self {
+            Driver::Named(policy) => policy_name(policy),
+            Driver::Python { name, .. } => Ok(name.clone()),
+        }
+    }
 }
 
 /// A results file opened as `vifo run` opens it (locked while open, checked, a cut last line

@@ -4,13 +4,17 @@ Switch an evaluation script by changing its imports::
 
     from libero_vifo.libero import benchmark, get_libero_path
     from libero_vifo.libero.envs import OffScreenRenderEnv
+
+Run your own policy, a Python function of the observation, through the benchmark into a
+``vifo run`` results file and report: ``libero_vifo.evaluate(policy, name, selection)``.
 """
 
 import json
 
 from . import _native
+from .evaluation import evaluate
 
-__all__ = ["libero", "cue_instances", "use_look", "look_info"]
+__all__ = ["libero", "cue_instances", "use_look", "look_info", "evaluate"]
 
 
 def use_look(assets=None, robot_assets=None, builtin=False, quiet=False):

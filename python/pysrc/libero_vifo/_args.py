@@ -38,3 +38,20 @@ def action(value, shape):
         name = "action" if len(shape) == 1 else "actions"
         raise ValueError(f"{name} of shape {a.shape}: expected {shape}")
     return a
+
+
+def selection(value):
+    """``vifo run``'s selection options as a dict (``set``, ``suites``, ``protocols``,
+    ``families``, ``per_family``, ``episodes``, ``sample``): ``(set name, the rest)``, the rest
+    as ``_native.episode_specs`` takes it."""
+    rest = dict(value)
+    set_name = rest.pop("set", "paper")
+    unknown = set(rest) - {"suites", "protocols", "families", "per_family", "episodes", "sample"}
+    if unknown:
+        raise ValueError(
+            f"selection: unknown keys {sorted(unknown)} (expected set, suites, protocols, families, per_family, episodes, sample)"
+        )
+    for key in ("per_family", "episodes", "sample"):
+        if rest.get(key) is not None:
+            rest[key] = index(rest[key], f"selection[{key!r}]")
+    return set_name, rest

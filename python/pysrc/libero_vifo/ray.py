@@ -23,7 +23,7 @@ import time
 import ray
 
 from . import _native
-from ._args import index
+from ._args import index, selection as _selection
 
 __all__ = ["run_benchmark"]
 
@@ -81,7 +81,7 @@ def run_benchmark(
     """Runs ``selection`` with ``policy`` on a Ray cluster into a ``vifo run`` results file.
 
     - ``selection``: ``vifo run``'s options as a dict: ``set`` (``paper``/``full``),
-      ``suites``, ``protocols``, ``families``, ``per_family``, ``episodes``.
+      ``suites``, ``protocols``, ``families``, ``per_family``, ``episodes``, ``sample``.
     - ``policy``: a built-in (``expert-cue``, ``expert-language``, ``expert-authorized``,
       ``random``, ``zero``), an openpi server ``ws://host:port``, or a list of servers: batch
       ``j`` goes to server ``j % len(list)`` (Ray gives a batch to whichever worker is free,
@@ -107,14 +107,7 @@ def run_benchmark(
     episodes are missing and a resumed run retries them), ``seconds``, ``output``. Where every
     batch failed (nothing was written) it raises ``RuntimeError`` with the first batch's reason.
     """
-    selection = dict(selection)
-    set_name = selection.pop("set", "paper")
-    unknown = set(selection) - {"suites", "protocols", "families", "per_family", "episodes"}
-    if unknown:
-        raise ValueError(f"selection: unknown keys {sorted(unknown)} (expected set, suites, protocols, families, per_family, episodes)")
-    for key in ("per_family", "episodes"):
-        if selection.get(key) is not None:
-            selection[key] = index(selection[key], f"selection[{key!r}]")
+    set_name, selection = _selection(selection)
     _native.check_size(index(size, "size"))
     # Checked before Ray starts: 0 workers would start a cluster without CPUs whose tasks never
     # run, a batch size below 1 would run nothing.

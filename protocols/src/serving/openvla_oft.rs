@@ -280,6 +280,8 @@ mod tests {
                 write!(s, "HTTP/1.1 200 OK\r\ncontent-type: application/json\r\ncontent-length: {}\r\n\r\n{body}", body.len())
                     .unwrap();
             };
+            // `OftTransport::new`'s check that a server is up: connected, then closed.
+            drop(listener.accept().unwrap());
             let (mut first, _) = listener.accept().unwrap();
             read_request(&mut first);
             reply(&mut first);

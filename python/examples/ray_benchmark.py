@@ -41,7 +41,8 @@ def kill_one_when(output, written):
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--address", default=None)
-    p.add_argument("--policy", action="append", required=True)
+    p.add_argument("--policy", action="append", required=True, help="a built-in policy or a server URL, as vifo run --policy takes it; repeatable (servers)")
+    p.add_argument("--model-profile", help="the served model's profile, as vifo run --model-profile takes it")
     p.add_argument("--set", default="paper")
     p.add_argument("--suite", action="append", default=[])
     p.add_argument("--protocol", action="append", default=[])
@@ -66,7 +67,8 @@ def main():
         threading.Thread(target=kill_one_when, args=(output, args.kill_after), daemon=True).start()
     s = run_benchmark(selection, policy, address=args.address, output=output, resume=args.resume,
                       batch_size=args.batch_size, num_workers=args.workers, report_dir=os.path.join(args.out, "report"), quiet=True,
-                      assets=args.assets, robot_assets=args.robot_assets, builtin_look=args.builtin_look)
+                      assets=args.assets, robot_assets=args.robot_assets, builtin_look=args.builtin_look,
+                      model_profile=args.model_profile)
     print(s["report"])
     print(f"{s['episodes']} episodes: {s['ran']} run now ({s['errors']} errors), {s['already_done']} already done, "
           f"in {s['seconds']:.1f} s -> {s['output']}")

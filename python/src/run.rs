@@ -16,6 +16,7 @@ use vifo_protocols::env::EnvConfig;
 use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
 use vifo_protocols::policies::builtin;
 use vifo_protocols::remote::{RemoteConfig, RemotePolicy};
+use vifo_protocols::serving::{Profile, ServedPolicy, ServingConfig};
 use vifo_protocols::runner::{OpenResults, RunError, RunOptions, read_records};
 use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec};
 use vifo_protocols::{Policy, report, studies};
@@ -74,23 +75,87 @@ pub fn episode_specs(
     specs.iter().map(|s| Ok((s.key(), serde_json::to_string(s).map_err(value_err)?))).collect()
 }
 
-/// The policy `vifo run --policy` names: a built-in or an openpi server (`ws://host:port`).
-#[pyfunction]
-pub fn check_policy(policy: &str) -> PyResult<()> {
-    if builtin(policy).is_none() && !policy.starts_with("ws://") {
-        return Err(PyValueError::new_err(format!(
-            "unknown policy {policy:?}: expected one of {} or an openpi server ws://host:port",
-            vifo_protocols::policies::NAMES.join(", ")
-        )));
-    }
-    Ok(())
+/// How a policy `vifo run --policy` names is reached: a built-in, or a server (`vifo run
+/// --policy URL --model-profile P`: plain `ws://` without a profile is openpi's pi0.5 client).
+#[derive(Clone)]
+enum Named {
+    Builtin(String),
+    Openpi(RemoteConfig),
+    Served(ServingConfig),
 }
 
-/// The name `policy`'s records carry (`vifo run`'s): a built-in's, or `openpi@<url>`.
+impl Named {
+    fn new(policy: &str, model_profile: Option<&str>, size: u32) -> PyResult<Named> {
+        let profile = model_profile
+            .map(|n| {
+                Profile::named(n).ok_or_else(|| value_err(format!("unknown model_profile {n:?}: expected one of {}", Profile::names().join(", "))))
+            })
+            .transpose()?;
+        if builtin(policy).is_some() {
+            if let Some(p) = profile {
+                return Err(value_err(format!("model_profile {:?} says how to talk to a policy server; {policy} is built-in", p.name)));
+            }
+            return Ok(Named::Builtin(policy.to_string()));
+        }
+        if !policy.contains("://") {
+            return Err(value_err(format!(
+                "unknown policy {policy:?}: expected one of {} or a server URL (ws://, http://, tcp://, grpc://)",
+                vifo_protocols::policies::NAMES.join(", ")
+            )));
+        }
+        if policy.starts_with("ws://") && profile.is_none() {
+            vifo_protocols::remote::parse_url(policy).map_err(value_err)?;
+            return Ok(Named::Openpi(RemoteConfig::new(policy)));
+        }
+        let config = ServingConfig::new(policy, None, profile).map_err(value_err)?;
+        Ok(Named::Served(ServingConfig { frame_size: size, ..config }))
+    }
+
+    fn name(&self) -> String {
+        match self {
+            Named::Builtin(p) => p.clone(),
+            Named::Openpi(c) => c.policy_name(),
+            Named::Served(c) => c.policy_name(),
+        }
+    }
+
+    fn uses_images(&self) -> bool {
+        match self {
+            Named::Builtin(p) => builtin(p).is_some_and(|p| p.uses_images()),
+            _ => true,
+        }
+    }
+
+    /// Whether the server must be sent one episode at a time (`vifo run` does so too).
+    fn serves_one_client(&self) -> bool {
+        matches!(self, Named::Served(c) if c.serves_one_client())
+    }
+
+    fn connect(&self) -> Result<Box<dyn Policy>, String> {
+        match self {
+            Named::Builtin(p) => builtin(p).ok_or_else(|| format!("no built-in policy {p}")),
+            Named::Openpi(c) => RemotePolicy::with_config(c.clone()).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string()),
+            Named::Served(c) => ServedPolicy::connect(c).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string()),
+        }
+    }
+}
+
+/// Checks a policy as `vifo run --policy` takes it (a built-in or a server URL, with the
+/// server's `model_profile`); returns `(the name its records carry, whether its server holds
+/// one client at a time)`.
 #[pyfunction]
-pub fn policy_name(policy: &str) -> PyResult<String> {
-    check_policy(policy)?;
-    Ok(builtin(policy).map_or_else(|| RemoteConfig::new(policy).policy_name(), |p| p.name()))
+#[pyo3(signature = (policy, model_profile = None))]
+pub fn check_policy(policy: &str, model_profile: Option<&str>) -> PyResult<(String, bool)> {
+    let named = Named::new(policy, model_profile, 256)?;
+    Ok((named.name(), named.serves_one_client()))
+}
+
+/// The name `policy`'s records carry (`vifo run`'s): a built-in's, or `<profile>@<url>`
+/// (`openpi@<url>` for plain ws://).
+#[pyfunction]
+#[pyo3(signature = (policy, model_profile = None))]
+pub fn policy_name(policy: &str, model_profile: Option<&str>) -> PyResult<String> {
+    Ok(Named::new(policy, model_profile, 256)?.name())
 }
 
 /// Runs the episodes `specs` (JSON, from `episode_specs`) with `policy` into the results file
@@ -101,7 +166,7 @@ pub fn policy_name(policy: &str) -> PyResult<String> {
 /// takes, or a Python callable (`callable::PyPolicy`; then `name` is required, and it runs on
 /// one worker). A Ctrl-C stops the run after the episodes running, which are written.
 #[pyfunction]
-#[pyo3(signature = (specs, policy, output, set = "paper", threads = 1, resume = false, size = 256, quiet = true, assets = None, robot_assets = None, builtin_look = false, cue_facing = "upright", name = None))]
+#[pyo3(signature = (specs, policy, output, set = "paper", threads = 1, resume = false, size = 256, quiet = true, assets = None, robot_assets = None, builtin_look = false, cue_facing = "upright", name = None, model_profile = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn run_specs(
     py: Python<'_>,
@@ -118,10 +183,11 @@ pub fn run_specs(
     builtin_look: bool,
     cue_facing: &str,
     name: Option<String>,
+    model_profile: Option<&str>,
 ) -> PyResult<(usize, usize, usize)> {
-    let driver = Driver::new(policy, name)?;
-    let cue_facing = crate::parse_cue_facing(cue_facing)?;
     let size = crate::check_size(size)?;
+    let driver = Driver::new(policy, name, model_profile, size)?;
+    let cue_facing = crate::parse_cue_facing(cue_facing)?;
     let specs: Vec<EpisodeSpec> =
         specs.iter().map(|s| serde_json::from_str(s).map_err(|e| value_err(format!("episode spec: {e}")))).collect::<PyResult<_>>()?;
     // An edited spec would run, and its record would be refused by every report.
@@ -137,11 +203,12 @@ pub fn run_specs(
     let stop = Arc::new(AtomicBool::new(false));
     // The name the policy's records carry, which a resumed file must hold.
     let options = RunOptions {
-        // The GIL serialises a Python policy's calls, and one object serves every episode.
-        threads: if matches!(driver, Driver::Python { .. }) { 1 } else { threads },
+        // The GIL serialises a Python policy's calls, and one object serves every episode; a
+        // server that holds one client would mix two workers' episodes up.
+        threads: if driver.one_worker() { 1 } else { threads },
         resume,
         quiet,
-        policy: driver.name()?,
+        policy: driver.name(),
         set: parse_set(set)?,
         stop: Some(stop.clone()),
         ..RunOptions::new(output)
@@ -153,10 +220,7 @@ pub fn run_specs(
     let raised = Arc::new(Mutex::new(None));
     let make = || -> Result<Box<dyn Policy>, String> {
         match &driver {
-            Driver::Named(policy) => match builtin(policy) {
-                Some(p) => Ok(p),
-                None => RemotePolicy::connect(policy).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string()),
-            },
+            Driver::Named(named) => named.connect(),
             Driver::Python { callable, name } => {
                 let callable = Python::attach(|py| callable.clone_ref(py));
                 Ok(Box::new(PyPolicy::new(callable, name.clone(), raised.clone(), stop.clone())))
@@ -173,18 +237,20 @@ pub fn run_specs(
 
 /// What `run_specs` runs: a policy `vifo run --policy` names, or a Python callable.
 enum Driver {
-    Named(String),
+    Named(Named),
     Python { callable: Py<PyAny>, name: String },
 }
 
 impl Driver {
-    fn new(policy: &Bound<'_, PyAny>, name: Option<String>) -> PyResult<Driver> {
+    fn new(policy: &Bound<'_, PyAny>, name: Option<String>, model_profile: Option<&str>, size: u32) -> PyResult<Driver> {
         if let Ok(policy) = policy.extract::<String>() {
-            check_policy(&policy)?;
             if name.is_some() {
                 return Err(PyValueError::new_err("name= names a Python policy; a built-in or server policy has its own name"));
             }
-            return Ok(Driver::Named(policy));
+            return Ok(Driver::Named(Named::new(&policy, model_profile, size)?));
+        }
+        if model_profile.is_some() {
+            return Err(PyValueError::new_err("model_profile= says how to talk to a policy server, not to a Python policy"));
         }
         if !policy.is_callable() {
             return Err(PyValueError::new_err(format!(
@@ -201,15 +267,22 @@ impl Driver {
 
     fn uses_images(&self) -> bool {
         match self {
-            Driver::Named(policy) => builtin(policy).is_none_or(|p| p.uses_images()),
+            Driver::Named(named) => named.uses_images(),
             Driver::Python { .. } => true,
         }
     }
 
-    fn name(&self) -> PyResult<String> {
+    fn name(&self) -> String {
         match self {
-            Driver::Named(policy) => policy_name(policy),
-            Driver::Python { name, .. } => Ok(name.clone()),
+            Driver::Named(named) => named.name(),
+            Driver::Python { name, .. } => name.clone(),
+        }
+    }
+
+    fn one_worker(&self) -> bool {
+        match self {
+            Driver::Named(named) => named.serves_one_client(),
+            Driver::Python { .. } => true,
         }
     }
 }

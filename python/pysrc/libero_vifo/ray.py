@@ -28,12 +28,12 @@ from ._args import index, selection as _selection
 __all__ = ["run_benchmark"]
 
 
-def _run_batch(specs, policy, set_name, size, look):
+def _run_batch(specs, policy, set_name, size, look, model_profile=None):
     """One Ray task: the episodes ``specs`` (JSON) in this process, drawn with the look that
     ``look`` (``run_specs``'s look arguments) finds here; ``[(key, record line)]``."""
     with tempfile.TemporaryDirectory(prefix="libero-vifo-batch-") as scratch:
         path = os.path.join(scratch, "results.jsonl")
-        _native.run_specs(specs, policy, path, set=set_name, threads=1, size=size, **look)
+        _native.run_specs(specs, policy, path, set=set_name, threads=1, size=size, model_profile=model_profile, **look)
         with open(path) as f:
             lines = [line for line in f.read().splitlines() if line.strip()]
         keys = [key for key, _ in _native.record_keys(path)]
@@ -77,13 +77,16 @@ def run_benchmark(
     robot_assets=None,
     builtin_look=False,
     cue_facing="upright",
+    model_profile=None,
 ):
     """Runs ``selection`` with ``policy`` on a Ray cluster into a ``vifo run`` results file.
 
     - ``selection``: ``vifo run``'s options as a dict: ``set`` (``paper``/``full``),
       ``suites``, ``protocols``, ``families``, ``per_family``, ``episodes``, ``sample``.
     - ``policy``: a built-in (``expert-cue``, ``expert-language``, ``expert-authorized``,
-      ``random``, ``zero``), an openpi server ``ws://host:port``, or a list of servers: batch
+      ``random``, ``zero``), a policy server as ``vifo run --policy`` takes it (``ws://``,
+      ``http://…/act``, ``tcp://``, ``grpc://…``; ``model_profile`` as ``--model-profile``
+      says, e.g. ``"openvla-oft"``), or a list of servers of that profile: batch
       ``j`` goes to server ``j % len(list)`` (Ray gives a batch to whichever worker is free,
       so two workers may share a server for a while); the records carry one policy name, the
       first server's, and a resumed file must hold that policy's records.
@@ -117,11 +120,14 @@ def run_benchmark(
         raise ValueError("batch_size 0: expected 1 or more episodes per task (or None)")
     servers = list(policy) if isinstance(policy, (list, tuple)) else [policy]
     if not servers or not all(isinstance(p, str) for p in servers):
-        raise TypeError("policy: expected a built-in policy name, a ws:// URL or a list of ws:// URLs")
-    if len(servers) > 1 and not all(p.startswith("ws://") for p in servers):
-        raise ValueError("policy: a list must hold ws:// servers only")
+        raise TypeError("policy: expected a built-in policy name, a server URL or a list of server URLs")
+    if len(servers) > 1 and not all("://" in p for p in servers):
+        raise ValueError("policy: a list must hold servers only")
     for p in servers:
-        _native.check_policy(p)
+        _, one_client = _native.check_policy(p, model_profile)
+        # Ray runs batches side by side; such a server would mix their episodes up.
+        if one_client and (address is not None or num_workers != 1):
+            raise ValueError(f"{p}: this server holds one client at a time; give num_workers=1 (a local cluster), or use vifo run")
     name = servers[0] if len(servers) == 1 else "+".join(servers)
     if output is None:
         safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in servers[0])
@@ -136,7 +142,7 @@ def run_benchmark(
     expected = {key for key, _ in specs}
     # One run, one policy row in the report: records served by several servers carry the
     # first server's name.
-    run_name = _native.policy_name(servers[0])
+    run_name = _native.policy_name(servers[0], model_profile)
     results = _native.ResultsFile(output, set=set_name, resume=resume, policy=run_name)
     start = time.monotonic()
     try:
@@ -159,7 +165,7 @@ def run_benchmark(
             runtime_env={"env_vars": {"LIBERO_VIFO_RAY_LOOK": json.dumps(process_look, sort_keys=True)}}
         )
         pending = {
-            task.remote([s for _, s in batch], servers[j % len(servers)], set_name, size, look): batch
+            task.remote([s for _, s in batch], servers[j % len(servers)], set_name, size, look, model_profile): batch
             for j, batch in enumerate(batches)
         }
         written, messages, failed, first_failure = set(), collections.Counter(), 0, None

@@ -74,6 +74,9 @@ fn rendered_files_record_their_look() {
     let args = ["render", "--builtin-look", "--task", "libero_spatial/0", "--size", "32", "--steps", "1", "-o", &png, "--gif", &gif, "--frames", &frames];
     let out = Command::new(env!("CARGO_BIN_EXE_vifo")).args(args).output().expect("run vifo");
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // It says where the files went.
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(said.contains(&format!("-> {png}, {gif}, {frames}")), "{said}");
     for file in [png, format!("{frames}/frame_0001.png")] {
         let bytes = std::fs::read(&file).unwrap();
         assert!(contains(&bytes, b"tEXtlook\0built-in") && contains(&bytes, b"tEXtscene\0libero_spatial/0 init 0, agentview"), "{file}");
@@ -81,7 +84,8 @@ fn rendered_files_record_their_look() {
     assert!(contains(&std::fs::read(&gif).unwrap(), b"look: built-in; scene: libero_spatial/0 init 0, agentview"));
     let cue = path("cue.png");
     let out = Command::new(env!("CARGO_BIN_EXE_vifo"))
-        .args(["render", "--builtin-look", "--size", "32", "--cue", "libero_goal/0/F1/caption_bar", "--cue-facing", "model", "-o", &cue])
+        // `--output`, `--out` and `-o` name the output of every command.
+        .args(["render", "--builtin-look", "--size", "32", "--cue", "libero_goal/0/F1/caption_bar", "--cue-facing", "model", "--output", &cue])
         .output()
         .expect("run vifo");
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));

@@ -76,13 +76,13 @@ enum Command {
         #[arg(long, default_value = "paper", value_parser = super::parse_set)]
         set: SetName,
         /// The figure's file.
-        #[arg(long, default_value = "cue-statistics.png", value_parser = super::png_file)]
+        #[arg(short = 'o', long, visible_alias = "output", default_value = "cue-statistics.png", value_parser = super::png_file)]
         out: PathBuf,
     },
     /// One contact-sheet PNG per family: every variant drawn on a real scene frame.
     Gallery {
         /// Folder for the sheets (`F1.png` ... `F8.png`).
-        #[arg(short = 'o', long = "output", value_name = "DIR")]
+        #[arg(short = 'o', long = "out", visible_alias = "output", value_name = "DIR")]
         output: PathBuf,
         /// Task shown (<suite>/<index>); variants it cannot carry use another task.
         #[arg(long, default_value = gallery::SHOWCASE)]
@@ -104,7 +104,7 @@ enum Command {
         /// The instruction the cue encodes.
         instruction: String,
         /// The PPM image to write (a name ending in .ppm).
-        #[arg(long, default_value = "cue.ppm", value_parser = super::ppm_file)]
+        #[arg(short = 'o', long, visible_alias = "output", default_value = "cue.ppm", value_parser = super::ppm_file)]
         out: PathBuf,
         /// Frame width and height in pixels.
         #[arg(long, default_value_t = 256)]

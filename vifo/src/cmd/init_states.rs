@@ -32,7 +32,7 @@ enum Command {
         suite: Option<String>,
         /// Output folder (default: the repository's `scenes/init_states`, for the shipped 50
         /// states only).
-        #[arg(long)]
+        #[arg(short = 'o', long, visible_alias = "output")]
         out: Option<PathBuf>,
         /// States per task.
         #[arg(long, default_value_t = 50, value_parser = super::state_count)]

@@ -56,7 +56,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "PROFILE", requires = "cue")]
     pub model_profile: Option<String>,
     /// PNG of the initial frame.
-    #[arg(short = 'o', long = "output", value_name = "FILE", value_parser = super::png_file)]
+    #[arg(short = 'o', long = "out", visible_alias = "output", value_name = "FILE", value_parser = super::png_file)]
     pub output: Option<PathBuf>,
     /// Animated GIF of a rollout under the hold action.
     #[arg(long, value_name = "FILE", value_parser = super::gif_file)]
@@ -97,7 +97,14 @@ pub fn run(args: RenderArgs) -> Result<()> {
     request.look = args.look.look()?;
     let frames = render::run(&request)?;
     let look = label(request.look.as_deref());
-    println!("rendered {frames} frame(s) of {} (init {}) with {}, look {look}", request.task, request.init, request.camera);
+    let written: Vec<String> = [&request.png, &request.gif, &request.frames].into_iter().flatten().map(|p| p.display().to_string()).collect();
+    println!(
+        "rendered {frames} frame(s) of {} (init {}) with {}, look {look} -> {}",
+        request.task,
+        request.init,
+        request.camera,
+        written.join(", ")
+    );
     Ok(())
 }
 

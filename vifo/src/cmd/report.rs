@@ -27,7 +27,7 @@ pub struct Args {
     #[arg(long = "vqa-object")]
     vqa_object: Vec<String>,
     /// Folder for table1/table2 .md/.csv/.json and chart_*.png.
-    #[arg(long, default_value = "report")]
+    #[arg(short = 'o', long, visible_alias = "output", default_value = "report")]
     out: PathBuf,
     /// Put episodes and VQA scores drawn with different looks (built-in, LIBERO's assets) in one
     /// table.

@@ -106,7 +106,7 @@ pub struct Args {
     resume: bool,
     /// Output folder (default: vifo-run-quick for the quick run, vifo-run-study for --study,
     /// vifo-run otherwise).
-    #[arg(long)]
+    #[arg(short = 'o', long, visible_alias = "output")]
     out: Option<PathBuf>,
     /// Camera image side in pixels.
     #[arg(long, default_value_t = 256)]

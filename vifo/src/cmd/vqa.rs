@@ -30,7 +30,7 @@ enum Command {
     /// (agentview after settling from initial state 0, cue drawn).
     Export {
         /// Output folder (questions.jsonl + images/).
-        #[arg(short, long)]
+        #[arg(short, long, visible_alias = "output")]
         out: PathBuf,
         /// Image side in pixels.
         #[arg(long, default_value_t = 256)]
@@ -71,7 +71,7 @@ enum Command {
         #[arg(long, default_value_t = 64)]
         max_tokens: u32,
         /// Predictions file to append to (default DIR/predictions-<model>.jsonl).
-        #[arg(long)]
+        #[arg(short, long, visible_alias = "output")]
         out: Option<PathBuf>,
         /// No progress line.
         #[arg(long)]
@@ -87,7 +87,7 @@ enum Command {
         #[arg(long, default_value = "model")]
         model: String,
         /// Write the scores as JSON (input of `vifo report --vqa`).
-        #[arg(long)]
+        #[arg(short, long, visible_alias = "output")]
         out: Option<PathBuf>,
     },
     /// Write the answer key as predictions (checks the scoring path: 100 %).
@@ -95,7 +95,7 @@ enum Command {
         /// Export folder (questions.jsonl).
         dir: PathBuf,
         /// Predictions file to write (then `vifo vqa score DIR FILE`).
-        #[arg(long)]
+        #[arg(short, long, visible_alias = "output")]
         out: PathBuf,
     },
     /// Text-only baselines (no image): letter prior, longest/shortest option, word overlap
@@ -109,7 +109,7 @@ enum Command {
         #[arg(long, default_value = "paper", value_parser = super::parse_set, conflicts_with = "dir")]
         set: SetName,
         /// Also write each strategy's predictions into this folder.
-        #[arg(long)]
+        #[arg(short, long, visible_alias = "output")]
         out: Option<PathBuf>,
     },
 }

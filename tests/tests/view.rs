@@ -94,7 +94,7 @@ fn vifo_render_writes_a_png() {
     req.camera = CameraName::EyeInHand;
     req.size = 128;
     req.png = Some(out.clone());
-    assert_eq!(vifo::render::run(&req).unwrap(), 1);
+    assert_eq!(vifo::render::run(&req).unwrap(), vifo::render::Rendered { frames: 1, done_at: None });
     let img = load_png(&out).unwrap();
     assert_eq!((img.width, img.height), (128, 128));
     // Not a blank image.

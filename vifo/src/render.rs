@@ -96,8 +96,16 @@ pub fn episode(request: &RenderRequest) -> Result<Sim> {
     Starts::load(&model.task, &model, &request.source)?.begin(&model, request.init, request.seed)
 }
 
-/// Renders what the request asks for; returns the number of frames rendered.
-pub fn run(request: &RenderRequest) -> Result<usize> {
+/// What [`run`] drew.
+#[derive(Debug, PartialEq, Eq)]
+pub struct Rendered {
+    pub frames: usize,
+    /// The first control step of a rollout after which the task's goal held.
+    pub done_at: Option<usize>,
+}
+
+/// Renders what the request asks for.
+pub fn run(request: &RenderRequest) -> Result<Rendered> {
     request.check()?;
     let mut sim = episode(request)?;
     let mut view = SceneView::with_look(sim.model(), request.look.as_deref());
@@ -120,7 +128,7 @@ pub fn run(request: &RenderRequest) -> Result<usize> {
     }
     let rollout = request.gif.is_some() || request.frames.is_some();
     if !rollout {
-        return Ok(1);
+        return Ok(Rendered { frames: 1, done_at: None });
     }
     let mut gif = match &request.gif {
         Some(path) => {
@@ -135,11 +143,15 @@ pub fn run(request: &RenderRequest) -> Result<usize> {
         vifo_protocols::runner::create_folder(dir)?;
     }
     let mut expert = if request.expert { Some(Expert::new(&sim)?) } else { None };
+    let mut done_at = None;
     for t in 0..=request.steps {
         if t > 0 {
             let action = expert.as_mut().map_or(Action::hold(-1.0), |e| e.act(&sim));
             sim.step(&action);
             render(&sim, &mut view, &mut frame)?;
+            if done_at.is_none() && sim.success()? {
+                done_at = Some(t);
+            }
         }
         if let Some(gif) = &mut gif {
             gif.add_frame(&frame.color)?;
@@ -151,5 +163,5 @@ pub fn run(request: &RenderRequest) -> Result<usize> {
     if let Some(gif) = gif {
         gif.finish()?;
     }
-    Ok(request.steps + 1)
+    Ok(Rendered { frames: request.steps + 1, done_at })
 }

@@ -77,6 +77,16 @@ fn rendered_files_record_their_look() {
     // It says where the files went.
     let said = String::from_utf8_lossy(&out.stdout);
     assert!(said.contains(&format!("-> {png}, {gif}, {frames}")), "{said}");
+    assert!(said.contains("the task's goal did not hold within 1 steps"), "{said}");
+    // An expert rollout says when the task was done, or that it needs more steps.
+    for (steps, says) in [("300", "the task's goal held from step "), ("40", "did not hold within 40 steps: the expert may need more")] {
+        let out = Command::new(env!("CARGO_BIN_EXE_vifo"))
+            .args(["render", "--builtin-look", "--task", "libero_goal/3", "--size", "16", "--expert", "--steps", steps, "--gif", &path("expert.gif")])
+            .output()
+            .expect("run vifo");
+        let said = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success() && said.contains(says), "{said}");
+    }
     for file in [png, format!("{frames}/frame_0001.png")] {
         let bytes = std::fs::read(&file).unwrap();
         assert!(contains(&bytes, b"tEXtlook\0built-in") && contains(&bytes, b"tEXtscene\0libero_spatial/0 init 0, agentview"), "{file}");

@@ -95,16 +95,27 @@ pub fn run(args: RenderArgs) -> Result<()> {
     };
     request.check()?;
     request.look = args.look.look()?;
-    let frames = render::run(&request)?;
+    let rendered = render::run(&request)?;
     let look = label(request.look.as_deref());
     let written: Vec<String> = [&request.png, &request.gif, &request.frames].into_iter().flatten().map(|p| p.display().to_string()).collect();
     println!(
-        "rendered {frames} frame(s) of {} (init {}) with {}, look {look} -> {}",
+        "rendered {} frame(s) of {} (init {}) with {}, look {look} -> {}",
+        rendered.frames,
         request.task,
         request.init,
         request.camera,
         written.join(", ")
     );
+    if request.gif.is_some() || request.frames.is_some() {
+        match rendered.done_at {
+            Some(t) => println!("the task's goal held from step {t}"),
+            None if request.expert => println!(
+                "the task's goal did not hold within {} steps: the expert may need more (--steps; the suites allow 220 to 520)",
+                request.steps
+            ),
+            None => println!("the task's goal did not hold within {} steps", request.steps),
+        }
+    }
     Ok(())
 }
 

@@ -238,6 +238,9 @@ fn observation<'py>(py: Python<'py>, env: &Env) -> PyResult<Bound<'py, PyDict>> 
     let d = robot_observation(py, env.observation(), &env.config().cameras)?;
     let f = |v: &[f64]| PyArray1::from_slice(py, v);
     let state = env.state().map_err(py_err)?;
+    let (arm, fingers) = state.sim.model().robot.joint_velocities(state.sim.world());
+    d.set_item("robot0_joint_vel", f(&arm))?;
+    d.set_item("robot0_gripper_qvel", f(&fingers))?;
     for (name, pos, quat) in objects(state.sim) {
         d.set_item(format!("{name}_pos"), f(&pos))?;
         d.set_item(format!("{name}_quat"), f(&quat))?;

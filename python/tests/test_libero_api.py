@@ -79,13 +79,22 @@ def test_observation_keys_dtypes_shapes():
     for key in ("agentview_image", "robot0_eye_in_hand_image"):
         assert obs[key].dtype == np.uint8 and obs[key].shape == (SIZE, SIZE, 3)
         assert obs[key].std() > 0
-    for key, n in [("robot0_eef_pos", 3), ("robot0_eef_quat", 4), ("robot0_gripper_qpos", 2), ("robot0_joint_pos", 7)]:
+    for key, n in [("robot0_eef_pos", 3), ("robot0_eef_quat", 4), ("robot0_gripper_qpos", 2), ("robot0_joint_pos", 7),
+                   ("robot0_joint_vel", 7), ("robot0_gripper_qvel", 2)]:
         assert obs[key].dtype == np.float64 and obs[key].shape == (n,), key
     assert abs(np.linalg.norm(obs["robot0_eef_quat"]) - 1) < 1e-9
     assert np.allclose(obs["robot0_joint_pos_cos"], np.cos(obs["robot0_joint_pos"]))
     assert obs["akita_black_bowl_1_pos"].shape == (3,) and obs["akita_black_bowl_1_quat"].shape == (4,)
     obs, reward, done, info = env.step(DUMMY)
     assert (reward, done, info) == (0.0, False, {"language_success": False, "cue_success": None})
+    # The velocities are the joints' own: moving the hand, each joint that moves a good deal in
+    # a step turns the way its velocity says.
+    before = obs["robot0_joint_pos"]
+    obs, *_ = env.step([0.5, 0.3, -0.4, 0.0, 0.0, 0.0, 1.0])
+    moved = obs["robot0_joint_pos"] - before
+    big = np.abs(moved) > 1e-3
+    assert big.any() and np.array_equal(np.sign(moved[big]), np.sign(obs["robot0_joint_vel"][big])), (moved, obs["robot0_joint_vel"])
+    assert np.any(obs["robot0_gripper_qvel"] != 0)
     assert env.check_success() is False
     assert env.get_sim_state().dtype == np.float64
     env.close()

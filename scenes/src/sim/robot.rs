@@ -119,14 +119,26 @@ impl Robot {
     /// Arm joint positions as a state vector stores them (the PiPER's seventh is 0) and the
     /// two finger joints.
     pub fn joint_positions(&self, world: &World) -> ([f64; 7], [f64; 2]) {
+        self.joint_values(world, false)
+    }
+
+    /// The same joints' velocities (robosuite's `joint_vel` and `gripper_qvel`), in the same
+    /// layout.
+    pub fn joint_velocities(&self, world: &World) -> ([f64; 7], [f64; 2]) {
+        self.joint_values(world, true)
+    }
+
+    fn joint_values(&self, world: &World, velocity: bool) -> ([f64; 7], [f64; 2]) {
         match self {
             Robot::Panda(p) => {
-                let q = p.joints(world).q;
-                (std::array::from_fn(|i| q[i]), [q[7], q[8]])
+                let s = p.joints(world);
+                let v = if velocity { s.qd } else { s.q };
+                (std::array::from_fn(|i| v[i]), [v[7], v[8]])
             }
             Robot::Piper(p) => {
-                let q = p.joints(world).q;
-                (std::array::from_fn(|i| if i < 6 { q[i] } else { 0.0 }), [q[6], q[7]])
+                let s = p.joints(world);
+                let v = if velocity { s.qd } else { s.q };
+                (std::array::from_fn(|i| if i < 6 { v[i] } else { 0.0 }), [v[6], v[7]])
             }
         }
     }

@@ -9,7 +9,7 @@ use vifo_cues::Family;
 
 use super::family_of;
 use crate::env::film::Filming;
-use crate::spec::EpisodeSpec;
+use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome};
 use crate::studies;
 
 /// The clips' folder inside the report folder.
@@ -43,10 +43,35 @@ pub fn filming(specs: &[EpisodeSpec], report_dir: &Path, policy_dir: &str, size:
     Filming { clips, size, every }
 }
 
+/// How an episode ended, under its clip: a clip alone does not say whether the robot did the
+/// task, nor that the episode ended in an error.
+fn outcome(record: Option<&EpisodeRecord>) -> String {
+    let done = |task: &str, success: Option<bool>| success.map(|s| format!("{task} {}", if s { "done" } else { "not done" }));
+    match record.map(|r| &r.outcome) {
+        None => "no record".to_string(),
+        Some(Outcome::Error { message }) => {
+            let short: String = message.chars().take(80).collect();
+            format!("error: {}{}", short.replace('|', "\\|"), if short.len() < message.len() { "…" } else { "" })
+        }
+        Some(Outcome::Completed { language_success, cue_success, steps }) => {
+            let tasks: Vec<String> = [done("language task", *language_success), done("cue task", *cue_success)].into_iter().flatten().collect();
+            format!("{}, {steps} steps", tasks.join(", "))
+        }
+    }
+}
+
 /// Writes `clips.md` into `report_dir`, showing the clips of `policies` (name, name as a file
-/// name) found there for the first episodes of `specs`, drawn with the look named `look`;
+/// name) found there for the first episodes of `specs`, drawn with the look named `look`, each
+/// with how its episode ended in `records` (the last record of the policy and episode);
 /// returns its Markdown, empty (and writes nothing) when there is no clip.
-pub fn write(report_dir: &Path, specs: &[EpisodeSpec], policies: &[(String, String)], look: &str) -> std::io::Result<String> {
+pub fn write(
+    report_dir: &Path,
+    specs: &[EpisodeSpec],
+    policies: &[(String, String)],
+    look: &str,
+    records: &[EpisodeRecord],
+) -> std::io::Result<String> {
+    let last: BTreeMap<(&str, String), &EpisodeRecord> = records.iter().map(|r| ((r.policy.as_str(), r.spec.key()), r)).collect();
     let firsts = first_episodes(specs);
     let found: Vec<(Family, &EpisodeSpec, Vec<Option<PathBuf>>)> = firsts
         .into_iter()
@@ -74,12 +99,13 @@ pub fn write(report_dir: &Path, specs: &[EpisodeSpec], policies: &[(String, Stri
     md += "\n";
     for (family, spec, clips) in &found {
         let _ = write!(md, "| {family} | {} {} `{}` |", spec.task, spec.protocol.name(), spec.instance.as_deref().unwrap_or("-"));
-        for clip in clips {
+        for ((name, _), clip) in policies.iter().zip(clips) {
             match clip {
                 // Markdown links use forward slashes on every platform.
                 Some(p) => {
                     let link: Vec<String> = p.components().map(|c| c.as_os_str().to_string_lossy().into_owned()).collect();
-                    let _ = write!(md, " ![{family}]({}) |", link.join("/"));
+                    let ended = outcome(last.get(&(name.as_str(), spec.key())).copied());
+                    let _ = write!(md, " ![{family}]({})<br>{ended} |", link.join("/"));
                 }
                 None => md += " (no clip) |",
             }
@@ -122,15 +148,31 @@ mod tests {
     fn clips_md_links_the_clips_found() {
         let dir = tempfile::tempdir().unwrap();
         let policies = [("ws://h:1".to_string(), "ws___h_1".to_string())];
-        assert_eq!(write(dir.path(), &specs(), &policies, "built-in").unwrap(), "", "no clip, no section");
+        assert_eq!(write(dir.path(), &specs(), &policies, "built-in", &[]).unwrap(), "", "no clip, no section");
         assert!(!dir.path().join("clips.md").exists());
         let clip = dir.path().join(clip_path("ws___h_1", Family::F2));
         std::fs::create_dir_all(clip.parent().unwrap()).unwrap();
         std::fs::write(&clip, b"GIF89a").unwrap();
-        let md = write(dir.path(), &specs(), &policies, "libero-assets:0123").unwrap();
+        let md = write(dir.path(), &specs(), &policies, "libero-assets:0123", &[]).unwrap();
         assert!(md.contains("Drawn with look: libero-assets:0123.\n"), "{md}");
-        assert!(md.contains("| F2 | libero_goal/0 authorized `libero_goal/0/F2/bounding_boxes` | ![F2](clips/ws___h_1/F2.gif) |"), "{md}");
+        assert!(md.contains("| F2 | libero_goal/0 authorized `libero_goal/0/F2/bounding_boxes` | ![F2](clips/ws___h_1/F2.gif)<br>no record |"), "{md}");
         assert!(md.contains("| F1 | libero_goal/0 conflict `libero_goal/0/F1/caption_bar` | (no clip) |"), "{md}");
         assert_eq!(std::fs::read_to_string(dir.path().join("clips.md")).unwrap(), md);
+        // Under each clip, how its episode ended (the last record of it).
+        let record = |outcome| EpisodeRecord {
+            version: crate::spec::RESULTS_VERSION,
+            spec: specs()[3].clone(),
+            policy: "ws://h:1".into(),
+            outcome,
+            wall_ms: 0.0,
+            set: vifo_cues::SetName::Paper,
+            look: String::new(),
+        };
+        let failed = record(Outcome::Error { message: "policy connection: reset | by peer".into() });
+        let done = record(Outcome::Completed { language_success: None, cue_success: Some(true), steps: 88 });
+        let md = write(dir.path(), &specs(), &policies, "built-in", &[failed.clone()]).unwrap();
+        assert!(md.contains("F2.gif)<br>error: policy connection: reset \\| by peer |"), "{md}");
+        let md = write(dir.path(), &specs(), &policies, "built-in", &[failed, done]).unwrap();
+        assert!(md.contains("F2.gif)<br>cue task done, 88 steps |"), "{md}");
     }
 }

@@ -606,7 +606,7 @@ fn write_report(out: &Path, results: &[PathBuf], specs: &[EpisodeSpec], policies
     let mut markdown = report.write(&dir).with_context(|| format!("writing {}", dir.display()))?;
     markdown += &studies::write_reports(&records, &Default::default(), &dir).with_context(|| format!("writing {}", dir.display()))?;
     let look = vifo_protocols::env::scenes::look_label();
-    let clips = report::clips::write(&dir, specs, policies, vifo_protocols::env::scenes::look_name(&look)).with_context(|| format!("writing {}", dir.display()))?;
+    let clips = report::clips::write(&dir, specs, policies, vifo_protocols::env::scenes::look_name(&look), &records).with_context(|| format!("writing {}", dir.display()))?;
     if !clips.is_empty() {
         markdown += &format!("\n{clips}");
     }

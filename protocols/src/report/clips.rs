@@ -170,7 +170,7 @@ mod tests {
         };
         let failed = record(Outcome::Error { message: "policy connection: reset | by peer".into() });
         let done = record(Outcome::Completed { language_success: None, cue_success: Some(true), steps: 88 });
-        let md = write(dir.path(), &specs(), &policies, "built-in", &[failed.clone()]).unwrap();
+        let md = write(dir.path(), &specs(), &policies, "built-in", std::slice::from_ref(&failed)).unwrap();
         assert!(md.contains("F2.gif)<br>error: policy connection: reset \\| by peer |"), "{md}");
         let md = write(dir.path(), &specs(), &policies, "built-in", &[failed, done]).unwrap();
         assert!(md.contains("F2.gif)<br>cue task done, 88 steps |"), "{md}");

@@ -433,6 +433,9 @@ fn run_policy(policy: &str, name: &str, specs: &[EpisodeSpec], path: &Path, clip
         Some(_) => None,
         None => serving_config(policy, args)?,
     };
+    if served.is_none() && builtin(policy).is_none() {
+        println!("{policy}: openpi format, openpi's own LIBERO client (224² images, replan 5; --model-profile names another model's conventions)");
+    }
     if let Some(c) = &served {
         let p = &c.profile;
         println!("{policy}: {} format, profile {} ({})", c.format, p.name, p.source);

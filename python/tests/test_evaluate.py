@@ -98,10 +98,13 @@ def test_ctrl_c_stops_the_run_after_the_running_episode(tmp_path):
     import sys
     import time
 
+    # A terminal's Ctrl-C handler: a child of a job started in the background (CI's) inherits
+    # SIGINT ignored, and Python then keeps it ignored.
     script = f"""
-import sys, time
+import signal, sys, time
 import numpy as np
 import libero_vifo
+signal.signal(signal.SIGINT, signal.default_int_handler)
 def slow(obs, instruction):
     print("acting", flush=True)
     time.sleep(0.01)

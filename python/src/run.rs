@@ -259,9 +259,7 @@ impl Driver {
             )));
         }
         let name = name.ok_or_else(|| PyValueError::new_err("a Python policy needs name= (its records and report rows carry it)"))?;
-        if name.trim().is_empty() || name.chars().count() > 100 || name.chars().any(char::is_control) || builtin(&name).is_some() {
-            return Err(PyValueError::new_err(format!("name {name:?}: give 1 to 100 printable characters, not a built-in policy's name")));
-        }
+        vifo_protocols::policies::check_name(&name).map_err(|e| value_err(format!("name {e}")))?;
         Ok(Driver::Python { callable: policy.clone().unbind(), name })
     }
 

@@ -25,6 +25,19 @@ use crate::policy::Policy;
 /// The names `builtin` knows, in the order reports list them.
 pub const NAMES: [&str; 5] = ["expert-cue", "expert-language", "expert-authorized", "random", "zero"];
 
+/// Checks a name given to a policy that is not built in (`vifo run --policy-name`, a Python
+/// policy's `name=`): printable, 1 to 100 characters, and not a built-in's, whose records it
+/// would pass for.
+pub fn check_name(name: &str) -> Result<(), String> {
+    if name.trim().is_empty() || name.chars().count() > 100 || name.chars().any(char::is_control) {
+        return Err(format!("{name:?}: give 1 to 100 printable characters"));
+    }
+    if NAMES.contains(&name) {
+        return Err(format!("{name:?}: give the model a name of its own, not a built-in policy's name"));
+    }
+    Ok(())
+}
+
 /// A fresh built-in policy by name.
 pub fn builtin(name: &str) -> Option<Box<dyn Policy>> {
     Some(match name {

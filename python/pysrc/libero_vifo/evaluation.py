@@ -9,7 +9,7 @@ policy server is needed: the function is called in this process.
 import os
 
 from . import _native
-from ._args import index, selection as _selection
+from ._args import file_safe, index, selection as _selection
 
 __all__ = ["evaluate"]
 
@@ -57,8 +57,7 @@ def evaluate(
     if not isinstance(name, str):
         raise TypeError(f"name: expected a string, got {type(name).__name__}")
     specs = _native.episode_specs(set=set_name, **rest)
-    safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in name)
-    output = os.path.join(os.fspath(out), f"results-{safe}.jsonl")
+    output = os.path.join(os.fspath(out), f"results-{file_safe(name)}.jsonl")
     os.makedirs(os.path.dirname(output) or ".", exist_ok=True)
     ran, errors, already_done = _native.run_specs(
         [spec for _, spec in specs], policy, output, set=set_name, resume=resume, size=index(size, "size"), quiet=quiet,

@@ -23,7 +23,7 @@ import time
 import ray
 
 from . import _native
-from ._args import index, selection as _selection
+from ._args import file_safe, index, selection as _selection
 
 __all__ = ["run_benchmark"]
 
@@ -130,8 +130,7 @@ def run_benchmark(
             raise ValueError(f"{p}: this server holds one client at a time; give num_workers=1 (a local cluster), or use vifo run")
     name = servers[0] if len(servers) == 1 else "+".join(servers)
     if output is None:
-        safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in servers[0])
-        output = os.path.join("vifo-run-ray", f"results-{safe}.jsonl")
+        output = os.path.join("vifo-run-ray", f"results-{file_safe(servers[0])}.jsonl")
 
     if builtin_look and (assets is not None or robot_assets is not None):
         raise ValueError("builtin_look=True draws no asset files: give it without assets= and robot_assets=")

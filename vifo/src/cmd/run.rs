@@ -571,16 +571,9 @@ fn record_name(policy: &str, args: &Args) -> anyhow::Result<String> {
     })
 }
 
-/// `--policy-name`: printable, short, and not a built-in policy's name (whose records it would
-/// pass for).
+/// `--policy-name`, as [`policies::check_name`] takes it.
 fn policy_name(s: &str) -> Result<String, String> {
-    if s.trim().is_empty() || s.chars().count() > 100 || s.chars().any(char::is_control) {
-        return Err(format!("{s:?}: give 1 to 100 printable characters"));
-    }
-    if builtin(s).is_some() {
-        return Err(format!("{s:?} is a built-in policy's name; name the served model otherwise"));
-    }
-    Ok(s.to_string())
+    policies::check_name(s).map(|()| s.to_string())
 }
 
 /// `--policy-timeout`: seconds, more than 0 and at most a day (deadlines are computed from it).

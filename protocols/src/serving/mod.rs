@@ -14,13 +14,15 @@
 //! the model's own gripper convention; [`ServedPolicy`] does what every LIBERO client does
 //! around it (prepare the observation per profile, queue the first `replan_steps` actions,
 //! convert the gripper). Every malformed reply is a [`PolicyError::Malformed`] naming the
-//! field; nothing panics.
+//! field; nothing panics. A [`PolicySpec`] turns a `--policy` string (a built-in's name or a
+//! server's URL) into the policy a run makes.
 
 pub mod internvla;
 pub mod lerobot;
 pub mod openpi;
 pub mod openvla_oft;
 pub mod pickle;
+pub mod policy_spec;
 pub mod profile;
 pub mod xiaomi;
 
@@ -31,6 +33,7 @@ use std::time::Duration;
 use vifo_cues::RgbImage;
 
 use crate::policy::{Observation, Policy, PolicyError};
+pub use policy_spec::{PolicySpec, ServingOptions, Workers};
 pub use profile::Profile;
 
 /// A wire format.

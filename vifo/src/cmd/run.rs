@@ -30,14 +30,13 @@ use vifo_protocols::benchmark::specs::{self, Selection};
 use vifo_protocols::env::film::Filming;
 use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
 use vifo_protocols::env::EnvConfig;
-use vifo_protocols::policies::{self, builtin};
-use vifo_protocols::remote::{RemoteConfig, RemotePolicy};
+use vifo_protocols::policies;
 use vifo_protocols::benchmark::records::read_checked;
 use vifo_protocols::runner::{ErrorTally, RunOptions, Shard};
-use vifo_protocols::serving::{Format, ServedPolicy, ServingConfig};
+use vifo_protocols::serving::{Format, PolicySpec, ServingOptions};
 use vifo_protocols::spec::{CueForm, EpisodeSpec};
 use vifo_protocols::studies::{self, Study, StudyOptions};
-use vifo_protocols::{Policy, Protocol, report};
+use vifo_protocols::{Protocol, report};
 use vifo::look::LookArgs;
 use vifo_scenes::view::CameraName;
 
@@ -194,40 +193,33 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             kept
         }),
     };
-    let mut one_suite_servers = Vec::new();
-    for p in &policies {
-        if builtin(p).is_none() {
-            if !p.contains("://") {
-                bail!("unknown policy {p:?}: expected one of {} or a server URL", policies::NAMES.join(", "));
-            }
-            if let Some(c) = serving_config(p, &args)?.filter(|c| c.profile.one_suite_per_server) {
-                one_suite_servers.push(c.profile.name);
-            }
-        }
-    }
-    if (args.model_profile.is_some() || args.policy_format.is_some()) && policies.iter().all(|p| builtin(p).is_some()) {
+    // Each policy resolved once, here: its record name, results file and connection follow.
+    let policies: Vec<PolicySpec> =
+        policies.iter().map(|p| PolicySpec::new(p, || serving_options(&args))).collect::<anyhow::Result<_>>()?;
+    let one_suite_servers: Vec<&str> =
+        policies.iter().filter_map(PolicySpec::served).filter(|c| c.profile.one_suite_per_server).map(|c| c.profile.name).collect();
+    if (args.model_profile.is_some() || args.policy_format.is_some()) && policies.iter().all(PolicySpec::is_builtin) {
         bail!(
             "--model-profile and --policy-format say how to talk to a policy server; {} {} built-in",
-            policies.join(", "),
+            policies.iter().map(PolicySpec::policy).collect::<Vec<_>>().join(", "),
             if policies.len() == 1 { "is" } else { "are" }
         );
     }
     anyhow::ensure!((16..=4096).contains(&args.size), "--size must be between 16 and 4096 pixels");
     if let Some(name) = &args.policy_name {
         anyhow::ensure!(
-            policies.len() == 1 && builtin(&policies[0]).is_none(),
+            policies.len() == 1 && !policies[0].is_builtin(),
             "--policy-name {name:?} names one policy server: give exactly one --policy ws://|http://|tcp://|grpc://… with it"
         );
     }
-    let names: Vec<String> = policies.iter().map(|p| record_name(p, &args)).collect::<anyhow::Result<_>>()?;
+    let names: Vec<String> = policies.iter().map(PolicySpec::record_name).collect();
     let default_out = match (quick, studies.is_empty()) {
         (true, _) => "vifo-run-quick",
         (false, false) => "vifo-run-study",
         (false, true) => "vifo-run",
     };
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(default_out));
-    // Each policy's results file, named by its address unless it was given a name.
-    let paths: Vec<PathBuf> = policies.iter().map(|p| out.join(results_name(args.policy_name.as_deref().unwrap_or(p)))).collect();
+    let paths: Vec<PathBuf> = policies.iter().map(|p| out.join(results_name(p.results_label()))).collect();
     let all_specs = if studies.is_empty() {
         let mut all = specs::specs(&selection)?;
         if quick {
@@ -278,9 +270,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     note_one_suite_servers(&one_suite_servers, &specs);
     // The look matters only where cameras draw (and is recorded only where the policy's do).
     // Loading it takes seconds, so the selection is checked first.
-    if args.render_always || args.clips != Clips::None || policies.iter().any(|p| builtin(p).is_none_or(|b| b.uses_images())) {
+    if args.render_always || args.clips != Clips::None || policies.iter().any(PolicySpec::uses_images) {
         let look = args.look.look()?;
-        if look.is_none() && !args.look.builtin_look && policies.iter().any(|p| builtin(p).is_none()) {
+        if look.is_none() && !args.look.builtin_look && policies.iter().any(|p| !p.is_builtin()) {
             eprintln!(
                 "warning: the policy server is sent frames in the built-in look, not LIBERO's: a model trained on LIBERO's \
                  images will score far below its LIBERO success rate here. Install LIBERO's assets (the README's \
@@ -415,9 +407,9 @@ const CLIP_EVERY: usize = 2;
 /// Runs every spec with one policy, its records named `name`, into `path`, filming its first
 /// episode of each cue family into `clips`' report folder, if given. Returns how many episodes
 /// ended in errors.
-fn run_policy(policy: &str, name: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&Path>, args: &Args) -> anyhow::Result<usize> {
-    let uses_images = builtin(policy).is_none_or(|p| p.uses_images());
-    let render = uses_images || args.render_always;
+fn run_policy(spec: &PolicySpec, name: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&Path>, args: &Args) -> anyhow::Result<usize> {
+    let policy = spec.policy();
+    let render = spec.uses_images() || args.render_always;
     let config = EnvConfig {
         size: args.size,
         cameras: if render { CameraName::ALL.to_vec() } else { Vec::new() },
@@ -429,14 +421,11 @@ fn run_policy(policy: &str, name: &str, specs: &[EpisodeSpec], path: &Path, clip
         None => Filming::none(),
     };
     let rollout_options = RolloutOptions { fast_forward: !args.no_fast_forward, film, draw_every_step: args.render_always };
-    let served = match builtin(policy) {
-        Some(_) => None,
-        None => serving_config(policy, args)?,
-    };
-    if served.is_none() && builtin(policy).is_none() {
+    let served = spec.served();
+    if served.is_none() && !spec.is_builtin() {
         println!("{policy}: openpi format, openpi's own LIBERO client (224² images, replan 5; --model-profile names another model's conventions)");
     }
-    if let Some(c) = &served {
+    if let Some(c) = served {
         let p = &c.profile;
         println!("{policy}: {} format, profile {} ({})", c.format, p.name, p.source);
         if p.format != c.format {
@@ -456,42 +445,16 @@ fn run_policy(policy: &str, name: &str, specs: &[EpisodeSpec], path: &Path, clip
         }
     }
     // A server that holds one client at a time would mix two workers' episodes up.
-    let threads = match &served {
-        Some(c) if c.serves_one_client() && args.threads != 1 => {
-            println!("  note: this server holds one client at a time: its episodes run on one worker");
-            1
-        }
-        _ => args.threads,
+    let threads = if spec.serves_one_client() && args.threads != 1 {
+        println!("  note: this server holds one client at a time: its episodes run on one worker");
+        1
+    } else {
+        args.threads
     };
-    let make = || -> Result<Box<dyn Policy>, String> {
-        match (builtin(policy), &served) {
-            (Some(p), _) => Ok(p),
-            (None, Some(config)) => {
-                ServedPolicy::connect(config).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string())
-            }
-            (None, None) => {
-                let config = RemoteConfig {
-                    request_timeout: args.policy_timeout,
-                    name: Some(name.to_string()),
-                    ..RemoteConfig::new(policy)
-                };
-                RemotePolicy::with_config(config).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string())
-            }
-        }
-    };
-    // A server's first connection is made before any episode: one that is not up stops the run
-    // here, instead of becoming every episode's error. The first worker then uses it.
-    let first = match builtin(policy) {
-        Some(_) => None,
-        None => Some(make().map_err(|e| {
-            anyhow::anyhow!("{policy}: {e}\nis the server up? None of this policy's episodes was run (earlier policies' results are kept)")
-        })?),
-    };
-    let first = std::sync::Mutex::new(first);
-    let make = || match first.lock().unwrap_or_else(|p| p.into_inner()).take() {
-        Some(policy) => Ok(policy),
-        None => make(),
-    };
+    // A server that is not up stops the run here, instead of becoming every episode's error.
+    let workers = spec.workers().map_err(|e| {
+        anyhow::anyhow!("{policy}: {e}\nis the server up? None of this policy's episodes was run (earlier policies' results are kept)")
+    })?;
     let options = RunOptions {
         threads,
         resume: args.resume,
@@ -504,7 +467,7 @@ fn run_policy(policy: &str, name: &str, specs: &[EpisodeSpec], path: &Path, clip
     let named = if name == policy { String::new() } else { format!(" (records named {name})") };
     println!("{policy}{named}{}", if render { "" } else { " (reads the simulator, not the images: rendering skipped)" });
     let start = Instant::now();
-    let summary = run_episodes(specs, make, config, &rollout_options, &options)?;
+    let summary = run_episodes(specs, || workers.make(), config, &rollout_options, &options)?;
     let secs = start.elapsed().as_secs_f64();
     println!(
         "  {} run ({} errors), {} already done, in {:.0} s ({:.2} s per episode) -> {}",
@@ -538,9 +501,9 @@ fn print_errors(messages: &[ErrorTally]) {
     println!("  errors are not failures: fix their cause and run again with --resume to retry just those episodes");
 }
 
-/// How to serve `url`: `None` for a plain ws:// openpi server without profile or format
-/// (openpi's own pi0.5 client, `remote::RemotePolicy`), else the format and profile.
-fn serving_config(url: &str, args: &Args) -> anyhow::Result<Option<ServingConfig>> {
+/// How `vifo run` talks to a policy server: `--model-profile`, `--policy-format`, `--size`,
+/// `--policy-timeout` and `--policy-name`.
+fn serving_options(args: &Args) -> anyhow::Result<ServingOptions<'static>> {
     let profile = args.model_profile.as_deref().map(super::profile).transpose()?;
     let format = match &args.policy_format {
         Some(name) => Some(Format::named(name).with_context(|| {
@@ -549,25 +512,12 @@ fn serving_config(url: &str, args: &Args) -> anyhow::Result<Option<ServingConfig
         })?),
         None => None,
     };
-    if url.starts_with("ws://") && profile.is_none() && format.is_none() {
-        vifo_protocols::remote::parse_url(url)?;
-        return Ok(None);
-    }
-    Ok(Some(ServingConfig {
+    Ok(ServingOptions {
+        profile,
+        format,
         frame_size: args.size,
-        request_timeout: args.policy_timeout,
+        request_timeout: Some(args.policy_timeout),
         name: args.policy_name.clone(),
-        ..ServingConfig::new(url, format, profile)?
-    }))
-}
-
-/// The name `policy`'s records carry, and a resumed file must hold: `--policy-name` where
-/// given, else the built-in's name or the server's `<profile>@<url>` (plain ws://: `openpi@<url>`).
-fn record_name(policy: &str, args: &Args) -> anyhow::Result<String> {
-    Ok(match (builtin(policy), serving_config(policy, args)?) {
-        (Some(p), _) => p.name(),
-        (None, Some(config)) => config.policy_name(),
-        (None, None) => RemoteConfig { name: args.policy_name.clone(), ..RemoteConfig::new(policy) }.policy_name(),
     })
 }
 

@@ -14,9 +14,7 @@ use vifo_protocols::benchmark::records::{check_record, check_spec, read_checked}
 use vifo_protocols::benchmark::specs::{self, Selection};
 use vifo_protocols::env::EnvConfig;
 use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
-use vifo_protocols::policies::builtin;
-use vifo_protocols::remote::{RemoteConfig, RemotePolicy};
-use vifo_protocols::serving::{Profile, ServedPolicy, ServingConfig};
+use vifo_protocols::serving::{PolicySpec, Profile, ServingOptions};
 use vifo_protocols::runner::{OpenResults, RunError, RunOptions, read_records};
 use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec};
 use vifo_protocols::{Policy, report, studies};
@@ -75,69 +73,18 @@ pub fn episode_specs(
     specs.iter().map(|s| Ok((s.key(), serde_json::to_string(s).map_err(value_err)?))).collect()
 }
 
-/// How a policy `vifo run --policy` names is reached: a built-in, or a server (`vifo run
-/// --policy URL --model-profile P`: plain `ws://` without a profile is openpi's pi0.5 client).
-#[derive(Clone)]
-enum Named {
-    Builtin(String),
-    Openpi(RemoteConfig),
-    Served(ServingConfig),
-}
-
-impl Named {
-    fn new(policy: &str, model_profile: Option<&str>, size: u32) -> PyResult<Named> {
-        let profile = model_profile
-            .map(|n| {
-                Profile::named(n).ok_or_else(|| value_err(format!("unknown model_profile {n:?}: expected one of {}", Profile::names().join(", "))))
-            })
-            .transpose()?;
-        if builtin(policy).is_some() {
-            if let Some(p) = profile {
-                return Err(value_err(format!("model_profile {:?} says how to talk to a policy server; {policy} is built-in", p.name)));
-            }
-            return Ok(Named::Builtin(policy.to_string()));
-        }
-        if !policy.contains("://") {
-            return Err(value_err(format!(
-                "unknown policy {policy:?}: expected one of {} or a server URL (ws://, http://, tcp://, grpc://)",
-                vifo_protocols::policies::NAMES.join(", ")
-            )));
-        }
-        if policy.starts_with("ws://") && profile.is_none() {
-            vifo_protocols::remote::parse_url(policy).map_err(value_err)?;
-            return Ok(Named::Openpi(RemoteConfig::new(policy)));
-        }
-        let config = ServingConfig::new(policy, None, profile).map_err(value_err)?;
-        Ok(Named::Served(ServingConfig { frame_size: size, ..config }))
+/// A policy as `vifo run --policy URL --model-profile P` takes it (plain `ws://` without a
+/// profile is openpi's pi0.5 client), frames of side `size`.
+fn policy_spec(policy: &str, model_profile: Option<&str>, size: u32) -> PyResult<PolicySpec> {
+    let profile = model_profile
+        .map(|n| Profile::named(n).ok_or_else(|| value_err(format!("unknown model_profile {n:?}: expected one of {}", Profile::names().join(", ")))))
+        .transpose()?;
+    let serving = ServingOptions { profile, format: None, frame_size: size, request_timeout: None, name: None };
+    let spec = PolicySpec::new(policy, || Ok::<_, vifo_protocols::PolicyError>(serving)).map_err(value_err)?;
+    if let (true, Some(p)) = (spec.is_builtin(), profile) {
+        return Err(value_err(format!("model_profile {:?} says how to talk to a policy server; {policy} is built-in", p.name)));
     }
-
-    fn name(&self) -> String {
-        match self {
-            Named::Builtin(p) => p.clone(),
-            Named::Openpi(c) => c.policy_name(),
-            Named::Served(c) => c.policy_name(),
-        }
-    }
-
-    fn uses_images(&self) -> bool {
-        match self {
-            Named::Builtin(p) => builtin(p).is_some_and(|p| p.uses_images()),
-            _ => true,
-        }
-    }
-
-    /// Whether the server must be sent one episode at a time (`vifo run` does so too).
-    fn serves_one_client(&self) -> bool {
-        matches!(self, Named::Served(c) if c.serves_one_client())
-    }
-
-    fn connect(&self) -> Result<Box<dyn Policy>, String> {
-        match self {
-            Named::Builtin(p) => builtin(p).ok_or_else(|| format!("no built-in policy {p}")),
-            Named::Openpi(c) => RemotePolicy::with_config(c.clone()).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string()),
-            Named::Served(c) => ServedPolicy::connect(c).map(|p| Box::new(p) as Box<dyn Policy>).map_err(|e| e.to_string()),
-        }
-    }
+    Ok(spec)
 }
 
 /// Checks a policy as `vifo run --policy` takes it (a built-in or a server URL, with the
@@ -146,8 +93,8 @@ impl Named {
 #[pyfunction]
 #[pyo3(signature = (policy, model_profile = None))]
 pub fn check_policy(policy: &str, model_profile: Option<&str>) -> PyResult<(String, bool)> {
-    let named = Named::new(policy, model_profile, 256)?;
-    Ok((named.name(), named.serves_one_client()))
+    let spec = policy_spec(policy, model_profile, 256)?;
+    Ok((spec.record_name(), spec.serves_one_client()))
 }
 
 /// The name `policy`'s records carry (`vifo run`'s): a built-in's, or `<profile>@<url>`
@@ -155,7 +102,7 @@ pub fn check_policy(policy: &str, model_profile: Option<&str>) -> PyResult<(Stri
 #[pyfunction]
 #[pyo3(signature = (policy, model_profile = None))]
 pub fn policy_name(policy: &str, model_profile: Option<&str>) -> PyResult<String> {
-    Ok(Named::new(policy, model_profile, 256)?.name())
+    Ok(policy_spec(policy, model_profile, 256)?.record_name())
 }
 
 /// Runs the episodes `specs` (JSON, from `episode_specs`) with `policy` into the results file
@@ -220,7 +167,7 @@ pub fn run_specs(
     let raised = Arc::new(Mutex::new(None));
     let make = || -> Result<Box<dyn Policy>, String> {
         match &driver {
-            Driver::Named(named) => named.connect(),
+            Driver::Named(spec) => spec.connect().map_err(|e| e.to_string()),
             Driver::Python { callable, name } => {
                 let callable = Python::attach(|py| callable.clone_ref(py));
                 Ok(Box::new(PyPolicy::new(callable, name.clone(), raised.clone(), stop.clone())))
@@ -237,7 +184,7 @@ pub fn run_specs(
 
 /// What `run_specs` runs: a policy `vifo run --policy` names, or a Python callable.
 enum Driver {
-    Named(Named),
+    Named(PolicySpec),
     Python { callable: Py<PyAny>, name: String },
 }
 
@@ -247,7 +194,7 @@ impl Driver {
             if name.is_some() {
                 return Err(PyValueError::new_err("name= names a Python policy; a built-in or server policy has its own name"));
             }
-            return Ok(Driver::Named(Named::new(&policy, model_profile, size)?));
+            return Ok(Driver::Named(policy_spec(&policy, model_profile, size)?));
         }
         if model_profile.is_some() {
             return Err(PyValueError::new_err("model_profile= says how to talk to a policy server, not to a Python policy"));
@@ -265,21 +212,21 @@ impl Driver {
 
     fn uses_images(&self) -> bool {
         match self {
-            Driver::Named(named) => named.uses_images(),
+            Driver::Named(spec) => spec.uses_images(),
             Driver::Python { .. } => true,
         }
     }
 
     fn name(&self) -> String {
         match self {
-            Driver::Named(named) => named.name(),
+            Driver::Named(spec) => spec.record_name(),
             Driver::Python { name, .. } => name.clone(),
         }
     }
 
     fn one_worker(&self) -> bool {
         match self {
-            Driver::Named(named) => named.serves_one_client(),
+            Driver::Named(spec) => spec.serves_one_client(),
             Driver::Python { .. } => true,
         }
     }

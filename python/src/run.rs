@@ -73,27 +73,41 @@ pub fn episode_specs(
     specs.iter().map(|s| Ok((s.key(), serde_json::to_string(s).map_err(value_err)?))).collect()
 }
 
-/// A policy as `vifo run --policy URL --model-profile P` takes it (plain `ws://` without a
-/// profile is openpi's pi0.5 client), frames of side `size`.
-fn policy_spec(policy: &str, model_profile: Option<&str>, size: u32) -> PyResult<PolicySpec> {
+/// A policy as `vifo run --policy URL --model-profile P [--policy-name NAME]` takes it (plain
+/// `ws://` without a profile is openpi's pi0.5 client), frames of side `size`.
+fn policy_spec(policy: &str, model_profile: Option<&str>, size: u32, name: Option<String>) -> PyResult<PolicySpec> {
     let profile = model_profile
         .map(|n| Profile::named(n).ok_or_else(|| value_err(format!("unknown model_profile {n:?}: expected one of {}", Profile::names().join(", ")))))
         .transpose()?;
-    let serving = ServingOptions { profile, format: None, frame_size: size, request_timeout: None, name: None };
+    if let Some(name) = &name {
+        check_name(name)?;
+    }
+    let given = name.is_some();
+    let serving = ServingOptions { profile, format: None, frame_size: size, request_timeout: None, name };
     let spec = PolicySpec::new(policy, || Ok::<_, vifo_protocols::PolicyError>(serving)).map_err(value_err)?;
     if let (true, Some(p)) = (spec.is_builtin(), profile) {
         return Err(value_err(format!("model_profile {:?} says how to talk to a policy server; {policy} is built-in", p.name)));
     }
+    // As `vifo run --policy-name`: a built-in's records pass for no other policy's.
+    if spec.is_builtin() && given {
+        return Err(value_err(format!("name= names a served policy's records; {policy} is built-in and its records carry its own name")));
+    }
     Ok(spec)
 }
 
+/// A name given to a served or Python policy (`name=`), as `vifo run --policy-name` takes it.
+fn check_name(name: &str) -> PyResult<()> {
+    vifo_protocols::policies::check_name(name).map_err(|e| value_err(format!("name {e}")))
+}
+
 /// Checks a policy as `vifo run --policy` takes it (a built-in or a server URL, with the
-/// server's `model_profile`); returns `(the name its records carry, whether its server holds
-/// one client at a time)`.
+/// server's `model_profile` and the `name` its records carry instead of `<profile>@<url>`, as
+/// `--policy-name`); returns `(the name its records carry, whether its server holds one client
+/// at a time)`.
 #[pyfunction]
-#[pyo3(signature = (policy, model_profile = None))]
-pub fn check_policy(policy: &str, model_profile: Option<&str>) -> PyResult<(String, bool)> {
-    let spec = policy_spec(policy, model_profile, 256)?;
+#[pyo3(signature = (policy, model_profile = None, name = None))]
+pub fn check_policy(policy: &str, model_profile: Option<&str>, name: Option<String>) -> PyResult<(String, bool)> {
+    let spec = policy_spec(policy, model_profile, 256, name)?;
     Ok((spec.record_name(), spec.serves_one_client()))
 }
 
@@ -102,7 +116,7 @@ pub fn check_policy(policy: &str, model_profile: Option<&str>) -> PyResult<(Stri
 #[pyfunction]
 #[pyo3(signature = (policy, model_profile = None))]
 pub fn policy_name(policy: &str, model_profile: Option<&str>) -> PyResult<String> {
-    Ok(policy_spec(policy, model_profile, 256)?.record_name())
+    Ok(policy_spec(policy, model_profile, 256, None)?.record_name())
 }
 
 /// Runs the episodes `specs` (JSON, from `episode_specs`) with `policy` into the results file
@@ -194,7 +208,7 @@ impl Driver {
             if name.is_some() {
                 return Err(PyValueError::new_err("name= names a Python policy; a built-in or server policy has its own name"));
             }
-            return Ok(Driver::Named(policy_spec(&policy, model_profile, size)?));
+            return Ok(Driver::Named(policy_spec(&policy, model_profile, size, None)?));
         }
         if model_profile.is_some() {
             return Err(PyValueError::new_err("model_profile= says how to talk to a policy server, not to a Python policy"));
@@ -206,7 +220,7 @@ impl Driver {
             )));
         }
         let name = name.ok_or_else(|| PyValueError::new_err("a Python policy needs name= (its records and report rows carry it)"))?;
-        vifo_protocols::policies::check_name(&name).map_err(|e| value_err(format!("name {e}")))?;
+        check_name(&name)?;
         Ok(Driver::Python { callable: policy.clone().unbind(), name })
     }
 

@@ -39,6 +39,8 @@ def test_served_policies_are_checked_and_named_as_vifo_run_names_them():
     assert _native.check_policy("http://h:8777/act") == ("openvla-oft@http://h:8777/act", False)
     assert _native.check_policy("tcp://h:10086", "xiaomi") == ("xiaomi@tcp://h:10086", True)
     assert _native.check_policy("expert-cue") == ("expert-cue", False)
+    # name= as vifo run --policy-name: the records carry it instead of <profile>@<url>.
+    assert _native.check_policy("tcp://h:10086", "xiaomi", "x0-libero") == ("x0-libero", True)
     for policy, profile, says in (
         ("zero", "pi05", "zero is built-in"),
         ("ws://h:8000", "gpt-9", "unknown model_profile"),

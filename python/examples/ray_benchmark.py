@@ -43,6 +43,7 @@ def main():
     p.add_argument("--address", default=None)
     p.add_argument("--policy", action="append", required=True, help="a built-in policy or a server URL, as vifo run --policy takes it; repeatable (servers)")
     p.add_argument("--model-profile", help="the served model's profile, as vifo run --model-profile takes it")
+    p.add_argument("--policy-name", help="the name a served policy's records and results file carry, as vifo run --policy-name takes it")
     p.add_argument("--set", default="paper")
     p.add_argument("--suite", action="append", default=[])
     p.add_argument("--protocol", action="append", default=[])
@@ -61,14 +62,14 @@ def main():
     selection = {"set": args.set, "suites": args.suite, "protocols": args.protocol, "families": args.family,
                  "per_family": args.per_family, "episodes": args.episodes}
     policy = args.policy[0] if len(args.policy) == 1 else args.policy
-    safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in args.policy[0])
+    safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in args.policy_name or args.policy[0])
     output = os.path.join(args.out, f"results-{safe}.jsonl")
     if args.kill_after is not None:
         threading.Thread(target=kill_one_when, args=(output, args.kill_after), daemon=True).start()
     s = run_benchmark(selection, policy, address=args.address, output=output, resume=args.resume,
                       batch_size=args.batch_size, num_workers=args.workers, report_dir=os.path.join(args.out, "report"), quiet=True,
                       assets=args.assets, robot_assets=args.robot_assets, builtin_look=args.builtin_look,
-                      model_profile=args.model_profile)
+                      model_profile=args.model_profile, name=args.policy_name)
     print(s["report"])
     print(f"{s['episodes']} episodes: {s['ran']} run now ({s['errors']} errors), {s['already_done']} already done, "
           f"in {s['seconds']:.1f} s -> {s['output']}")

@@ -4,6 +4,7 @@ with SIGKILL mid-run recovered with no missing and no duplicate episode."""
 
 import importlib.util
 import json
+import os
 import pathlib
 import subprocess
 import sys
@@ -73,6 +74,26 @@ def test_a_server_that_is_not_up_gives_error_records_and_says_why(cluster, tmp_p
     assert s["ran"] == s["errors"] == 8 and s["missing"] == 0
     [(count, message)] = s["error_messages"]
     assert count == 8 and "ws://127.0.0.1:1" in message and "connect" in message, message
+
+
+def test_a_named_served_policy_names_its_records_and_results_file(cluster, tmp_path, monkeypatch):
+    """``name=`` as ``vifo run --policy-name``: the records (error records here, its server being
+    down) and the default results file carry it rather than ``openpi@<url>``; a name that is
+    no name, or one given to a built-in, is refused before Ray runs anything."""
+    monkeypatch.chdir(tmp_path)
+    for policy, name, error, says in [
+        ("ws://127.0.0.1:1", "zero", ValueError, "a built-in policy's name"),
+        ("ws://127.0.0.1:1", " ", ValueError, "1 to 100 printable characters"),
+        ("ws://127.0.0.1:1", 3, TypeError, "name: expected a string"),
+        ("zero", "mine", ValueError, "zero is built-in"),
+    ]:
+        with pytest.raises(error, match=says):
+            run_benchmark(SELECTION, policy, name=name)
+    assert not (tmp_path / "vifo-run-ray").exists()
+    s = run_benchmark(SELECTION, "ws://127.0.0.1:1", name="pi05 goal/1", batch_size=4, quiet=True)
+    assert s["output"] == os.path.join("vifo-run-ray", "results-pi05_goal_1.jsonl") and s["ran"] == s["errors"] == 8
+    policies = {json.loads(line)["policy"] for line in open(s["output"])}
+    assert policies == {"pi05 goal/1"}, policies
 
 
 def test_batches_drawn_with_another_look_than_the_files_are_not_written(cluster, tmp_path, capsys):

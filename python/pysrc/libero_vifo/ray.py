@@ -78,6 +78,7 @@ def run_benchmark(
     builtin_look=False,
     cue_facing="upright",
     model_profile=None,
+    name=None,
 ):
     """Runs ``selection`` with ``policy`` on a Ray cluster into a ``vifo run`` results file.
 
@@ -89,10 +90,14 @@ def run_benchmark(
       says, e.g. ``"openvla-oft"``), or a list of servers of that profile: batch
       ``j`` goes to server ``j % len(list)`` (Ray gives a batch to whichever worker is free,
       so two workers may share a server for a while); the records carry one policy name, the
-      first server's, and a resumed file must hold that policy's records.
+      first server's (or ``name``), and a resumed file must hold that policy's records.
+    - ``name``: what a served policy's records and report rows carry instead of
+      ``<profile>@<url>`` (``vifo run --policy-name``), and the default results file's name:
+      name each model, as two checkpoints served in turn at one address would otherwise share a
+      row. A built-in keeps its own name.
     - ``address``: the cluster (``"auto"``, ``"ray://head:10001"``); ``None`` starts a local
       one with ``num_workers`` CPUs unless Ray is already initialised.
-    - ``output``: the JSONL file (default ``vifo-run-ray/results-<policy>.jsonl``); ``resume``
+    - ``output``: the JSONL file (default ``vifo-run-ray/results-<name or policy>.jsonl``); ``resume``
       continues it. ``batch_size``: episodes per task (default: about 4 tasks per worker).
     - ``report_dir``: also write ``vifo report``'s tables there.
     - ``assets``, ``robot_assets``, ``builtin_look``: the look, as ``use_look`` takes it; each
@@ -123,14 +128,19 @@ def run_benchmark(
         raise TypeError("policy: expected a built-in policy name, a server URL or a list of server URLs")
     if len(servers) > 1 and not all("://" in p for p in servers):
         raise ValueError("policy: a list must hold servers only")
+    if name is not None and not isinstance(name, str):
+        raise TypeError(f"name: expected a string, got {type(name).__name__}")
+    # One run, one policy row in the report: records served by several servers carry the
+    # first server's name (or the one given).
+    run_name = None
     for p in servers:
-        _, one_client = _native.check_policy(p, model_profile)
+        record_name, one_client = _native.check_policy(p, model_profile, name)
+        run_name = run_name or record_name
         # Ray runs batches side by side; such a server would mix their episodes up.
         if one_client and (address is not None or num_workers != 1):
             raise ValueError(f"{p}: this server holds one client at a time; give num_workers=1 (a local cluster), or use vifo run")
-    name = servers[0] if len(servers) == 1 else "+".join(servers)
     if output is None:
-        output = os.path.join("vifo-run-ray", f"results-{file_safe(servers[0])}.jsonl")
+        output = os.path.join("vifo-run-ray", f"results-{file_safe(name if name is not None else servers[0])}.jsonl")
 
     if builtin_look and (assets is not None or robot_assets is not None):
         raise ValueError("builtin_look=True draws no asset files: give it without assets= and robot_assets=")
@@ -139,9 +149,6 @@ def run_benchmark(
     look = {"assets": assets, "robot_assets": robot_assets, "builtin_look": builtin_look, "cue_facing": cue_facing}
     specs = _native.episode_specs(set=set_name, **selection)
     expected = {key for key, _ in specs}
-    # One run, one policy row in the report: records served by several servers carry the
-    # first server's name.
-    run_name = _native.policy_name(servers[0], model_profile)
     results = _native.ResultsFile(output, set=set_name, resume=resume, policy=run_name)
     start = time.monotonic()
     try:
@@ -227,7 +234,7 @@ def run_benchmark(
         "failed_batches": failed,
         "seconds": time.monotonic() - start,
         "output": str(output),
-        "policy": name,
+        "policy": servers[0] if len(servers) == 1 else "+".join(servers),
     }
     if not quiet:
         for n, message in summary["error_messages"][:3]:

@@ -125,7 +125,7 @@ pub fn policy_name(policy: &str, model_profile: Option<&str>) -> PyResult<String
 /// `--builtin-look` as given: see `look`), cues facing as `cue_facing` says (`vifo run
 /// --cue-facing`); returns `(ran, errors, already_done)`. `policy` is a name `vifo run --policy`
 /// takes, or a Python callable (`callable::PyPolicy`; then `name` is required, and it runs on
-/// one worker). A Ctrl-C stops the run after the episodes running, which are written.
+/// one worker); `name` also names a server's records, as `--policy-name`. A Ctrl-C stops the run after the episodes running, which are written.
 #[pyfunction]
 #[pyo3(signature = (specs, policy, output, set = "paper", threads = 1, resume = false, size = 256, quiet = true, assets = None, robot_assets = None, builtin_look = false, cue_facing = "upright", name = None, model_profile = None))]
 #[allow(clippy::too_many_arguments)]
@@ -205,10 +205,7 @@ enum Driver {
 impl Driver {
     fn new(policy: &Bound<'_, PyAny>, name: Option<String>, model_profile: Option<&str>, size: u32) -> PyResult<Driver> {
         if let Ok(policy) = policy.extract::<String>() {
-            if name.is_some() {
-                return Err(PyValueError::new_err("name= names a Python policy; a built-in or server policy has its own name"));
-            }
-            return Ok(Driver::Named(policy_spec(&policy, model_profile, size, None)?));
+            return Ok(Driver::Named(policy_spec(&policy, model_profile, size, name)?));
         }
         if model_profile.is_some() {
             return Err(PyValueError::new_err("model_profile= says how to talk to a policy server, not to a Python policy"));

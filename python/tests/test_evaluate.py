@@ -86,6 +86,8 @@ def test_wrong_arguments_are_named(tmp_path):
         libero_vifo.evaluate(lambda o, i: [0.0] * 7, "zero", GOAL_ORIGINAL, out=tmp_path)
     with pytest.raises(ValueError, match="expected a policy name, a server URL or a callable"):
         _native.run_specs([], 42, str(tmp_path / "x.jsonl"), name="n")
+    with pytest.raises(ValueError, match="zero is built-in and its records carry its own name"):
+        _native.run_specs([], "zero", str(tmp_path / "x.jsonl"), name="n")
     with pytest.raises(ValueError, match=r"unknown keys \['suite'\]"):
         libero_vifo.evaluate(lambda o, i: [0.0] * 7, "n", {"suite": "libero_goal"}, out=tmp_path)
 

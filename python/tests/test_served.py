@@ -24,13 +24,14 @@ def test_an_openvla_oft_server_runs_an_episode_under_its_profile(tmp_path):
         url = f"http://127.0.0.1:{int(server.stdout.readline().split()[1])}/act"
         ((_, spec),) = _native.episode_specs(suites=["libero_goal"], protocols=["original"], episodes=1, sample=1)
         out = tmp_path / "oft.jsonl"
-        assert _native.run_specs([spec], url, str(out), model_profile="openvla-oft") == (1, 0, 0)
+        # name= names a server's records, as vifo run --policy-name.
+        assert _native.run_specs([spec], url, str(out), model_profile="openvla-oft", name="oft-goal") == (1, 0, 0)
     finally:
         server.kill()
         _, errors = server.communicate()
     assert "CHECK FAILED" not in errors, errors
     (record,) = [json.loads(line) for line in open(out)]
-    assert record["policy"] == f"openvla-oft@{url}" and record["outcome"]["status"] == "completed", record
+    assert record["policy"] == "oft-goal" and record["outcome"]["status"] == "completed", record
 
 
 def test_served_policies_are_checked_and_named_as_vifo_run_names_them():

@@ -257,19 +257,73 @@ fn an_unwritable_output_is_a_clear_error_before_any_episode_runs() {
     assert!(matches!(read_records(Path::new("/dev/zero")), Err(RunError::Io { .. })));
 }
 
+/// The lock file beside a results file.
+fn lock_file(path: &Path) -> PathBuf {
+    path.with_extension("jsonl.lock")
+}
+
 #[test]
 fn a_second_run_on_the_same_file_is_refused_while_the_first_holds_the_lock() {
     let all = specs(6);
     let (_dir, path) = temp();
     let held = runner::RunLock::take(&path).unwrap();
+    assert!(lock_file(&path).is_file());
     let err = runner::run(&all, episode, &options(&path, 1)).unwrap_err();
     assert!(matches!(err, RunError::Locked { .. }), "{err:?}");
     assert!(err.to_string().contains("another run is writing"), "{err}");
     assert!(!path.exists() || read_records(&path).unwrap().records.is_empty());
+    // The refused run leaves the holder's lock file alone.
+    assert!(lock_file(&path).is_file());
     drop(held);
-    // The lock goes with its holder (a killed process included): the next run proceeds.
+    assert!(!lock_file(&path).exists());
+    // The next run proceeds, and leaves no lock file beside its results; nor does one that
+    // stops with an error after taking the lock.
     assert_eq!(runner::run(&all, episode, &options(&path, 1)).unwrap().ran, 6);
-    assert!(runner::RunLock::take(&path).is_ok());
+    assert!(!lock_file(&path).exists());
+    let err = runner::run(&all, episode, &options(&path, 1)).unwrap_err();
+    assert!(matches!(err, RunError::Exists(_)), "{err:?}");
+    assert!(!lock_file(&path).exists());
+}
+
+/// A killed run leaves its (empty) lock file, but the operating system has dropped its lock:
+/// the next run takes the file over and removes it at its end.
+#[test]
+fn a_lock_file_left_by_a_killed_run_is_taken_over() {
+    let (_dir, path) = temp();
+    std::fs::write(lock_file(&path), "").unwrap();
+    assert_eq!(runner::run(&specs(6), episode, &options(&path, 1)).unwrap().ran, 6);
+    assert!(!lock_file(&path).exists());
+}
+
+/// Runs taking and dropping the lock on one file side by side: removing the file at the end
+/// of a run must never let two hold it at once (one that locked a file just removed retries).
+#[test]
+fn the_lock_excludes_runs_that_start_as_another_ends() {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    let (_dir, path) = temp();
+    let (holders, taken) = (AtomicUsize::new(0), AtomicUsize::new(0));
+    std::thread::scope(|s| {
+        for _ in 0..4 {
+            s.spawn(|| {
+                for _ in 0..5000 {
+                    match runner::RunLock::take(&path) {
+                        Ok(lock) => {
+                            assert_eq!(holders.fetch_add(1, Ordering::SeqCst), 0, "two runs hold the lock");
+                            std::thread::yield_now();
+                            holders.fetch_sub(1, Ordering::SeqCst);
+                            taken.fetch_add(1, Ordering::Relaxed);
+                            drop(lock);
+                        }
+                        Err(RunError::Locked { .. }) => std::thread::yield_now(),
+                        Err(e) => panic!("{e}"),
+                    }
+                }
+            });
+        }
+    });
+    assert!(taken.into_inner() > 0);
+    assert!(!lock_file(&path).exists());
 }
 
 #[test]
@@ -391,6 +445,7 @@ fn a_stop_takes_no_more_episodes_and_a_resume_does_the_rest() {
     let first = runner::run(&all, stopping, &RunOptions { stop: Some(stop.clone()), ..options(&path, 1) }).unwrap();
     assert_eq!(first.ran, 1);
     assert_eq!(read_records(&path).unwrap().records.len(), 1);
+    assert!(!lock_file(&path).exists());
     let rest = runner::run(&all, episode, &RunOptions { resume: true, ..options(&path, 1) }).unwrap();
     assert_eq!((rest.ran, rest.already_done), (19, 1));
 }

@@ -354,6 +354,7 @@ fn native_steps_per_second(py: Python<'_>, suite: &str, index: usize, size: i64,
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<NativeEnv>()?;
     m.add_class::<vector::NativeVectorEnv>()?;
+    m.add("MAX_ENVS", vector::MAX_ENVS)?;
     m.add_class::<run::ResultsFile>()?;
     m.add_function(wrap_pyfunction!(run::episode_specs, m)?)?;
     m.add_function(wrap_pyfunction!(run::run_specs, m)?)?;

@@ -12,6 +12,13 @@ use vifo_scenes::view::ImageOrder;
 
 use crate::{check_size, episode_spec, exclusive, py_err, shared};
 
+/// Most sub-envs in one vector env. Each holds its own simulator, renderer and images: at 256²
+/// about 3–5 MB (docs/measurements.md, `vifo bench scaling`'s memory per worker) plus 0.4 MB
+/// of stacked observations per step, so 1024 is some 5 GB, and one step of them takes seconds
+/// of CPU even on many cores. More than that is several vector envs (processes, Ray workers);
+/// a count far beyond it is a mistake, refused before anything is allocated.
+pub const MAX_ENVS: usize = 1024;
+
 /// One sub-env's episode: (suite, task index, condition, cue instance).
 type Episode = (String, usize, String, Option<String>);
 
@@ -52,8 +59,8 @@ impl NativeVectorEnv {
     fn new(py: Python<'_>, episodes: Vec<Episode>, size: i64, threads: usize, cue_facing: &str) -> PyResult<NativeVectorEnv> {
         let size = check_size(size)?;
         let cue_facing = crate::parse_cue_facing(cue_facing)?;
-        if episodes.is_empty() {
-            return Err(PyValueError::new_err("a vector env needs at least one episode"));
+        if !(1..=MAX_ENVS).contains(&episodes.len()) {
+            return Err(PyValueError::new_err(format!("{} episodes: a vector env takes 1 to {MAX_ENVS}", episodes.len())));
         }
         if threads == 0 {
             return Err(PyValueError::new_err("threads: expected at least 1"));

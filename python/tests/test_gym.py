@@ -237,6 +237,15 @@ def test_wrong_arguments_raise_clear_exceptions():
         LiberoVifoEnv("libero_goal", 0, size=2**70)
     with pytest.raises(TypeError, match="num_envs: expected an integer"):
         LiberoVifoVectorEnv(num_envs="2", suite="libero_goal", task=0, size=16)
+    # A count no machine holds was Python's bare MemoryError (a list of 10**9 episodes).
+    assert _native.MAX_ENVS == 1024
+    for wrong in (10**9, 2**70, 1025, 0, -3):
+        with pytest.raises(ValueError, match=rf"^num_envs {wrong}: expected 1 to 1024$"):
+            LiberoVifoVectorEnv(num_envs=wrong, suite="libero_goal", task=0, size=16)
+    with pytest.raises(ValueError, match="1025 episodes: a vector env takes 1 to 1024"):
+        _native.NativeVectorEnv([("libero_goal", 0, "original", None)] * 1025, 16, 1)
+    with pytest.raises(ValueError, match="0 episodes: a vector env takes 1 to 1024"):
+        LiberoVifoVectorEnv(episodes=[], size=16)
     env = LiberoVifoEnv("libero_goal", 0, size=16)
     env.reset(options={"init_state": 0})
     with pytest.raises(ValueError, match="not finite|NaN"):

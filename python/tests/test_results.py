@@ -18,11 +18,15 @@ def test_edited_specs_and_records_are_refused_when_written(tmp_path):
     line = (tmp_path / "a.jsonl").read_text().splitlines()[0]
     record = json.loads(line)
     results = _native.ResultsFile(str(tmp_path / "b.jsonl"), set="paper")
+    # Locked while open (a second writer is refused); the lock file goes with the close.
+    with pytest.raises(RuntimeError, match="another run is writing"):
+        _native.ResultsFile(str(tmp_path / "b.jsonl"), set="paper")
     with pytest.raises(ValueError, match=r"initial state 999 \(the tasks have 50\)"):
         results.write(json.dumps({**record, "spec": {**record["spec"], "init": 999}}))
     results.write(line)
     results.close()
     assert (tmp_path / "b.jsonl").read_text() == line + "\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.jsonl", "b.jsonl"]
 
 
 def test_a_report_of_a_missing_file_is_an_error(tmp_path):

@@ -361,6 +361,9 @@ fn a_policy_named_twice_runs_once() {
     let stdout = String::from_utf8_lossy(&run.stdout);
     assert!(run.status.success(), "{}{stdout}", String::from_utf8_lossy(&run.stderr));
     assert!(stdout.contains("1 policy ->") && dir.path().join("report").is_dir(), "{stdout}");
+    // The run's lock file went with it.
+    let locks: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).filter(|n| n.to_string_lossy().ends_with(".lock")).collect();
+    assert!(locks.is_empty(), "{locks:?}");
 
     // `vifo report` refuses records of another results version (their fields may mean
     // something else) and a device given as a results file, naming each.

@@ -8,8 +8,9 @@
 //! A write that fails (a full disk) is cut back off the file, and the writer refuses further
 //! records, so the file never holds a partial line followed by whole ones. A run holds an
 //! exclusive lock on `<results>.lock` while it writes ([`RunLock`]): a second run on the same
-//! file stops with an error instead of interleaving lines. The operating system drops the lock
-//! when the process ends, however it ends, so a killed run leaves nothing to clean up.
+//! file stops with an error instead of interleaving lines. The lock file is removed when the
+//! run ends; the operating system drops the lock when the process ends, however it ends, so the
+//! empty file a killed run leaves blocks nothing (the next run takes it over and removes it).
 
 use std::collections::BTreeMap;
 use std::fs::{File, OpenOptions};
@@ -130,9 +131,15 @@ fn create_parent(path: &Path) -> Result<(), RunError> {
 }
 
 /// The lock a run holds on its results file (released when dropped or when the process ends).
+/// Dropping it also removes the lock file, so none is left beside the results.
 #[derive(Debug)]
 pub struct RunLock {
+    /// Locked; closing it (after [`Drop::drop`]) releases the lock.
     _file: File,
+    path: PathBuf,
+    /// The process that took it: a forked child (Python's `multiprocessing`) shares the lock,
+    /// and its copy must not remove the file while the parent still writes.
+    pid: u32,
 }
 
 impl RunLock {
@@ -143,13 +150,51 @@ impl RunLock {
         let mut name = results.as_os_str().to_owned();
         name.push(".lock");
         let path = PathBuf::from(name);
-        let file = OpenOptions::new().create(true).truncate(false).write(true).open(&path).map_err(|e| RunError::io(&path, e))?;
-        match file.try_lock() {
-            Ok(()) => Ok(RunLock { _file: file }),
-            Err(std::fs::TryLockError::WouldBlock) => Err(RunError::Locked { results: results.to_path_buf(), lock: path }),
-            Err(std::fs::TryLockError::Error(e)) => Err(RunError::io(&path, e)),
+        loop {
+            let file = OpenOptions::new().create(true).truncate(false).write(true).open(&path).map_err(|e| RunError::io(&path, e))?;
+            match file.try_lock() {
+                Ok(()) => {}
+                Err(std::fs::TryLockError::WouldBlock) => return Err(RunError::Locked { results: results.to_path_buf(), lock: path }),
+                Err(std::fs::TryLockError::Error(e)) => return Err(RunError::io(&path, e)),
+            }
+            // A run that ended between our open and our lock removed the file we opened: a lock
+            // on it excludes nobody, so lock the one at the path now instead.
+            if still_at(&file, &path).map_err(|e| RunError::io(&path, e))? {
+                return Ok(RunLock { _file: file, path, pid: std::process::id() });
+            }
         }
     }
+}
+
+impl Drop for RunLock {
+    /// Removes the lock file while still holding its lock (the file closes after this), so
+    /// no other run can go on holding a lock on it; see [`RunLock::take`]'s check. Best effort:
+    /// a file left behind is taken over by the next run.
+    fn drop(&mut self) {
+        if cfg!(unix) && self.pid == std::process::id() {
+            let _ = std::fs::remove_file(&self.path);
+        }
+    }
+}
+
+/// Whether `file` is still the file at `path` (same device and inode).
+#[cfg(unix)]
+fn still_at(file: &File, path: &Path) -> std::io::Result<bool> {
+    use std::os::unix::fs::MetadataExt;
+    let named = match std::fs::metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(false),
+        Err(e) => return Err(e),
+    };
+    let held = file.metadata()?;
+    Ok(held.dev() == named.dev() && held.ino() == named.ino())
+}
+
+/// Without a stable way in `std` to tell two files apart, the lock file is never removed
+/// elsewhere, so the one locked is the one at the path.
+#[cfg(not(unix))]
+fn still_at(_file: &File, _path: &Path) -> std::io::Result<bool> {
+    Ok(true)
 }
 
 /// Appends records, one line per `write_all`.

@@ -11,20 +11,33 @@ import numpy as np
 _MOST = 2**31 - 1
 
 
-def index(value, name):
-    """``value`` as a non-negative ``int`` up to 2**31 - 1: Python and numpy integers pass
-    (LIBERO indexes lists, which take anything with ``__index__``); ``"3"``, ``3.9`` and
-    ``True`` do not."""
+def _integer(value, name):
+    """``value`` as an ``int``: Python and numpy integers pass (LIBERO indexes lists, which take
+    anything with ``__index__``); ``"3"``, ``3.9`` and ``True`` do not."""
     if isinstance(value, (bool, np.bool_)):
         raise TypeError(f"{name}: expected an integer, got {value!r}")
     try:
-        i = operator.index(value)
+        return operator.index(value)
     except TypeError:
         raise TypeError(f"{name}: expected an integer, got {type(value).__name__} {value!r}") from None
+
+
+def index(value, name):
+    """``value`` as a non-negative ``int`` up to 2**31 - 1 (see ``_integer``)."""
+    i = _integer(value, name)
     if i < 0:
         raise ValueError(f"{name} {i}: expected 0 or more")
     if i > _MOST:
         raise ValueError(f"{name} {i}: expected at most {_MOST}")
+    return i
+
+
+def count(value, name, most):
+    """``value`` as an ``int`` from 1 to ``most``: how many things to make, checked before any
+    is made (see ``_integer``)."""
+    i = _integer(value, name)
+    if not 1 <= i <= most:
+        raise ValueError(f"{name} {i}: expected 1 to {most}")
     return i
 
 

@@ -33,7 +33,7 @@ except ImportError:  # gymnasium 1.0: a string
 
 from . import _native
 from ._args import action as _action
-from ._args import index
+from ._args import count, index
 from .libero.benchmark import _TASKS
 
 __all__ = ["LiberoVifoEnv", "LiberoVifoVectorEnv"]
@@ -129,7 +129,8 @@ class LiberoVifoEnv(gymnasium.Env):
 class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
     """``num_envs`` episodes of one task (or one per entry of ``episodes``: ``(suite, task)``
     or ``(suite, task, language_condition, cue)``) stepped together on ``threads`` Rust
-    threads (default: one per env), the GIL released.
+    threads (default: one per env), the GIL released. 1 to ``_native.MAX_ENVS`` (1024) envs:
+    each holds its own simulator and renderer (a few MB).
 
     ``reset`` starts every sub-env from an initial state (``options={"init_state": k}`` or a
     list of N, else drawn from the reset seed) with the 10 settle steps, as ``vifo run``;
@@ -156,7 +157,7 @@ class LiberoVifoVectorEnv(gymnasium.vector.VectorEnv):
         if episodes is None:
             if suite is None or task is None:
                 raise ValueError("name the task (suite=, task=) or pass episodes=[(suite, task[, language_condition, cue]), ...]")
-            episodes = [(suite, task, language_condition, cue)] * index(num_envs, "num_envs")
+            episodes = [(suite, task, language_condition, cue)] * count(num_envs, "num_envs", _native.MAX_ENVS)
         rows = []
         for e in episodes:
             s, t, condition, c = (tuple(e) + (None, None))[:4]

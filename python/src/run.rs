@@ -125,7 +125,8 @@ pub fn policy_name(policy: &str, model_profile: Option<&str>) -> PyResult<String
 /// `--builtin-look` as given: see `look`), cues facing as `cue_facing` says (`vifo run
 /// --cue-facing`); returns `(ran, errors, already_done)`. `policy` is a name `vifo run --policy`
 /// takes, or a Python callable (`callable::PyPolicy`; then `name` is required, and it runs on
-/// one worker); `name` also names a server's records, as `--policy-name`. A Ctrl-C stops the run after the episodes running, which are written.
+/// one worker); `name` also names a server's records, as `--policy-name`. A Ctrl-C stops the run
+/// after the episodes running, which are written.
 #[pyfunction]
 #[pyo3(signature = (specs, policy, output, set = "paper", threads = 1, resume = false, size = 256, quiet = true, assets = None, robot_assets = None, builtin_look = false, cue_facing = "upright", name = None, model_profile = None))]
 #[allow(clippy::too_many_arguments)]

@@ -310,7 +310,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     for ((policy, name), path) in policies.iter().zip(&names).zip(paths) {
         let clips = filmed.contains(&name).then(|| out.join("report"));
-        errors += run_policy(policy, name, &specs, &path, clips.as_deref(), &args)?;
+        errors += run_policy(policy, &specs, &path, clips.as_deref(), &args)?;
         if args.sample.is_some() {
             let filmed_keys = match clips {
                 Some(_) => report::clips::first_episodes(&specs).values().map(|s| s.key()).collect(),
@@ -404,11 +404,11 @@ fn parse_protocol(name: &str) -> anyhow::Result<Protocol> {
 const CLIP_SIZE: u32 = 128;
 const CLIP_EVERY: usize = 2;
 
-/// Runs every spec with one policy, its records named `name`, into `path`, filming its first
-/// episode of each cue family into `clips`' report folder, if given. Returns how many episodes
-/// ended in errors.
-fn run_policy(spec: &PolicySpec, name: &str, specs: &[EpisodeSpec], path: &Path, clips: Option<&Path>, args: &Args) -> anyhow::Result<usize> {
-    let policy = spec.policy();
+/// Runs every spec with one policy, its records named as `spec` names them, into `path`,
+/// filming its first episode of each cue family into `clips`' report folder, if given. Returns
+/// how many episodes ended in errors.
+fn run_policy(spec: &PolicySpec, specs: &[EpisodeSpec], path: &Path, clips: Option<&Path>, args: &Args) -> anyhow::Result<usize> {
+    let (policy, name) = (spec.policy(), &spec.record_name());
     let render = spec.uses_images() || args.render_always;
     let config = EnvConfig {
         size: args.size,

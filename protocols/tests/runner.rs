@@ -449,3 +449,14 @@ fn a_stop_takes_no_more_episodes_and_a_resume_does_the_rest() {
     let rest = runner::run(&all, episode, &RunOptions { resume: true, ..options(&path, 1) }).unwrap();
     assert_eq!((rest.ran, rest.already_done), (19, 1));
 }
+
+#[test]
+fn results_file_names_keep_only_safe_ascii_and_are_recognized() {
+    use vifo_protocols::runner::results::{file_name, is_file_name};
+    assert_eq!(file_name("ws://h:8000"), "results-ws___h_8000.jsonl");
+    assert_eq!(file_name("pi05 goal/1"), "results-pi05_goal_1.jsonl");
+    // Non-ASCII letters too: Python's `str.isalnum` would have kept them.
+    assert_eq!(file_name("modèle-v1.2"), "results-mod_le-v1.2.jsonl");
+    assert!(is_file_name(&file_name("zero")));
+    assert!(!is_file_name("results-zero.jsonl.lock") && !is_file_name("predictions-zero.jsonl"));
+}

@@ -96,6 +96,27 @@ pub fn final_records(records: impl IntoIterator<Item = EpisodeRecord>) -> BTreeM
     out
 }
 
+/// Prefix and suffix of a policy's results file name in a run's folder.
+const FILE_NAME: (&str, &str) = ("results-", ".jsonl");
+
+/// The results file name of the policy labelled `label` (its given name, or the `--policy`
+/// string) in a run's folder: `results-<label, file-safe>.jsonl`. `vifo run`, Python's
+/// `evaluate` and Ray name files so, and `vifo report FOLDER` reads these back.
+pub fn file_name(label: &str) -> String {
+    format!("{}{}{}", FILE_NAME.0, file_safe(label), FILE_NAME.1)
+}
+
+/// Whether a file name is one that [`file_name`] gives.
+pub fn is_file_name(name: &str) -> bool {
+    name.starts_with(FILE_NAME.0) && name.ends_with(FILE_NAME.1)
+}
+
+/// A policy name, address or model id as part of a file name: every character but ASCII
+/// letters, digits, `-`, `_` and `.` becomes `_` (`ws://h:8000` → `ws___h_8000`).
+pub fn file_safe(s: &str) -> String {
+    s.chars().map(|c| if c.is_ascii_alphanumeric() || "-_.".contains(c) { c } else { '_' }).collect()
+}
+
 pub(crate) fn is_completed(record: &EpisodeRecord) -> bool {
     matches!(record.outcome, Outcome::Completed { .. })
 }

@@ -99,7 +99,7 @@ fn results_files(given: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
         let entries = std::fs::read_dir(path).with_context(|| format!("reading {}", path.display()))?;
         let mut found: Vec<PathBuf> = entries
             .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.file_name().and_then(|n| n.to_str()).is_some_and(super::run::is_results_name))
+            .filter(|p| p.file_name().and_then(|n| n.to_str()).is_some_and(vifo_protocols::runner::results::is_file_name))
             .collect();
         anyhow::ensure!(!found.is_empty(), "{}: a folder without results-*.jsonl files (vifo run --out writes them)", path.display());
         found.sort();

@@ -32,7 +32,7 @@ use vifo_protocols::env::rollout::{RolloutOptions, run_episodes};
 use vifo_protocols::env::EnvConfig;
 use vifo_protocols::policies;
 use vifo_protocols::benchmark::records::read_checked;
-use vifo_protocols::runner::{ErrorTally, RunOptions, Shard};
+use vifo_protocols::runner::{ErrorTally, RunOptions, Shard, file_safe, results};
 use vifo_protocols::serving::{Format, PolicySpec, ServingOptions};
 use vifo_protocols::spec::{CueForm, EpisodeSpec};
 use vifo_protocols::studies::{self, Study, StudyOptions};
@@ -219,7 +219,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         (false, true) => "vifo-run",
     };
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(default_out));
-    let paths: Vec<PathBuf> = policies.iter().map(|p| out.join(results_name(p.results_label()))).collect();
+    let paths: Vec<PathBuf> = policies.iter().map(|p| out.join(results::file_name(p.results_label()))).collect();
     let all_specs = if studies.is_empty() {
         let mut all = specs::specs(&selection)?;
         if quick {
@@ -574,20 +574,3 @@ fn print_conflicts() -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Prefix and suffix of a policy's results file name in a run's folder.
-const RESULTS_NAME: (&str, &str) = ("results-", ".jsonl");
-
-/// The results file of `policy` in a run's folder; `vifo report FOLDER` reads these back.
-fn results_name(policy: &str) -> String {
-    format!("{}{}{}", RESULTS_NAME.0, file_safe(policy), RESULTS_NAME.1)
-}
-
-/// Whether a file name is one that [`results_name`] gives.
-pub(crate) fn is_results_name(name: &str) -> bool {
-    name.starts_with(RESULTS_NAME.0) && name.ends_with(RESULTS_NAME.1)
-}
-
-/// A policy name or address as part of a file name (`ws://h:8000` → `ws___h_8000`).
-fn file_safe(s: &str) -> String {
-    s.chars().map(|c| if c.is_ascii_alphanumeric() || "-_.".contains(c) { c } else { '_' }).collect()
-}

@@ -11,6 +11,7 @@ use vifo_protocols::vqa::answerers::{self, Blind};
 use vifo_protocols::vqa::client::{ChatClient, ClientConfig};
 use vifo_protocols::vqa::files::{append_predictions, read_predictions, read_questions};
 use vifo_protocols::benchmark;
+use vifo_protocols::runner::file_safe;
 use vifo_protocols::env::{Env, EnvConfig};
 use vifo_protocols::vqa::{self, Prediction, VqaScores, score};
 use vifo::look::{LookArgs, label};
@@ -285,7 +286,3 @@ fn write(path: &Path, text: &str) -> anyhow::Result<()> {
     std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
 }
 
-/// A model id as part of a file name (`org/model` → `org_model`).
-fn file_safe(s: &str) -> String {
-    s.chars().map(|c| if c.is_ascii_alphanumeric() || "-_.".contains(c) { c } else { '_' }).collect()
-}

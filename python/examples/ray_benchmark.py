@@ -17,6 +17,7 @@ import sys
 import threading
 import time
 
+from libero_vifo import results_path
 from libero_vifo.ray import run_benchmark
 
 
@@ -62,8 +63,7 @@ def main():
     selection = {"set": args.set, "suites": args.suite, "protocols": args.protocol, "families": args.family,
                  "per_family": args.per_family, "episodes": args.episodes}
     policy = args.policy[0] if len(args.policy) == 1 else args.policy
-    safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in args.policy_name or args.policy[0])
-    output = os.path.join(args.out, f"results-{safe}.jsonl")
+    output = results_path(args.out, args.policy_name or args.policy[0])
     if args.kill_after is not None:
         threading.Thread(target=kill_one_when, args=(output, args.kill_after), daemon=True).start()
     s = run_benchmark(selection, policy, address=args.address, output=output, resume=args.resume,

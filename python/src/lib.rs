@@ -360,6 +360,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::run_specs, m)?)?;
     m.add_function(wrap_pyfunction!(run::check_policy, m)?)?;
     m.add_function(wrap_pyfunction!(run::policy_name, m)?)?;
+    m.add_function(wrap_pyfunction!(run::results_file_name, m)?)?;
     m.add_function(wrap_pyfunction!(run::record_keys, m)?)?;
     m.add_function(wrap_pyfunction!(run::write_report, m)?)?;
     m.add_function(wrap_pyfunction!(tasks, m)?)?;

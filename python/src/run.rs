@@ -111,6 +111,13 @@ pub fn check_policy(policy: &str, model_profile: Option<&str>, name: Option<Stri
     Ok((spec.record_name(), spec.serves_one_client()))
 }
 
+/// The results file name `vifo run` gives the policy labelled `label` (its given name, else
+/// the `--policy` string): `results-<label, file-safe>.jsonl`.
+#[pyfunction]
+pub fn results_file_name(label: &str) -> String {
+    vifo_protocols::runner::results::file_name(label)
+}
+
 /// The name `policy`'s records carry (`vifo run`'s): a built-in's, or `<profile>@<url>`
 /// (`openpi@<url>` for plain ws://).
 #[pyfunction]

@@ -31,6 +31,7 @@ def test_a_python_policy_runs_into_a_results_file_and_report_as_vifo_run_would(t
     selection = {**GOAL_ORIGINAL, "sample": 1}
     summary = libero_vifo.evaluate(policy, "py-still", selection, out=tmp_path, size=32, quiet=True)
     assert summary["ran"] == 1 and summary["errors"] == 0 and summary["episodes"] == 1 and policy.resets == 1
+    assert summary["output"] == libero_vifo.results_path(tmp_path, "py-still") == str(tmp_path / "results-py-still.jsonl")
     (record,) = [json.loads(line) for line in open(summary["output"])]
     assert record["policy"] == "py-still"
     assert "| py-still |" in open(tmp_path / "report" / "table1.md").read()

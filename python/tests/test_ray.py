@@ -94,6 +94,7 @@ def test_a_named_served_policy_names_its_records_and_results_file(cluster, tmp_p
     assert s["output"] == os.path.join("vifo-run-ray", "results-pi05_goal_1.jsonl") and s["ran"] == s["errors"] == 8
     policies = {json.loads(line)["policy"] for line in open(s["output"])}
     assert policies == {"pi05 goal/1"}, policies
+    assert s["policy"] == "pi05 goal/1" and s["servers"] == ["ws://127.0.0.1:1"], s
 
 
 def test_batches_drawn_with_another_look_than_the_files_are_not_written(cluster, tmp_path, capsys):
@@ -183,6 +184,7 @@ def test_batches_are_spread_over_the_openpi_servers(cluster, tmp_path):
     assert all(log.exists() and log.read_text().count("\n") > 0 for log in logs)
     policies = {json.loads(line)["policy"] for line in out.read_text().splitlines()}
     assert policies == {f"openpi@{urls[0]}"}, policies
+    assert s["policy"] == f"openpi@{urls[0]}" and s["servers"] == urls, s
 
 
 def test_bad_run_arguments_are_refused_before_ray_starts(tmp_path):

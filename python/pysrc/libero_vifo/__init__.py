@@ -12,9 +12,9 @@ Run your own policy, a Python function of the observation, through the benchmark
 import json
 
 from . import _native
-from .evaluation import evaluate
+from .evaluation import evaluate, results_path
 
-__all__ = ["libero", "cue_instances", "use_look", "look_info", "evaluate"]
+__all__ = ["libero", "cue_instances", "use_look", "look_info", "evaluate", "results_path"]
 
 
 def use_look(assets=None, robot_assets=None, builtin=False, quiet=False):

@@ -68,9 +68,3 @@ def selection(value):
         if rest.get(key) is not None:
             rest[key] = index(rest[key], f"selection[{key!r}]")
     return set_name, rest
-
-
-def file_safe(name):
-    """``name`` as part of a file name, as ``vifo run`` names results files (``ws://h:8000`` ->
-    ``ws___h_8000``)."""
-    return "".join(c if c.isalnum() or c in "-_." else "_" for c in name)

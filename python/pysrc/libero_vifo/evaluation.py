@@ -9,9 +9,18 @@ policy server is needed: the function is called in this process.
 import os
 
 from . import _native
-from ._args import file_safe, index, selection as _selection
+from ._args import index, selection as _selection
 
-__all__ = ["evaluate"]
+__all__ = ["evaluate", "results_path"]
+
+
+def results_path(folder, name):
+    """The results file that ``vifo run``, ``evaluate`` and ``libero_vifo.ray`` write for the
+    policy ``name`` (its given name, or the policy string: a built-in, a server URL) in
+    ``folder``: ``folder/results-<name, file-safe>.jsonl``."""
+    if not isinstance(name, str):
+        raise TypeError(f"name: expected a string, got {type(name).__name__}")
+    return os.path.join(os.fspath(folder), _native.results_file_name(name))
 
 
 def evaluate(
@@ -54,10 +63,8 @@ def evaluate(
     ``output`` (the results file) and ``report`` (its folder, or ``None``).
     """
     set_name, rest = _selection(selection)
-    if not isinstance(name, str):
-        raise TypeError(f"name: expected a string, got {type(name).__name__}")
+    output = results_path(out, name)
     specs = _native.episode_specs(set=set_name, **rest)
-    output = os.path.join(os.fspath(out), f"results-{file_safe(name)}.jsonl")
     os.makedirs(os.path.dirname(output) or ".", exist_ok=True)
     ran, errors, already_done = _native.run_specs(
         [spec for _, spec in specs], policy, output, set=set_name, resume=resume, size=index(size, "size"), quiet=quiet,

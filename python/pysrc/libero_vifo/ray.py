@@ -23,7 +23,8 @@ import time
 import ray
 
 from . import _native
-from ._args import file_safe, index, selection as _selection
+from ._args import index, selection as _selection
+from .evaluation import results_path
 
 __all__ = ["run_benchmark"]
 
@@ -112,7 +113,8 @@ def run_benchmark(
     Returns a summary dict: ``episodes``, ``already_done``, ``ran``, ``errors`` (and
     ``error_messages``: ``(count, message)`` pairs, most frequent first), ``missing``,
     ``duplicates``, ``failed_batches`` (tasks that failed even after their retries; their
-    episodes are missing and a resumed run retries them), ``seconds``, ``output``. Where every
+    episodes are missing and a resumed run retries them), ``seconds``, ``output``, ``policy``
+    (the name the records carry) and ``servers`` (the policy strings as given). Where every
     batch failed (nothing was written) it raises ``RuntimeError`` with the first batch's reason.
     """
     set_name, selection = _selection(selection)
@@ -140,7 +142,7 @@ def run_benchmark(
         if one_client and (address is not None or num_workers != 1):
             raise ValueError(f"{p}: this server holds one client at a time; give num_workers=1 (a local cluster), or use vifo run")
     if output is None:
-        output = os.path.join("vifo-run-ray", f"results-{file_safe(name if name is not None else servers[0])}.jsonl")
+        output = results_path("vifo-run-ray", name if name is not None else servers[0])
 
     if builtin_look and (assets is not None or robot_assets is not None):
         raise ValueError("builtin_look=True draws no asset files: give it without assets= and robot_assets=")
@@ -234,7 +236,8 @@ def run_benchmark(
         "failed_batches": failed,
         "seconds": time.monotonic() - start,
         "output": str(output),
-        "policy": servers[0] if len(servers) == 1 else "+".join(servers),
+        "policy": run_name,
+        "servers": servers,
     }
     if not quiet:
         for n, message in summary["error_messages"][:3]:

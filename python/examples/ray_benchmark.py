@@ -17,8 +17,7 @@ import sys
 import threading
 import time
 
-from libero_vifo import results_path
-from libero_vifo.ray import run_benchmark
+from libero_vifo.ray import default_output, run_benchmark
 
 
 def busy_workers():
@@ -63,7 +62,7 @@ def main():
     selection = {"set": args.set, "suites": args.suite, "protocols": args.protocol, "families": args.family,
                  "per_family": args.per_family, "episodes": args.episodes}
     policy = args.policy[0] if len(args.policy) == 1 else args.policy
-    output = results_path(args.out, args.policy_name or args.policy[0])
+    output = default_output(args.policy, args.out, args.policy_name, args.model_profile)
     if args.kill_after is not None:
         threading.Thread(target=kill_one_when, args=(output, args.kill_after), daemon=True).start()
     s = run_benchmark(selection, policy, address=args.address, output=output, resume=args.resume,

@@ -102,13 +102,13 @@ fn check_name(name: &str) -> PyResult<()> {
 
 /// Checks a policy as `vifo run --policy` takes it (a built-in or a server URL, with the
 /// server's `model_profile` and the `name` its records carry instead of `<profile>@<url>`, as
-/// `--policy-name`); returns `(the name its records carry, whether its server holds one client
-/// at a time)`.
+/// `--policy-name`); returns `(the name its records carry, the label its results file is named
+/// by, whether its server holds one client at a time)`.
 #[pyfunction]
 #[pyo3(signature = (policy, model_profile = None, name = None))]
-pub fn check_policy(policy: &str, model_profile: Option<&str>, name: Option<String>) -> PyResult<(String, bool)> {
+pub fn check_policy(policy: &str, model_profile: Option<&str>, name: Option<String>) -> PyResult<(String, String, bool)> {
     let spec = policy_spec(policy, model_profile, 256, name)?;
-    Ok((spec.record_name(), spec.serves_one_client()))
+    Ok((spec.record_name(), spec.results_label().to_string(), spec.serves_one_client()))
 }
 
 /// The results file name `vifo run` gives the policy labelled `label` (its given name, else

@@ -19,7 +19,7 @@ if importlib.util.find_spec("ray") is None:
 
 import ray  # noqa: E402
 
-from libero_vifo.ray import run_benchmark  # noqa: E402
+from libero_vifo.ray import default_output, run_benchmark  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 SELECTION = {"suites": ["libero_goal"], "protocols": ["original", "authorized"], "families": ["F2"], "per_family": 2, "episodes": 2}
@@ -92,6 +92,9 @@ def test_a_named_served_policy_names_its_records_and_results_file(cluster, tmp_p
     assert not (tmp_path / "vifo-run-ray").exists()
     s = run_benchmark(SELECTION, "ws://127.0.0.1:1", name="pi05 goal/1", batch_size=4, quiet=True)
     assert s["output"] == os.path.join("vifo-run-ray", "results-pi05_goal_1.jsonl") and s["ran"] == s["errors"] == 8
+    assert s["output"] == default_output("ws://127.0.0.1:1", name="pi05 goal/1")
+    # Without a name, the first server's URL as given (vifo run's --policy), not its record name.
+    assert default_output(["ws://h:1", "ws://h:2"], "runs", model_profile="pi05") == os.path.join("runs", "results-ws___h_1.jsonl")
     policies = {json.loads(line)["policy"] for line in open(s["output"])}
     assert policies == {"pi05 goal/1"}, policies
     assert s["policy"] == "pi05 goal/1" and s["servers"] == ["ws://127.0.0.1:1"], s

@@ -35,13 +35,14 @@ def test_an_openvla_oft_server_runs_an_episode_under_its_profile(tmp_path):
 
 
 def test_served_policies_are_checked_and_named_as_vifo_run_names_them():
-    assert _native.check_policy("ws://h:8000") == ("openpi@ws://h:8000", False)
-    assert _native.check_policy("ws://h:8000", "pi05") == ("pi05@ws://h:8000", False)
-    assert _native.check_policy("http://h:8777/act") == ("openvla-oft@http://h:8777/act", False)
-    assert _native.check_policy("tcp://h:10086", "xiaomi") == ("xiaomi@tcp://h:10086", True)
-    assert _native.check_policy("expert-cue") == ("expert-cue", False)
-    # name= as vifo run --policy-name: the records carry it instead of <profile>@<url>.
-    assert _native.check_policy("tcp://h:10086", "xiaomi", "x0-libero") == ("x0-libero", True)
+    assert _native.check_policy("ws://h:8000") == ("openpi@ws://h:8000", "ws://h:8000", False)
+    assert _native.check_policy("ws://h:8000", "pi05") == ("pi05@ws://h:8000", "ws://h:8000", False)
+    assert _native.check_policy("http://h:8777/act") == ("openvla-oft@http://h:8777/act", "http://h:8777/act", False)
+    assert _native.check_policy("tcp://h:10086", "xiaomi") == ("xiaomi@tcp://h:10086", "tcp://h:10086", True)
+    assert _native.check_policy("expert-cue") == ("expert-cue", "expert-cue", False)
+    # name= as vifo run --policy-name: the records and the results file carry it instead of
+    # <profile>@<url> and the URL.
+    assert _native.check_policy("tcp://h:10086", "xiaomi", "x0-libero") == ("x0-libero", "x0-libero", True)
     for policy, profile, says in (
         ("zero", "pi05", "zero is built-in"),
         ("ws://h:8000", "gpt-9", "unknown model_profile"),

@@ -26,7 +26,7 @@ from . import _native
 from ._args import index, selection as _selection
 from .evaluation import results_path
 
-__all__ = ["run_benchmark"]
+__all__ = ["run_benchmark", "default_output"]
 
 
 def _run_batch(specs, policy, set_name, size, look, model_profile=None):
@@ -60,6 +60,15 @@ def _first_look(path):
                 if look != _NO_IMAGES:
                     return look
     return None
+
+
+def default_output(policy, folder="vifo-run-ray", name=None, model_profile=None):
+    """The results file ``run_benchmark`` writes to when given no ``output`` (with ``folder``
+    as the folder): ``results-<name, else the (first) policy string, file-safe>.jsonl``, as
+    ``vifo run --out folder`` names it."""
+    first = policy[0] if isinstance(policy, (list, tuple)) and policy else policy
+    _, label, _ = _native.check_policy(first, model_profile, name)
+    return results_path(folder, label)
 
 
 def run_benchmark(
@@ -134,15 +143,15 @@ def run_benchmark(
         raise TypeError(f"name: expected a string, got {type(name).__name__}")
     # One run, one policy row in the report: records served by several servers carry the
     # first server's name (or the one given).
-    run_name = None
+    run_name = label = None
     for p in servers:
-        record_name, one_client = _native.check_policy(p, model_profile, name)
-        run_name = run_name or record_name
+        record_name, results_label, one_client = _native.check_policy(p, model_profile, name)
+        run_name, label = run_name or record_name, label or results_label
         # Ray runs batches side by side; such a server would mix their episodes up.
         if one_client and (address is not None or num_workers != 1):
             raise ValueError(f"{p}: this server holds one client at a time; give num_workers=1 (a local cluster), or use vifo run")
     if output is None:
-        output = results_path("vifo-run-ray", name if name is not None else servers[0])
+        output = results_path("vifo-run-ray", label)
 
     if builtin_look and (assets is not None or robot_assets is not None):
         raise ValueError("builtin_look=True draws no asset files: give it without assets= and robot_assets=")

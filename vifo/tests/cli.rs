@@ -298,7 +298,13 @@ fn nothing_to_run_and_options_that_would_be_ignored_are_errors() {
         (vec!["cues", "gallery", "--task", "libero_goal/99", "-o", out_arg], "task 'libero_goal/99': no such task"),
         // A huge count or tile was allocated before it was checked (a 120 GB sheet, a list of
         // 10^12 episodes).
-        (vec!["cues", "gallery", "--size", "100000", "-o", out_arg], "--size must be between 16 and 4096"),
+        (vec!["cues", "gallery", "--size", "100000", "-o", out_arg], "'--size <SIZE>': 100000 pixels: expected 16 to 4096"),
+        // Every --size is checked the same way, before a look is loaded (render's was checked by
+        // the camera after loading the assets).
+        (vec!["render", "--task", "libero_goal/0", "--size", "0", "-o", "x.png"], "'--size <SIZE>': 0 pixels: expected 16 to 4096"),
+        ([&goal_zero[..], &["--size", "8"]].concat(), "'--size <SIZE>': 8 pixels: expected 16 to 4096"),
+        (vec!["cues", "render", "caption_bar", "put the bowl on the plate", "--size", "99999", "--out", cue_ppm], "'--size <SIZE>': 99999 pixels"),
+        (vec!["vqa", "export", "-o", out_arg, "--size", "abc"], "'--size <SIZE>': invalid digit"),
         ([&goal_zero[..], &["--episodes", "1000000000000"]].concat(), "at most 10000 episodes per instance"),
         (vec!["expert", "--episodes", "20000"], "at most 10000 episodes per instance"),
         // Huge counts ran for ever, panicked with a capacity overflow or started a billion

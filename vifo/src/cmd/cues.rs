@@ -94,7 +94,7 @@ enum Command {
         #[arg(long, default_value_t = 0)]
         init: usize,
         /// Tile width and height in pixels.
-        #[arg(long, default_value_t = 256)]
+        #[arg(long, default_value_t = 256, value_parser = super::image_side)]
         size: u32,
     },
     /// Draw one cue over a plain grey frame and write it as a binary PPM image.
@@ -107,7 +107,7 @@ enum Command {
         #[arg(short = 'o', long, visible_alias = "output", default_value = "cue.ppm", value_parser = super::ppm_file)]
         out: PathBuf,
         /// Frame width and height in pixels.
-        #[arg(long, default_value_t = 256)]
+        #[arg(long, default_value_t = 256, value_parser = super::image_side)]
         size: u32,
         /// Source anchor "u,v[,radius]" in pixels.
         #[arg(long, default_value = "70,160,16")]
@@ -348,8 +348,6 @@ fn stats_cmd(name: SetName, out: &Path) -> anyhow::Result<()> {
 
 fn gallery_cmd(dir: &Path, task: &str, family: Option<Family>, init: usize, size: u32) -> anyhow::Result<()> {
     let families: Vec<Family> = family.map_or(Family::ALL.to_vec(), |f| vec![f]);
-    // Checked before the sheet of up to five tiles a row is allocated.
-    anyhow::ensure!((16..=4096).contains(&size), "--size must be between 16 and 4096 pixels");
     vifo::render::parse_task(task)?;
     vifo_protocols::runner::create_folder(dir)?;
     for family in families {

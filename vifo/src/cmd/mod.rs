@@ -31,6 +31,16 @@ pub fn at_least_one(s: &str) -> Result<usize, String> {
     }
 }
 
+/// An image side in pixels (`--size`), checked before anything is loaded or allocated: below
+/// 16 a camera shows nothing a policy could use, above 4096 one frame alone is 48 MB.
+pub fn image_side(s: &str) -> Result<u32, String> {
+    match s.parse::<u32>() {
+        Ok(n) if (16..=4096).contains(&n) => Ok(n),
+        Ok(n) => Err(format!("{n} pixels: expected 16 to 4096")),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
 /// A file `vifo` writes as PNG: a name ending otherwise (`x.jpg`) would hold PNG bytes under
 /// another format's name.
 pub fn png_file(s: &str) -> Result<PathBuf, String> {

@@ -42,7 +42,7 @@ pub struct RenderArgs {
     #[arg(long, default_value = "agentview")]
     pub camera: CameraName,
     /// Image width and height in pixels.
-    #[arg(long, default_value_t = 256)]
+    #[arg(long, default_value_t = 256, value_parser = super::image_side)]
     pub size: u32,
     /// Rows bottom-up, as robosuite returns images and LIBERO's datasets store them.
     #[arg(long)]

@@ -108,7 +108,7 @@ pub struct Args {
     #[arg(short = 'o', long, visible_alias = "output")]
     out: Option<PathBuf>,
     /// Camera image side in pixels.
-    #[arg(long, default_value_t = 256)]
+    #[arg(long, default_value_t = 256, value_parser = super::image_side)]
     size: u32,
     /// Render both cameras after every step, as LIBERO does, even where the policy will not
     /// look at them: a built-in policy (it reads the simulator) or a served one between its
@@ -205,7 +205,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             if policies.len() == 1 { "is" } else { "are" }
         );
     }
-    anyhow::ensure!((16..=4096).contains(&args.size), "--size must be between 16 and 4096 pixels");
     if let Some(name) = &args.policy_name {
         anyhow::ensure!(
             policies.len() == 1 && !policies[0].is_builtin(),

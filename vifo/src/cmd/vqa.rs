@@ -34,7 +34,7 @@ enum Command {
         #[arg(short, long, visible_alias = "output")]
         out: PathBuf,
         /// Image side in pixels.
-        #[arg(long, default_value_t = 256)]
+        #[arg(long, default_value_t = 256, value_parser = super::image_side)]
         size: u32,
         /// Instance set: paper (1,347 instances, 5,388 questions) or full.
         #[arg(long, default_value = "paper", value_parser = super::parse_set)]
@@ -254,7 +254,6 @@ fn export_form_and_set(dir: &Path) -> anyhow::Result<(Option<CueForm>, Option<Se
 /// settle steps. The set's name goes to `set.txt` beside the questions, the look the images
 /// were drawn with to `look.txt`.
 fn export(out: &Path, size: u32, set: SetName, form: CueForm, look: &LookArgs) -> anyhow::Result<()> {
-    anyhow::ensure!((16..=4096).contains(&size), "--size must be between 16 and 4096 pixels");
     let look = look.look()?;
     vifo_protocols::env::scenes::use_look(look.clone())?;
     let questions = benchmark::instances::questions(set, form)?;

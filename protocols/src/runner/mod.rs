@@ -26,7 +26,7 @@ use vifo_cues::SetName;
 pub(crate) use self::progress::Progress;
 use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome, RESULTS_VERSION};
 
-pub use results::{Loaded, ResultsWriter, RunLock, create_dir, create_folder, file_safe, final_records, parse_records, read_records};
+pub use results::{Loaded, ResultsWriter, RunLock, create_dir, create_folder, final_records, parse_records, read_records};
 pub use seed::{episode_seed, fnv1a64, seed_for, stable_hash};
 
 /// Why a run could not proceed.

@@ -143,15 +143,15 @@ def run_benchmark(
         raise TypeError(f"name: expected a string, got {type(name).__name__}")
     # One run, one policy row in the report: records served by several servers carry the
     # first server's name (or the one given).
-    run_name = label = None
+    run_name = None
     for p in servers:
-        record_name, results_label, one_client = _native.check_policy(p, model_profile, name)
-        run_name, label = run_name or record_name, label or results_label
+        record_name, _, one_client = _native.check_policy(p, model_profile, name)
+        run_name = run_name or record_name
         # Ray runs batches side by side; such a server would mix their episodes up.
         if one_client and (address is not None or num_workers != 1):
             raise ValueError(f"{p}: this server holds one client at a time; give num_workers=1 (a local cluster), or use vifo run")
     if output is None:
-        output = results_path("vifo-run-ray", label)
+        output = default_output(servers, name=name, model_profile=model_profile)
 
     if builtin_look and (assets is not None or robot_assets is not None):
         raise ValueError("builtin_look=True draws no asset files: give it without assets= and robot_assets=")

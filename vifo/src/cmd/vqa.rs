@@ -11,7 +11,7 @@ use vifo_protocols::vqa::answerers::{self, Blind};
 use vifo_protocols::vqa::client::{ChatClient, ClientConfig};
 use vifo_protocols::vqa::files::{append_predictions, read_predictions, read_questions};
 use vifo_protocols::benchmark;
-use vifo_protocols::runner::file_safe;
+use vifo_protocols::runner::results::file_safe;
 use vifo_protocols::env::{Env, EnvConfig};
 use vifo_protocols::vqa::{self, Prediction, VqaScores, score};
 use vifo::look::{LookArgs, label};

@@ -31,3 +31,8 @@ pub use picture::{OBJECT_FAMILIES, object_picture};
 pub use parse::{ParseError, ParsedTask, Relation, Step, parse, parse_with_goals};
 pub use spec::{CueParams, CueSpec, Family, InsertMode, NormBox};
 pub use variants::{Needs, VARIANTS, Variant};
+
+/// The README's examples, compiled and run as doctests so they cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExamples;

@@ -77,3 +77,8 @@ impl Expert {
         Action::hold(OPEN)
     }
 }
+
+/// The README's example, compiled and run as a doctest so it cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExamples;

@@ -33,3 +33,9 @@ pub mod vqa;
 
 pub use policy::{EpisodeState, Observation, Policy, PolicyError};
 pub use spec::{CueForm, EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
+
+/// The README's examples, compiled (and run where they need no server) as doctests so they
+/// cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExamples;

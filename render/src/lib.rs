@@ -43,3 +43,8 @@ pub use transform::{mat3_from_mj_xmat, quat_wxyz_to_mat3, Transform};
 
 /// The math types used in this crate's API.
 pub use glam;
+
+/// The README's example, compiled and run as a doctest so it cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExamples;

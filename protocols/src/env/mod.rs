@@ -1,16 +1,8 @@
 //! The LIBERO-VIFO environment: one episode of a task under a protocol, stepped with 7-D
 //! actions, observed through LIBERO's two cameras with the episode's cue.
 //!
-//! ```ignore
-//! let mut env = Env::new(EnvConfig::default());                  // 256², upright, both cameras
-//! let spec = benchmark::specs::spec(&task, Protocol::Authorized, Some(id), init, 0)?;
-//! let obs = env.reset(&spec)?;                                    // shipped state + 10 settle steps
-//! loop {
-//!     let action = policy.act_with_state(env.observation(), &env.state()?)?;
-//!     let r = env.step(&action)?;                                 // NaN or wrong length: Err
-//!     if r.done { break }
-//! }
-//! ```
+//! [`Env::new`], then per episode [`Env::reset`] and [`Env::step`] until `done`; the crate's
+//! README has a whole program (compiled and run as a doctest).
 //!
 //! - Reset applies the shipped initial state `spec.init` ([`vifo_scenes::init_states`]), runs
 //!   LIBERO's 10 settle steps with its dummy action (hold still, gripper open), checks that the

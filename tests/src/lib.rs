@@ -1,7 +1,8 @@
 //! Helpers for the end-to-end tests in `tests/tests/`.
 //!
 //! Tests that need LIBERO's reference data read it from `../shared` next to the workspace root.
-//! A fresh clone has no such folder; such tests then print why they skipped and pass.
+//! A fresh clone has no such folder; such tests then say why they skipped ([`skip_notice`]) and
+//! pass.
 //!
 //! [`fault_server`] is a misbehaving openpi server and [`fault_trials`] the runs against it
 //! that the fault test and `examples/policy_faults.rs` share. [`scripted_actions`] is what the
@@ -11,24 +12,33 @@ pub mod fault_server;
 pub mod fault_trials;
 pub mod scripted_actions;
 
+use std::fmt::Display;
+use std::io::Write;
 use std::path::PathBuf;
+
+/// Says that `test` skipped and why, where a plain `cargo test` shows it: straight to stderr,
+/// which the test harness does not capture (it captures `print!` and `eprint!` only), so a run
+/// on a fresh clone lists what it could not check. One write, so lines of parallel tests do not
+/// interleave.
+pub fn skip_notice(test: &str, why: impl Display) {
+    let _ = std::io::stderr().write_all(format!("SKIPPED {test}: {why}\n").as_bytes());
+}
 
 /// The workspace root (the folder holding the top-level `Cargo.toml`).
 pub fn workspace_root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-/// `<workspace>/../shared/<relative>` if it exists; otherwise prints a skip notice naming the
+/// `<workspace>/../shared/<relative>` if it exists; otherwise gives a skip notice naming the
 /// test and the missing path, and returns `None`.
 pub fn shared(relative: &str, test: &str) -> Option<PathBuf> {
     let path = workspace_root().join("..").join("shared").join(relative);
     if path.exists() {
         Some(path)
     } else {
-        println!(
-            "SKIPPED {test}: reference data {} not found (it lives outside the repository; \
-             CI provides it)",
-            path.display()
+        skip_notice(
+            test,
+            format_args!("reference data {} not found (it lives outside the repository; CI provides it)", path.display()),
         );
         None
     }
@@ -36,7 +46,7 @@ pub fn shared(relative: &str, test: &str) -> Option<PathBuf> {
 
 /// A set of MuJoCo recordings kept outside the repository (they are made with the original
 /// stack, not shipped): `$<env>` if set, else `~/.cache/libero-vifo/<name>`, when it holds
-/// `*_init0.json` recordings; otherwise prints a skip notice naming the test, the folder and
+/// `*_init0.json` recordings; otherwise gives a skip notice naming the test, the folder and
 /// `how` to record it, and returns `None`.
 pub fn recorded(env: &str, name: &str, how: &str, test: &str) -> Option<PathBuf> {
     let dir = std::env::var_os(env)
@@ -50,17 +60,15 @@ pub fn recorded(env: &str, name: &str, how: &str, test: &str) -> Option<PathBuf>
     match dir {
         Some(d) if has_recordings(&d) => Some(d),
         d => {
-            println!(
-                "SKIPPED {test}: no recordings at {} (record them with `{how}`, or set {env})",
-                d.map_or_else(|| format!("$HOME/.cache/libero-vifo/{name}"), |d| d.display().to_string())
-            );
+            let dir = d.map_or_else(|| format!("$HOME/.cache/libero-vifo/{name}"), |d| d.display().to_string());
+            skip_notice(test, format_args!("no recordings at {dir} (record them with `{how}`, or set {env})"));
             None
         }
     }
 }
 
 pub mod python {
-    //! Python helper processes for the policy client tests: an import check that prints a skip
+    //! Python helper processes for the policy client tests: an import check that gives a skip
     //! notice, and a server process that reports its port and is killed when dropped.
 
     use std::io::{BufRead, BufReader, Read};
@@ -69,7 +77,7 @@ pub mod python {
     use std::sync::{Arc, Mutex};
     use std::time::Duration;
 
-    /// True when python3 can import `modules` (comma-separated); otherwise prints a skip notice.
+    /// True when python3 can import `modules` (comma-separated); otherwise gives a skip notice.
     pub fn ready(test: &str, modules: &str) -> bool {
         let ok = Command::new("python3")
             .args(["-c", &format!("import {modules}")])
@@ -78,9 +86,12 @@ pub mod python {
             .status()
             .is_ok_and(|s| s.success());
         if !ok {
-            println!(
-                "SKIPPED {test}: python3 cannot import {modules} (.ci/run installs the test \
-                 requirements: openpi-client, websockets, json-numpy, grpcio)"
+            super::skip_notice(
+                test,
+                format_args!(
+                    "python3 cannot import {modules} (.ci/run installs the test requirements: openpi-client, \
+                     websockets, json-numpy, grpcio)"
+                ),
             );
         }
         ok

@@ -67,7 +67,7 @@ fn tempdir_look() -> Look {
 fn installed_assets_draw_every_category_and_robot_body() {
     let roots = look::discover(None, None).unwrap();
     if roots.libero.is_empty() || roots.robot.is_none() {
-        println!("SKIPPED installed_assets_draw_every_category_and_robot_body: no LIBERO asset wheels or robosuite installed ({:?})", roots.notes);
+        vifo_tests::skip_notice("installed_assets_draw_every_category_and_robot_body", format_args!("no LIBERO asset wheels or robosuite installed ({})", roots.notes.join("; ")));
         return;
     }
     let look = Look::load(roots);
@@ -87,7 +87,7 @@ fn installed_assets_draw_every_category_and_robot_body() {
 fn the_asset_look_textures_the_floor_the_walls_and_the_box_table() {
     let roots = look::discover(None, None).unwrap();
     if roots.libero.is_empty() {
-        println!("SKIPPED the_asset_look_textures_the_floor_the_walls_and_the_box_table: no LIBERO asset wheels installed ({:?})", roots.notes);
+        vifo_tests::skip_notice("the_asset_look_textures_the_floor_the_walls_and_the_box_table", format_args!("no LIBERO asset wheels installed ({})", roots.notes.join("; ")));
         return;
     }
     let look = Look::load(roots);
@@ -116,7 +116,7 @@ fn the_look_dresses_only_the_panda() {
     use vifo_scenes::view::SegmentKind;
     let roots = look::discover(None, None).unwrap();
     if roots.robot.is_none() {
-        println!("SKIPPED the_look_dresses_only_the_panda: robosuite's robot meshes are not installed ({:?})", roots.notes);
+        vifo_tests::skip_notice("the_look_dresses_only_the_panda", format_args!("robosuite's robot meshes are not installed ({})", roots.notes.join("; ")));
         return;
     }
     let look = Look::load(roots);
@@ -149,7 +149,7 @@ fn the_static_layer_draws_an_expert_episode_as_whole_frames() {
     let roots = look::discover(None, None).unwrap();
     let assets = (!roots.libero.is_empty() && roots.robot.is_some()).then(|| Look::load(roots));
     if assets.is_none() {
-        println!("the_static_layer_draws_an_expert_episode_as_whole_frames: LIBERO's look skipped, no asset wheels or robosuite installed");
+        vifo_tests::skip_notice("the_static_layer_draws_an_expert_episode_as_whole_frames (LIBERO's look; the built-in look runs)", "no asset wheels or robosuite installed");
     }
     for look in std::iter::once(None).chain(assets.as_ref().map(Some)) {
         // libero_goal/0: open the middle drawer of the cabinet.
@@ -187,7 +187,7 @@ fn the_look_read_from_its_cache_is_the_look_made_from_the_files() {
     use vifo_scenes::task::ProblemClass;
     let roots = look::discover(None, None).unwrap();
     if roots.libero.is_empty() || roots.robot.is_none() {
-        println!("SKIPPED the_look_read_from_its_cache_is_the_look_made_from_the_files: no LIBERO asset wheels or robosuite installed ({:?})", roots.notes);
+        vifo_tests::skip_notice("the_look_read_from_its_cache_is_the_look_made_from_the_files", format_args!("no LIBERO asset wheels or robosuite installed ({})", roots.notes.join("; ")));
         return;
     }
     let cache = tempfile::tempdir().unwrap();

@@ -57,7 +57,7 @@ fn every_complete_frame_meets_the_image_gates_with_the_assets() {
     let Some(dir) = complete_refs(test) else { return };
     let roots = look::discover(None, None).unwrap();
     if roots.libero.is_empty() || roots.robot.is_none() {
-        println!("SKIPPED {test}: no LIBERO asset wheels or robosuite installed ({:?})", roots.notes);
+        vifo_tests::skip_notice(test, format_args!("no LIBERO asset wheels or robosuite installed ({})", roots.notes.join("; ")));
         return;
     }
     let look = Look::load(roots);

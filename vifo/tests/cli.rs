@@ -482,7 +482,9 @@ fn a_server_that_holds_one_client_gets_one_episode_at_a_time() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
     let ready = Command::new("python3").args(["-c", "import grpc, numpy"]).output();
     if !ready.is_ok_and(|o| o.status.success()) {
-        println!("SKIPPED a_server_that_holds_one_client_gets_one_episode_at_a_time: python3 with grpcio and numpy is needed");
+        // Straight to stderr, which the harness does not capture, so a plain `cargo test` shows it.
+        let why = "SKIPPED a_server_that_holds_one_client_gets_one_episode_at_a_time: python3 with grpcio and numpy is needed\n";
+        let _ = std::io::Write::write_all(&mut std::io::stderr(), why.as_bytes());
         return;
     }
     let mut server = Command::new("python3")

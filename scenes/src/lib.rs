@@ -29,3 +29,8 @@ pub mod task;
 pub mod view;
 
 pub use task::{PIPER_SUITE, SAFETY_SUITE, Suite, Task, all_tasks, study_suites, suite, suite_names, suites, task};
+
+/// The README's example, compiled and run as a doctest so it cannot go stale.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeExamples;

@@ -3,7 +3,7 @@
 use std::collections::BTreeMap;
 
 use vifo_cues::{Family, SetName};
-use vifo_protocols::report::{self, Metric, family_of};
+use vifo_protocols::report::{self, Metric, Table1Row, family_of};
 use vifo_protocols::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, RESULTS_VERSION, TaskRef};
 use vifo_protocols::vqa::{Accuracy, Stage, VqaScores};
 
@@ -162,6 +162,57 @@ fn files_are_written() {
     for name in ["table1.md", "table2.csv", "chart_avf.png"] {
         assert_eq!(std::fs::read(dir.join(name)).unwrap(), std::fs::read(again.join(name)).unwrap(), "{name}");
     }
+}
+
+/// `r` moved to task `suite/index` (its cue instance with it).
+fn in_task(mut r: EpisodeRecord, suite: &str, index: usize) -> EpisodeRecord {
+    r.spec.task = TaskRef { suite: suite.into(), index };
+    r.spec.instance = r.spec.instance.map(|id| id.replacen("libero_goal/1", &format!("{suite}/{index}"), 1));
+    r
+}
+
+#[test]
+fn suites_are_reported_one_by_one_in_liberos_order() {
+    // pi on libero_goal: the records above. pi on libero_spatial: Orig. SR 1/2, AVF F1 1/1 and
+    // F2 0/2 (a mean of 50 %), one error; oft there: Orig. SR 2/2.
+    let mut all_suites = records();
+    for (n, ok) in [true, false].into_iter().enumerate() {
+        all_suites.push(in_task(record("pi", Protocol::Original, "-", 100 + n, done(Some(ok), None)), "libero_spatial", 3));
+        all_suites.push(in_task(record("oft", Protocol::Original, "-", 100 + n, done(Some(true), None)), "libero_spatial", 3));
+    }
+    all_suites.push(in_task(record("pi", Protocol::Authorized, "F1", 100, done(None, Some(true))), "libero_spatial", 3));
+    for n in 0..2 {
+        all_suites.push(in_task(record("pi", Protocol::Authorized, "F2", 110 + n, done(None, Some(false))), "libero_spatial", 3));
+    }
+    all_suites.push(in_task(record("pi", Protocol::Conflict, "F7", 100, error()), "libero_spatial", 3));
+    let report = report::build(&all_suites, &BTreeMap::new());
+    let rows: Vec<(&str, &str)> = report.suites.iter().map(|s| (s.suite.as_str(), s.row.policy.as_str())).collect();
+    assert_eq!(rows, [("libero_spatial", "oft"), ("libero_spatial", "pi"), ("libero_goal", "oft"), ("libero_goal", "pi")]);
+    let row = |suite: &str, policy: &str| &report.suites.iter().find(|s| s.suite == suite && s.row.policy == policy).unwrap().row;
+    // Each suite from its own episodes only; libero_goal's rows are Table 1's without the new ones.
+    let spatial = row("libero_spatial", "pi");
+    assert_eq!((spatial.orig_sr.correct, spatial.orig_sr.total), (1, 2));
+    assert_eq!(spatial.avf.percent(), Some(50.0));
+    assert_eq!((spatial.avf.pooled.correct, spatial.avf.pooled.total), (1, 3));
+    assert_eq!(spatial.vtr, Some(100.0));
+    assert_eq!((spatial.episodes, spatial.errors), (6, 1));
+    let alone = report::build(&records(), &BTreeMap::new());
+    let goal = Table1Row { det: None, sem: None, gnd: None, dec: None, fca: None, ..alone.table1.iter().find(|r| r.policy == "pi").unwrap().clone() };
+    assert_eq!(row("libero_goal", "pi"), &goal);
+    // Table 1 holds both suites.
+    let all = report.table1.iter().find(|r| r.policy == "pi").unwrap();
+    assert_eq!((all.orig_sr.correct, all.orig_sr.total), (5, 7));
+
+    let scratch = tempfile::tempdir().unwrap();
+    report.write(scratch.path()).unwrap();
+    let markdown = std::fs::read_to_string(scratch.path().join("suites.md")).unwrap();
+    // Ranked within a suite: on libero_spatial oft's 100.0 is best, pi's 50.0 second.
+    assert!(markdown.contains("| oft | libero_spatial | **100.0** (2/2) |"), "{markdown}");
+    assert!(markdown.contains("| pi | libero_spatial | <u>50.0</u> (1/2) | 50.0 |"), "{markdown}");
+    let csv = std::fs::read_to_string(scratch.path().join("suites.csv")).unwrap();
+    assert!(csv.lines().any(|l| l == "pi,libero_spatial,50.00,50.00,100.00,,,,1,2,6,1,0"), "{csv}");
+    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(scratch.path().join("suites.json")).unwrap()).unwrap();
+    assert_eq!(json["rows"].as_array().unwrap().len(), 4);
 }
 
 #[test]

@@ -25,6 +25,10 @@
 //! Table 2, per policy and cue family F1–F8 (the family of an episode is that of its cue
 //! instance): VQA (all four stages), AVF, UVF, UVI, and Avg. — the unweighted mean of the
 //! families that have data, which is how the paper's Avg. column is formed.
+//!
+//! Per suite (not in the paper): Table 1's episode columns over each suite's episodes alone
+//! ([`SuiteRow`]). LIBERO's results are quoted per suite, so this is where a LIBERO-trained
+//! model's Orig. SR here meets the figure its authors report.
 
 pub mod chart;
 pub mod clips;
@@ -142,7 +146,16 @@ pub struct FamilyCounts {
     pub errors: BTreeMap<Family, usize>,
 }
 
-/// Both tables.
+/// Table 1's episode columns (Orig. SR, AVF, VTR, LFR, UVF, UVI; no VQA) over one suite's
+/// episodes of one row's policy: cue metrics are means over the families of that suite's
+/// episodes, as Table 1's are over all of them.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SuiteRow {
+    pub suite: String,
+    pub row: Table1Row,
+}
+
+/// Both tables, and the per-suite rows.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Report {
     /// The instance sets of the episodes. With more than one, every row holds one policy's
@@ -160,6 +173,9 @@ pub struct Report {
     pub table1: Vec<Table1Row>,
     pub table2: Vec<Table2Row>,
     pub family_counts: Vec<FamilyCounts>,
+    /// Per suite (LIBERO's order, then any other by name), each policy's row.
+    #[serde(default)]
+    pub suites: Vec<SuiteRow>,
 }
 
 /// The cue family named in an instance id (`libero_goal/3/F2/straight_arrow_red`).
@@ -245,8 +261,25 @@ pub fn build(records: &[EpisodeRecord], vqa: &BTreeMap<String, VqaScores>) -> Re
         let (table2, counts) = table2_rows(&row, &episodes, scores);
         report.table2.extend(table2);
         report.family_counts.push(counts);
+        report.suites.extend(suite_rows(&row, &episodes));
     }
+    report.suites.sort_by_key(|s| suite_order(&s.suite));
     report
+}
+
+/// One [`SuiteRow`] per suite among `episodes`.
+fn suite_rows(policy: &str, episodes: &[EpisodeRecord]) -> Vec<SuiteRow> {
+    let mut by_suite: BTreeMap<&str, Vec<EpisodeRecord>> = BTreeMap::new();
+    for r in episodes {
+        by_suite.entry(r.spec.task.suite.as_str()).or_default().push(r.clone());
+    }
+    by_suite.into_iter().map(|(suite, records)| SuiteRow { suite: suite.to_string(), row: table1_row(policy, &records, None) }).collect()
+}
+
+/// Where a suite goes in the per-suite rows: LIBERO's four in their order, then others by name.
+fn suite_order(suite: &str) -> (usize, String) {
+    let main = vifo_scenes::suite_names();
+    (main.iter().position(|s| *s == suite).unwrap_or(main.len()), suite.to_string())
 }
 
 /// The success flag a metric reads from an outcome.
@@ -372,8 +405,9 @@ fn table2_rows(policy: &str, episodes: &[EpisodeRecord], vqa: Option<&VqaScores>
 }
 
 impl Report {
-    /// Writes `table1.{md,csv,json}`, `table2.{md,csv,json}` and one bar chart per Table 2
-    /// metric (`chart_vqa.png`, …) into `dir`; returns the Markdown of both tables.
+    /// Writes `table1.{md,csv,json}`, `table2.{md,csv,json}`, `suites.{md,csv,json}` and one
+    /// bar chart per Table 2 metric (`chart_vqa.png`, …) into `dir`; returns the Markdown of
+    /// both tables.
     pub fn write(&self, dir: &Path) -> std::io::Result<String> {
         crate::runner::create_dir(dir)?;
         let t1 = tables::table1_markdown(self);
@@ -385,6 +419,9 @@ impl Report {
         std::fs::write(dir.join("table2.csv"), tables::table2_csv(self))?;
         let table2 = serde_json::json!({"sets": self.sets, "rows": self.table2, "counts": self.family_counts});
         std::fs::write(dir.join("table2.json"), json(&table2)?)?;
+        std::fs::write(dir.join("suites.md"), tables::suites_markdown(self))?;
+        std::fs::write(dir.join("suites.csv"), tables::suites_csv(self))?;
+        std::fs::write(dir.join("suites.json"), json(&serde_json::json!({"sets": self.sets, "rows": self.suites}))?)?;
         for metric in Metric::ALL {
             let png = chart::family_chart(self, metric).map_err(std::io::Error::other)?;
             std::fs::write(dir.join(format!("chart_{}.png", metric.name().to_lowercase())), png)?;

@@ -1,10 +1,10 @@
-//! Markdown and CSV renderings of the two tables. Markdown marks the best value of each
-//! column (Table 1, respecting ↑/↓) or of each row (Table 2, highest, as the paper does) in
-//! bold and the second best underlined.
+//! Markdown and CSV renderings of the two tables and the per-suite rows. Markdown marks the
+//! best value of each column (Table 1, respecting ↑/↓; per suite, within each suite) or of each
+//! row (Table 2, highest, as the paper does) in bold and the second best underlined.
 
 use vifo_cues::Family;
 
-use super::{FamilyMean, Report, Table1Row};
+use super::{FamilyMean, Report, SuiteRow, Table1Row};
 use crate::vqa::Accuracy;
 
 fn pct(a: Option<&FamilyMean>) -> Option<f64> {
@@ -27,6 +27,9 @@ const COLUMNS: [Column; 11] = [
     ("UVF↓", false, |r| r.uvf.percent()),
     ("UVI↓", false, |r| r.uvi.percent()),
 ];
+
+/// Table 1's columns measured on episodes (Orig. SR onwards), the per-suite rows' columns.
+const EPISODE_COLUMNS: std::ops::RangeFrom<usize> = 5..;
 
 /// What the columns measure (the paper's §3.3), under the table where a reader meets them.
 const COLUMN_LEGEND: &str = "\nColumns. Part I-A (VQA, `vifo vqa`): accuracy on the cue's detection (Det.), its meaning \
@@ -175,6 +178,54 @@ pub fn table1_csv(report: &Report) -> String {
             out += &format!(",{}", value(row).map_or(String::new(), |v| format!("{v:.2}")));
         }
         out += &format!(",{},{},{}\n", row.episodes, row.errors, row.unscored);
+    }
+    out
+}
+
+/// The per-suite rows in Markdown, suite by suite, ranked within each suite; Orig. SR with
+/// its successes out of scored episodes, the figure LIBERO's papers quote per suite.
+pub fn suites_markdown(report: &Report) -> String {
+    let columns = &COLUMNS[EPISODE_COLUMNS];
+    let mut out = format!("### Per suite (%)\n\n{}| Model | Suite |", provenance(report));
+    for (header, ..) in columns {
+        out += &format!(" {header} |");
+    }
+    out += " episodes | errors |\n|---|---|";
+    out += &"---|".repeat(columns.len() + 2);
+    out.push('\n');
+    let mut start = 0;
+    while start < report.suites.len() {
+        let suite = &report.suites[start].suite;
+        let group: Vec<&SuiteRow> = report.suites[start..].iter().take_while(|s| s.suite == *suite).collect();
+        start += group.len();
+        let cells: Vec<Vec<String>> =
+            columns.iter().map(|(_, up, value)| ranked_cells(&group.iter().map(|s| value(&s.row)).collect::<Vec<_>>(), *up)).collect();
+        for (i, s) in group.iter().enumerate() {
+            out += &format!("| {} | {} |", s.row.policy, s.suite);
+            for (k, column) in cells.iter().enumerate() {
+                let counts = if k == 0 && s.row.orig_sr.total > 0 { format!(" ({})", frac(&s.row.orig_sr)) } else { String::new() };
+                out += &format!(" {}{counts} |", column[i]);
+            }
+            out += &format!(" {} | {} |\n", s.row.episodes, s.row.errors);
+        }
+    }
+    out += "\nBold: the best value of each column within a suite by its arrow (↓: the lowest), underlined: the second.\n";
+    out += "\nTable 1's columns over each suite's episodes alone: Orig. SR pooled over the suite's original episodes \
+(successes / scored episodes, as LIBERO's results are quoted per suite), the cue columns the unweighted mean of the \
+cue families' rates within the suite.\n";
+    out
+}
+
+/// The per-suite rows as CSV (percentages to two decimals, empty where undefined).
+pub fn suites_csv(report: &Report) -> String {
+    let mut out = String::from("policy,suite,Orig_SR,AVF,VTR,LFR,UVF,UVI,Orig_SR_successes,Orig_SR_scored,episodes,errors,unscored\n");
+    for s in &report.suites {
+        out += &format!("{},{}", csv_field(&s.row.policy), csv_field(&s.suite));
+        for (_, _, value) in &COLUMNS[EPISODE_COLUMNS] {
+            out += &format!(",{}", value(&s.row).map_or(String::new(), |v| format!("{v:.2}")));
+        }
+        let r = &s.row;
+        out += &format!(",{},{},{},{},{}\n", r.orig_sr.correct, r.orig_sr.total, r.episodes, r.errors, r.unscored);
     }
     out
 }

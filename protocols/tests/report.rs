@@ -172,7 +172,7 @@ fn in_task(mut r: EpisodeRecord, suite: &str, index: usize) -> EpisodeRecord {
 }
 
 #[test]
-fn suites_are_reported_one_by_one_in_liberos_order() {
+fn suites_and_tasks_are_reported_one_by_one_in_liberos_order() {
     // pi on libero_goal: the records above. pi on libero_spatial: Orig. SR 1/2, AVF F1 1/1 and
     // F2 0/2 (a mean of 50 %), one error; oft there: Orig. SR 2/2.
     let mut all_suites = records();
@@ -185,34 +185,52 @@ fn suites_are_reported_one_by_one_in_liberos_order() {
         all_suites.push(in_task(record("pi", Protocol::Authorized, "F2", 110 + n, done(None, Some(false))), "libero_spatial", 3));
     }
     all_suites.push(in_task(record("pi", Protocol::Conflict, "F7", 100, error()), "libero_spatial", 3));
+    // And one more libero_spatial task, for the rows per task.
+    all_suites.push(in_task(record("pi", Protocol::Original, "-", 200, done(Some(true), None)), "libero_spatial", 0));
     let report = report::build(&all_suites, &BTreeMap::new());
-    let rows: Vec<(&str, &str)> = report.suites.iter().map(|s| (s.suite.as_str(), s.row.policy.as_str())).collect();
+    let rows: Vec<(&str, &str)> = report.suites.iter().map(|s| (s.part.as_str(), s.row.policy.as_str())).collect();
     assert_eq!(rows, [("libero_spatial", "oft"), ("libero_spatial", "pi"), ("libero_goal", "oft"), ("libero_goal", "pi")]);
-    let row = |suite: &str, policy: &str| &report.suites.iter().find(|s| s.suite == suite && s.row.policy == policy).unwrap().row;
+    let row = |suite: &str, policy: &str| &report.suites.iter().find(|s| s.part == suite && s.row.policy == policy).unwrap().row;
     // Each suite from its own episodes only; libero_goal's rows are Table 1's without the new ones.
     let spatial = row("libero_spatial", "pi");
-    assert_eq!((spatial.orig_sr.correct, spatial.orig_sr.total), (1, 2));
+    assert_eq!((spatial.orig_sr.correct, spatial.orig_sr.total), (2, 3));
     assert_eq!(spatial.avf.percent(), Some(50.0));
     assert_eq!((spatial.avf.pooled.correct, spatial.avf.pooled.total), (1, 3));
-    assert_eq!(spatial.vtr, Some(100.0));
-    assert_eq!((spatial.episodes, spatial.errors), (6, 1));
+    assert_eq!(spatial.vtr, Some(75.0));
+    assert_eq!((spatial.episodes, spatial.errors), (7, 1));
+    // Per task: by suite in LIBERO's order, then by index.
+    let tasks: Vec<(&str, &str)> = report.tasks.iter().map(|t| (t.part.as_str(), t.row.policy.as_str())).collect();
+    assert_eq!(
+        tasks,
+        [("libero_spatial/0", "pi"), ("libero_spatial/3", "oft"), ("libero_spatial/3", "pi"), ("libero_goal/1", "oft"), ("libero_goal/1", "pi")]
+    );
+    let task3 = &report.tasks[2].row;
+    assert_eq!((task3.orig_sr.correct, task3.orig_sr.total, task3.episodes), (1, 2, 6));
     let alone = report::build(&records(), &BTreeMap::new());
     let goal = Table1Row { det: None, sem: None, gnd: None, dec: None, fca: None, ..alone.table1.iter().find(|r| r.policy == "pi").unwrap().clone() };
     assert_eq!(row("libero_goal", "pi"), &goal);
     // Table 1 holds both suites.
     let all = report.table1.iter().find(|r| r.policy == "pi").unwrap();
-    assert_eq!((all.orig_sr.correct, all.orig_sr.total), (5, 7));
+    assert_eq!((all.orig_sr.correct, all.orig_sr.total), (6, 8));
 
     let scratch = tempfile::tempdir().unwrap();
     report.write(scratch.path()).unwrap();
     let markdown = std::fs::read_to_string(scratch.path().join("suites.md")).unwrap();
     // Ranked within a suite: on libero_spatial oft's 100.0 is best, pi's 50.0 second.
     assert!(markdown.contains("| oft | libero_spatial | **100.0** (2/2) |"), "{markdown}");
-    assert!(markdown.contains("| pi | libero_spatial | <u>50.0</u> (1/2) | 50.0 |"), "{markdown}");
+    assert!(markdown.contains("| pi | libero_spatial | <u>66.7</u> (2/3) | 50.0 |"), "{markdown}");
     let csv = std::fs::read_to_string(scratch.path().join("suites.csv")).unwrap();
-    assert!(csv.lines().any(|l| l == "pi,libero_spatial,50.00,50.00,100.00,,,,1,2,6,1,0"), "{csv}");
+    assert!(csv.lines().any(|l| l == "pi,libero_spatial,66.67,50.00,75.00,,,,2,3,7,1,0"), "{csv}");
     let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(scratch.path().join("suites.json")).unwrap()).unwrap();
     assert_eq!(json["rows"].as_array().unwrap().len(), 4);
+    // Tasks carry their instruction in Markdown, their id alone in CSV and JSON.
+    let markdown = std::fs::read_to_string(scratch.path().join("tasks.md")).unwrap();
+    let instruction = &vifo_scenes::task("libero_spatial", 3).unwrap().instruction;
+    assert!(markdown.contains(&format!("| pi | libero_spatial/3 ({instruction}) | <u>50.0</u> (1/2) |")), "{markdown}");
+    let csv = std::fs::read_to_string(scratch.path().join("tasks.csv")).unwrap();
+    assert!(csv.lines().any(|l| l == "pi,libero_spatial/0,100.00,,,,,,1,1,1,0,0"), "{csv}");
+    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(scratch.path().join("tasks.json")).unwrap()).unwrap();
+    assert_eq!(json["rows"][0]["part"], "libero_spatial/0");
 }
 
 #[test]

@@ -26,9 +26,10 @@
 //! instance): VQA (all four stages), AVF, UVF, UVI, and Avg. — the unweighted mean of the
 //! families that have data, which is how the paper's Avg. column is formed.
 //!
-//! Per suite (not in the paper): Table 1's episode columns over each suite's episodes alone
-//! ([`SuiteRow`]). LIBERO's results are quoted per suite, so this is where a LIBERO-trained
-//! model's Orig. SR here meets the figure its authors report.
+//! Per suite and per task (not in the paper): Table 1's episode columns over each suite's or
+//! task's episodes alone ([`PartRow`]). LIBERO's results are quoted per suite, so this is where
+//! a LIBERO-trained model's Orig. SR here meets the figure its authors report; the tasks show
+//! where the two part.
 
 pub mod chart;
 pub mod clips;
@@ -45,7 +46,7 @@ use vifo_cues::{Family, SetName};
 /// with the labels they name.
 pub use crate::env::scenes::{NO_IMAGES, look_name};
 use crate::runner::final_records;
-use crate::spec::{EpisodeRecord, Outcome, Protocol};
+use crate::spec::{EpisodeRecord, Outcome, Protocol, TaskRef};
 use crate::vqa::{Accuracy, Stage, VqaScores, mean_rate};
 
 /// A Table 1 figure over cue episodes or questions: the unweighted mean of the rates of the
@@ -146,16 +147,23 @@ pub struct FamilyCounts {
     pub errors: BTreeMap<Family, usize>,
 }
 
-/// Table 1's episode columns (Orig. SR, AVF, VTR, LFR, UVF, UVI; no VQA) over one suite's
-/// episodes of one row's policy: cue metrics are means over the families of that suite's
-/// episodes, as Table 1's are over all of them.
+/// Table 1's episode columns (Orig. SR, AVF, VTR, LFR, UVF, UVI; no VQA) over one part of a
+/// row's episodes: a suite (`libero_goal`) or a task (`libero_goal/3`). Cue metrics are means
+/// over the families of that part's episodes, as Table 1's are over all of them.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct SuiteRow {
-    pub suite: String,
+pub struct PartRow {
+    pub part: String,
     pub row: Table1Row,
 }
 
-/// Both tables, and the per-suite rows.
+/// What a [`PartRow`] is part of the episodes by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    Suite,
+    Task,
+}
+
+/// Both tables, and the rows per suite and per task.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Report {
     /// The instance sets of the episodes. With more than one, every row holds one policy's
@@ -175,7 +183,10 @@ pub struct Report {
     pub family_counts: Vec<FamilyCounts>,
     /// Per suite (LIBERO's order, then any other by name), each policy's row.
     #[serde(default)]
-    pub suites: Vec<SuiteRow>,
+    pub suites: Vec<PartRow>,
+    /// Per task (by suite as `suites`, then index), each policy's row.
+    #[serde(default)]
+    pub tasks: Vec<PartRow>,
 }
 
 /// The cue family named in an instance id (`libero_goal/3/F2/straight_arrow_red`).
@@ -261,25 +272,36 @@ pub fn build(records: &[EpisodeRecord], vqa: &BTreeMap<String, VqaScores>) -> Re
         let (table2, counts) = table2_rows(&row, &episodes, scores);
         report.table2.extend(table2);
         report.family_counts.push(counts);
-        report.suites.extend(suite_rows(&row, &episodes));
+        report.suites.extend(part_rows(&row, &episodes, |t| t.suite.clone()));
+        report.tasks.extend(part_rows(&row, &episodes, TaskRef::to_string));
     }
-    report.suites.sort_by_key(|s| suite_order(&s.suite));
+    // Stable sorts: within a part the rows keep Table 1's order.
+    report.suites.sort_by_key(|p| suite_order(&p.part));
+    report.tasks.sort_by_key(|p| task_order(&p.part));
     report
 }
 
-/// One [`SuiteRow`] per suite among `episodes`.
-fn suite_rows(policy: &str, episodes: &[EpisodeRecord]) -> Vec<SuiteRow> {
-    let mut by_suite: BTreeMap<&str, Vec<EpisodeRecord>> = BTreeMap::new();
+/// One [`PartRow`] per part (`part_of` an episode's task) among `episodes`.
+fn part_rows(policy: &str, episodes: &[EpisodeRecord], part_of: impl Fn(&TaskRef) -> String) -> Vec<PartRow> {
+    let mut by_part: BTreeMap<String, Vec<EpisodeRecord>> = BTreeMap::new();
     for r in episodes {
-        by_suite.entry(r.spec.task.suite.as_str()).or_default().push(r.clone());
+        by_part.entry(part_of(&r.spec.task)).or_default().push(r.clone());
     }
-    by_suite.into_iter().map(|(suite, records)| SuiteRow { suite: suite.to_string(), row: table1_row(policy, &records, None) }).collect()
+    by_part.into_iter().map(|(part, records)| PartRow { row: table1_row(policy, &records, None), part }).collect()
 }
 
 /// Where a suite goes in the per-suite rows: LIBERO's four in their order, then others by name.
 fn suite_order(suite: &str) -> (usize, String) {
     let main = vifo_scenes::suite_names();
     (main.iter().position(|s| *s == suite).unwrap_or(main.len()), suite.to_string())
+}
+
+/// Where a task (`suite/index`) goes in the per-task rows: by suite, then by index.
+fn task_order(task: &str) -> ((usize, String), usize) {
+    match task.parse::<TaskRef>() {
+        Ok(t) => (suite_order(&t.suite), t.index),
+        Err(_) => (suite_order(task), 0),
+    }
 }
 
 /// The success flag a metric reads from an outcome.
@@ -405,9 +427,9 @@ fn table2_rows(policy: &str, episodes: &[EpisodeRecord], vqa: Option<&VqaScores>
 }
 
 impl Report {
-    /// Writes `table1.{md,csv,json}`, `table2.{md,csv,json}`, `suites.{md,csv,json}` and one
-    /// bar chart per Table 2 metric (`chart_vqa.png`, …) into `dir`; returns the Markdown of
-    /// both tables.
+    /// Writes `table1.{md,csv,json}`, `table2.{md,csv,json}`, `suites.{md,csv,json}`,
+    /// `tasks.{md,csv,json}` and one bar chart per Table 2 metric (`chart_vqa.png`, …) into
+    /// `dir`; returns the Markdown of both tables.
     pub fn write(&self, dir: &Path) -> std::io::Result<String> {
         crate::runner::create_dir(dir)?;
         let t1 = tables::table1_markdown(self);
@@ -419,9 +441,11 @@ impl Report {
         std::fs::write(dir.join("table2.csv"), tables::table2_csv(self))?;
         let table2 = serde_json::json!({"sets": self.sets, "rows": self.table2, "counts": self.family_counts});
         std::fs::write(dir.join("table2.json"), json(&table2)?)?;
-        std::fs::write(dir.join("suites.md"), tables::suites_markdown(self))?;
-        std::fs::write(dir.join("suites.csv"), tables::suites_csv(self))?;
-        std::fs::write(dir.join("suites.json"), json(&serde_json::json!({"sets": self.sets, "rows": self.suites}))?)?;
+        for (name, part, rows) in [("suites", Part::Suite, &self.suites), ("tasks", Part::Task, &self.tasks)] {
+            std::fs::write(dir.join(format!("{name}.md")), tables::parts_markdown(self, part, rows))?;
+            std::fs::write(dir.join(format!("{name}.csv")), tables::parts_csv(part, rows))?;
+            std::fs::write(dir.join(format!("{name}.json")), json(&serde_json::json!({"sets": self.sets, "rows": rows}))?)?;
+        }
         for metric in Metric::ALL {
             let png = chart::family_chart(self, metric).map_err(std::io::Error::other)?;
             std::fs::write(dir.join(format!("chart_{}.png", metric.name().to_lowercase())), png)?;

@@ -1,10 +1,11 @@
-//! Markdown and CSV renderings of the two tables and the per-suite rows. Markdown marks the
-//! best value of each column (Table 1, respecting ↑/↓; per suite, within each suite) or of each
-//! row (Table 2, highest, as the paper does) in bold and the second best underlined.
+//! Markdown and CSV renderings of the two tables and the rows per suite and per task. Markdown
+//! marks the best value of each column (Table 1, respecting ↑/↓; per suite or task, within
+//! each) or of each row (Table 2, highest, as the paper does) in bold and the second best
+//! underlined.
 
 use vifo_cues::Family;
 
-use super::{FamilyMean, Report, SuiteRow, Table1Row};
+use super::{FamilyMean, Part, PartRow, Report, Table1Row};
 use crate::vqa::Accuracy;
 
 fn pct(a: Option<&FamilyMean>) -> Option<f64> {
@@ -28,7 +29,7 @@ const COLUMNS: [Column; 11] = [
     ("UVI↓", false, |r| r.uvi.percent()),
 ];
 
-/// Table 1's columns measured on episodes (Orig. SR onwards), the per-suite rows' columns.
+/// Table 1's columns measured on episodes (Orig. SR onwards): the columns per suite and task.
 const EPISODE_COLUMNS: std::ops::RangeFrom<usize> = 5..;
 
 /// What the columns measure (the paper's §3.3), under the table where a reader meets them.
@@ -182,49 +183,77 @@ pub fn table1_csv(report: &Report) -> String {
     out
 }
 
-/// The per-suite rows in Markdown, suite by suite, ranked within each suite; Orig. SR with
-/// its successes out of scored episodes, the figure LIBERO's papers quote per suite.
-pub fn suites_markdown(report: &Report) -> String {
+/// Rows per suite or per task in Markdown, part by part, ranked within each part; Orig. SR
+/// with its successes out of scored episodes (LIBERO's papers quote it per suite), and a task
+/// with its instruction.
+pub fn parts_markdown(report: &Report, part: Part, rows: &[PartRow]) -> String {
+    let (title, header) = match part {
+        Part::Suite => ("Per suite", "Suite"),
+        Part::Task => ("Per task", "Task"),
+    };
     let columns = &COLUMNS[EPISODE_COLUMNS];
-    let mut out = format!("### Per suite (%)\n\n{}| Model | Suite |", provenance(report));
+    let mut out = format!("### {title} (%)\n\n{}| Model | {header} |", provenance(report));
     for (header, ..) in columns {
         out += &format!(" {header} |");
     }
     out += " episodes | errors |\n|---|---|";
     out += &"---|".repeat(columns.len() + 2);
     out.push('\n');
-    let mut start = 0;
-    while start < report.suites.len() {
-        let suite = &report.suites[start].suite;
-        let group: Vec<&SuiteRow> = report.suites[start..].iter().take_while(|s| s.suite == *suite).collect();
-        start += group.len();
+    for group in rows.chunk_by(|a, b| a.part == b.part) {
         let cells: Vec<Vec<String>> =
-            columns.iter().map(|(_, up, value)| ranked_cells(&group.iter().map(|s| value(&s.row)).collect::<Vec<_>>(), *up)).collect();
-        for (i, s) in group.iter().enumerate() {
-            out += &format!("| {} | {} |", s.row.policy, s.suite);
+            columns.iter().map(|(_, up, value)| ranked_cells(&group.iter().map(|p| value(&p.row)).collect::<Vec<_>>(), *up)).collect();
+        let name = match part {
+            Part::Suite => group[0].part.clone(),
+            Part::Task => with_instruction(&group[0].part),
+        };
+        for (i, p) in group.iter().enumerate() {
+            out += &format!("| {} | {name} |", p.row.policy);
             for (k, column) in cells.iter().enumerate() {
-                let counts = if k == 0 && s.row.orig_sr.total > 0 { format!(" ({})", frac(&s.row.orig_sr)) } else { String::new() };
+                let counts = if k == 0 && p.row.orig_sr.total > 0 { format!(" ({})", frac(&p.row.orig_sr)) } else { String::new() };
                 out += &format!(" {}{counts} |", column[i]);
             }
-            out += &format!(" {} | {} |\n", s.row.episodes, s.row.errors);
+            out += &format!(" {} | {} |\n", p.row.episodes, p.row.errors);
         }
     }
-    out += "\nBold: the best value of each column within a suite by its arrow (↓: the lowest), underlined: the second.\n";
-    out += "\nTable 1's columns over each suite's episodes alone: Orig. SR pooled over the suite's original episodes \
-(successes / scored episodes, as LIBERO's results are quoted per suite), the cue columns the unweighted mean of the \
-cue families' rates within the suite.\n";
+    let whose = match part {
+        Part::Suite => "suite",
+        Part::Task => "task",
+    };
+    out += &format!("\nBold: the best value of each column within a {whose} by its arrow (↓: the lowest), underlined: the second.\n");
+    out += &format!(
+        "\nTable 1's columns over each {whose}'s episodes alone: Orig. SR pooled over its original episodes (successes / \
+         scored episodes; LIBERO's results are quoted per suite, 50 episodes of each task), the cue columns the unweighted \
+         mean of the cue families' rates within the {whose}.\n"
+    );
     out
 }
 
-/// The per-suite rows as CSV (percentages to two decimals, empty where undefined).
-pub fn suites_csv(report: &Report) -> String {
-    let mut out = String::from("policy,suite,Orig_SR,AVF,VTR,LFR,UVF,UVI,Orig_SR_successes,Orig_SR_scored,episodes,errors,unscored\n");
-    for s in &report.suites {
-        out += &format!("{},{}", csv_field(&s.row.policy), csv_field(&s.suite));
+/// `libero_goal/3 (put the wine bottle on top of the cabinet)` for a built-in task.
+fn with_instruction(task: &str) -> String {
+    let instruction = task
+        .parse::<crate::spec::TaskRef>()
+        .ok()
+        .and_then(|t| vifo_scenes::task(&t.suite, t.index))
+        .map(|t| t.instruction.clone());
+    match instruction {
+        Some(i) => format!("{task} ({i})"),
+        None => task.to_string(),
+    }
+}
+
+/// Rows per suite or per task as CSV (percentages to two decimals, empty where undefined).
+pub fn parts_csv(part: Part, rows: &[PartRow]) -> String {
+    let column = match part {
+        Part::Suite => "suite",
+        Part::Task => "task",
+    };
+    let mut out = format!("policy,{column},Orig_SR,AVF,VTR,LFR,UVF,UVI,Orig_SR_successes,Orig_SR_scored,episodes,errors,unscored\n");
+    for p in rows {
+        out += &format!("{},{}", csv_field(&p.row.policy), csv_field(&p.part));
         for (_, _, value) in &COLUMNS[EPISODE_COLUMNS] {
-            out += &format!(",{}", value(&s.row).map_or(String::new(), |v| format!("{v:.2}")));
+            out += &format!(",{}", value(&p.row).map_or(String::new(), |v| format!("{v:.2}")));
         }
-        let r = &s.row;
+        let r = &p.row;
         out += &format!(",{},{},{},{},{}\n", r.orig_sr.correct, r.orig_sr.total, r.episodes, r.errors, r.unscored);
     }
     out

@@ -35,6 +35,7 @@ def test_a_python_policy_runs_into_a_results_file_and_report_as_vifo_run_would(t
     (record,) = [json.loads(line) for line in open(summary["output"])]
     assert record["policy"] == "py-still"
     assert "| py-still |" in open(tmp_path / "report" / "table1.md").read()
+    assert "| py-still | libero_goal |" in open(tmp_path / "report" / "suites.md").read()
     # The built-in `zero` (which reads no images and fast-forwards a world at rest) ends the
     # same episode the same way.
     ((_, spec),) = _native.episode_specs(set="paper", **selection)

@@ -231,6 +231,13 @@ fn suites_and_tasks_are_reported_one_by_one_in_liberos_order() {
     assert!(csv.lines().any(|l| l == "pi,libero_spatial/0,100.00,,,,,,1,1,1,0,0"), "{csv}");
     let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(scratch.path().join("tasks.json")).unwrap()).unwrap();
     assert_eq!(json["rows"][0]["part"], "libero_spatial/0");
+    // The chart's bars stand as tall as the rates: libero_spatial's (first colour) 100 + 66.7,
+    // libero_goal's (second) 100 + 80.
+    let chart = image::load_from_memory(&std::fs::read(scratch.path().join("chart_suites.png")).unwrap()).unwrap().to_rgb8();
+    assert_eq!(chart.dimensions(), (960, 440));
+    let pixels = |colour: [u8; 3]| chart.pixels().filter(|p| p.0 == colour).count() as f64;
+    let ratio = pixels([242, 142, 43]) / pixels([78, 121, 167]);
+    assert!((ratio - 180.0 / 166.67).abs() < 0.02, "{ratio}");
 }
 
 #[test]

@@ -1,5 +1,5 @@
 //! Grouped bar charts of Table 2: one PNG per metric, one group of eight bars (F1–F8) per
-//! policy, with the policy's Avg. as a black line across its group. Drawn with tiny-skia and
+//! policy, with the policy's Avg. as a black line across its group; and Orig. SR per suite. Drawn with tiny-skia and
 //! the DejaVu text helpers of `vifo-cues`, so no system fonts are involved.
 
 use tiny_skia::{PathBuilder, Pixmap, Rect, Transform};
@@ -155,6 +155,49 @@ pub fn family_chart(report: &Report, metric: Metric) -> Result<Vec<u8>, String> 
     let y = y0 + 8.0 + 8.0 * 22.0;
     rect(&mut pm, lx - 2.0, y - 1.5, 16.0, 3.0, black);
     legend_text(&mut pm, "Avg.", lx + 20.0, y, black);
+    encode_png(&pm)
+}
+
+/// The PNG bytes of Orig. SR per suite: one group per policy, one bar per suite (LIBERO's
+/// colours in its suite order), the policy's Orig. SR over every suite as a black line.
+pub fn suite_chart(report: &Report) -> Result<Vec<u8>, String> {
+    let mut pm = Pixmap::new(W, H).ok_or("chart size")?;
+    pm.fill(tiny_skia::Color::WHITE);
+    let ink = rgb([30, 30, 30]);
+    label(&mut pm, "Orig. SR per suite (%), higher is better", W as f32 / 2.0, 20.0, 18.0, W as f32, ink);
+    let (x0, x1, y0, y1) = (LEFT, W as f32 - 20.0, TOP + 24.0, H as f32 - BOTTOM);
+    axis(&mut pm, (x0, x1, y0, y1), 100.0, 25.0, "");
+    let mut suites: Vec<&str> = Vec::new();
+    for p in &report.suites {
+        if !suites.contains(&p.part.as_str()) {
+            suites.push(&p.part);
+        }
+    }
+    let rows: Vec<_> = report.table1.iter().filter(|r| r.orig_sr.total > 0).collect();
+    if rows.is_empty() {
+        label(&mut pm, "no original-protocol episodes", (x0 + x1) / 2.0, (y0 + y1) / 2.0, 16.0, x1 - x0, ink);
+    }
+    let colour = |i: usize| COLOURS[i % COLOURS.len()];
+    let group_w = (x1 - x0) / rows.len().max(1) as f32;
+    let inner = group_w * 0.8;
+    let bar_w = inner / suites.len().max(1) as f32;
+    for (g, row) in rows.iter().enumerate() {
+        let start = x0 + g as f32 * group_w + (group_w - inner) / 2.0;
+        for (i, suite) in suites.iter().enumerate() {
+            let rate = report.suites.iter().find(|p| p.part == *suite && p.row.policy == row.policy).and_then(|p| p.row.orig_sr.percent());
+            if let Some(v) = rate {
+                bar(&mut pm, (y0, y1), 100.0, start + i as f32 * bar_w + 0.5, bar_w - 1.0, v, rgb(colour(i)));
+            }
+        }
+        if let Some(all) = row.orig_sr.percent() {
+            let y = y1 - (all as f32).clamp(0.0, 100.0) / 100.0 * (y1 - y0);
+            rect(&mut pm, start - 3.0, y - 1.5, inner + 6.0, 3.0, ink);
+        }
+        label(&mut pm, &row.policy, start + inner / 2.0, y1 + 18.0, 13.0, group_w - 6.0, ink);
+    }
+    let mut entries: Vec<(&str, [u8; 3])> = suites.iter().enumerate().map(|(i, s)| (*s, colour(i))).collect();
+    entries.push(("all suites (line)", [30, 30, 30]));
+    legend_row(&mut pm, &entries, x0, x1, ink);
     encode_png(&pm)
 }
 

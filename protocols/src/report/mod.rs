@@ -428,8 +428,8 @@ fn table2_rows(policy: &str, episodes: &[EpisodeRecord], vqa: Option<&VqaScores>
 
 impl Report {
     /// Writes `table1.{md,csv,json}`, `table2.{md,csv,json}`, `suites.{md,csv,json}`,
-    /// `tasks.{md,csv,json}` and one bar chart per Table 2 metric (`chart_vqa.png`, …) into
-    /// `dir`; returns the Markdown of both tables.
+    /// `tasks.{md,csv,json}`, one bar chart per Table 2 metric (`chart_vqa.png`, …) and Orig. SR
+    /// per suite (`chart_suites.png`) into `dir`; returns the Markdown of both tables.
     pub fn write(&self, dir: &Path) -> std::io::Result<String> {
         crate::runner::create_dir(dir)?;
         let t1 = tables::table1_markdown(self);
@@ -450,6 +450,7 @@ impl Report {
             let png = chart::family_chart(self, metric).map_err(std::io::Error::other)?;
             std::fs::write(dir.join(format!("chart_{}.png", metric.name().to_lowercase())), png)?;
         }
+        std::fs::write(dir.join("chart_suites.png"), chart::suite_chart(self).map_err(std::io::Error::other)?)?;
         Ok(format!("{t1}\n{t2}"))
     }
 }

@@ -100,16 +100,23 @@ fn provenance(report: &Report) -> String {
     sets + &looks + &blind
 }
 
+/// A table's heading, the provenance lines and its header rows: the `lead` columns, then
+/// `columns`, then `episodes` and `errors`.
+fn table_head(title: &str, report: &Report, lead: &[&str], columns: &[Column]) -> String {
+    let mut out = format!("### {title}\n\n{}|", provenance(report));
+    for name in lead.iter().copied().chain(columns.iter().map(|c| c.0)).chain(["episodes", "errors"]) {
+        out += &format!(" {name} |");
+    }
+    out += "\n|";
+    out += &"---|".repeat(lead.len() + columns.len() + 2);
+    out.push('\n');
+    out
+}
+
 /// Table 1 in Markdown, with the episode counts behind each rate below it.
 pub fn table1_markdown(report: &Report) -> String {
     let rows = &report.table1;
-    let mut out = format!("### Table 1: overall results (%)\n\n{}| Model |", provenance(report));
-    for (header, ..) in COLUMNS {
-        out += &format!(" {header} |");
-    }
-    out += " episodes | errors |\n|---|";
-    out += &"---|".repeat(COLUMNS.len() + 2);
-    out.push('\n');
+    let mut out = table_head("Table 1: overall results (%)", report, &["Model"], &COLUMNS);
     let columns: Vec<Vec<String>> =
         COLUMNS.iter().map(|(_, up, value)| ranked_cells(&rows.iter().map(value).collect::<Vec<_>>(), *up)).collect();
     for (i, row) in rows.iter().enumerate() {
@@ -192,13 +199,7 @@ pub fn parts_markdown(report: &Report, part: Part, rows: &[PartRow]) -> String {
         Part::Task => ("Per task", "Task"),
     };
     let columns = &COLUMNS[EPISODE_COLUMNS];
-    let mut out = format!("### {title} (%)\n\n{}| Model | {header} |", provenance(report));
-    for (header, ..) in columns {
-        out += &format!(" {header} |");
-    }
-    out += " episodes | errors |\n|---|---|";
-    out += &"---|".repeat(columns.len() + 2);
-    out.push('\n');
+    let mut out = table_head(&format!("{title} (%)"), report, &["Model", header], columns);
     for group in rows.chunk_by(|a, b| a.part == b.part) {
         let cells: Vec<Vec<String>> =
             columns.iter().map(|(_, up, value)| ranked_cells(&group.iter().map(|p| value(&p.row)).collect::<Vec<_>>(), *up)).collect();

@@ -1,6 +1,7 @@
 //! Grouped bar charts of Table 2: one PNG per metric, one group of eight bars (F1–F8) per
-//! policy, with the policy's Avg. as a black line across its group; and Orig. SR per suite. Drawn with tiny-skia and
-//! the DejaVu text helpers of `vifo-cues`, so no system fonts are involved.
+//! policy, with the policy's Avg. as a black line across its group; and Orig. SR per suite.
+//! Drawn with tiny-skia and the DejaVu text helpers of `vifo-cues`, so no system fonts are
+//! involved.
 
 use tiny_skia::{PathBuilder, Pixmap, Rect, Transform};
 use vifo_cues::Family;

@@ -163,6 +163,16 @@ pub enum Part {
     Task,
 }
 
+impl Part {
+    /// `suite` or `task`: the CSV column, and in the Markdown's header and notes.
+    pub fn noun(self) -> &'static str {
+        match self {
+            Part::Suite => "suite",
+            Part::Task => "task",
+        }
+    }
+}
+
 /// Both tables, and the rows per suite and per task.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Report {
@@ -441,7 +451,8 @@ impl Report {
         std::fs::write(dir.join("table2.csv"), tables::table2_csv(self))?;
         let table2 = serde_json::json!({"sets": self.sets, "rows": self.table2, "counts": self.family_counts});
         std::fs::write(dir.join("table2.json"), json(&table2)?)?;
-        for (name, part, rows) in [("suites", Part::Suite, &self.suites), ("tasks", Part::Task, &self.tasks)] {
+        for (part, rows) in [(Part::Suite, &self.suites), (Part::Task, &self.tasks)] {
+            let name = format!("{}s", part.noun());
             std::fs::write(dir.join(format!("{name}.md")), tables::parts_markdown(self, part, rows))?;
             std::fs::write(dir.join(format!("{name}.csv")), tables::parts_csv(part, rows))?;
             std::fs::write(dir.join(format!("{name}.json")), json(&serde_json::json!({"sets": self.sets, "rows": rows}))?)?;

@@ -194,12 +194,10 @@ pub fn table1_csv(report: &Report) -> String {
 /// with its successes out of scored episodes (LIBERO's papers quote it per suite), and a task
 /// with its instruction.
 pub fn parts_markdown(report: &Report, part: Part, rows: &[PartRow]) -> String {
-    let (title, header) = match part {
-        Part::Suite => ("Per suite", "Suite"),
-        Part::Task => ("Per task", "Task"),
-    };
+    let whose = part.noun();
+    let header = whose[..1].to_uppercase() + &whose[1..];
     let columns = &COLUMNS[EPISODE_COLUMNS];
-    let mut out = table_head(&format!("{title} (%)"), report, &["Model", header], columns);
+    let mut out = table_head(&format!("Per {whose} (%)"), report, &["Model", &header], columns);
     for group in rows.chunk_by(|a, b| a.part == b.part) {
         let cells: Vec<Vec<String>> =
             columns.iter().map(|(_, up, value)| ranked_cells(&group.iter().map(|p| value(&p.row)).collect::<Vec<_>>(), *up)).collect();
@@ -216,10 +214,6 @@ pub fn parts_markdown(report: &Report, part: Part, rows: &[PartRow]) -> String {
             out += &format!(" {} | {} |\n", p.row.episodes, p.row.errors);
         }
     }
-    let whose = match part {
-        Part::Suite => "suite",
-        Part::Task => "task",
-    };
     out += &format!("\nBold: the best value of each column within a {whose} by its arrow (↓: the lowest), underlined: the second.\n");
     out += &format!(
         "\nTable 1's columns over each {whose}'s episodes alone: Orig. SR pooled over its original episodes (successes / \
@@ -244,10 +238,7 @@ fn with_instruction(task: &str) -> String {
 
 /// Rows per suite or per task as CSV (percentages to two decimals, empty where undefined).
 pub fn parts_csv(part: Part, rows: &[PartRow]) -> String {
-    let column = match part {
-        Part::Suite => "suite",
-        Part::Task => "task",
-    };
+    let column = part.noun();
     let mut out = format!("policy,{column},Orig_SR,AVF,VTR,LFR,UVF,UVI,Orig_SR_successes,Orig_SR_scored,episodes,errors,unscored\n");
     for p in rows {
         out += &format!("{},{}", csv_field(&p.row.policy), csv_field(&p.part));

@@ -145,9 +145,22 @@ fn files_are_written() {
         csv.lines()
             .nth(2)
             .unwrap()
-            .starts_with("pi,58.33,62.50,66.67,83.33,12.50,80.00,50.00,62.50,100.00,0.00,25.00,18,1,1"),
+            .starts_with("pi,58.33,62.50,66.67,83.33,12.50,80.00,50.00,62.50,100.00,0.00,25.00,18,1,1,"),
         "{csv}"
     );
+    // 95 % intervals: Orig. SR 4/5 (Agresti–Coull: 6/9 ± 1.96·√(6/9·3/9/9)), AVF F1 2/2 and F2 0/2
+    // (each with one success and one failure added: 0.5 ± 1.96·√(2·0.75·0.25/4)/2); VTR has none.
+    assert!(csv.lines().next().unwrap().ends_with(",unscored,Det_low,Det_high,Sem_low,Sem_high,Gnd_low,Gnd_high,Dec_low,Dec_high,FCA_low,FCA_high,Orig_SR_low,Orig_SR_high,AVF_low,AVF_high,LFR_low,LFR_high,UVF_low,UVF_high,UVI_low,UVI_high"), "{csv}");
+    assert!(csv.lines().nth(2).unwrap().contains(",35.87,97.46,19.99,80.01,"), "{csv}");
+    assert!(csv.lines().nth(1).unwrap().ends_with(",,,,,,,,,,,17.06,100.00,,,,,,,,"), "{csv}");
+    assert!(markdown.contains("| oft | – | – | – | – | – | 17.1–100.0 | – | – | – | – |\n"), "{markdown}");
+    assert!(markdown.contains("| 35.9–97.5 | 20.0–80.0 |"), "{markdown}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("table1.json")).unwrap()).unwrap();
+    let pi = &json[1];
+    assert!((pi["orig_sr_ci95"]["low"].as_f64().unwrap() - 35.8688).abs() < 1e-3, "{pi}");
+    assert!((pi["avf"]["ci95"]["high"].as_f64().unwrap() - 80.0057).abs() < 1e-3, "{pi}");
+    assert!(pi.get("vtr_ci95").is_none());
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("table2.json")).unwrap()).unwrap();
     assert_eq!(json["rows"].as_array().unwrap().len(), 3 * 4);
@@ -217,18 +230,19 @@ fn suites_and_tasks_are_reported_one_by_one_in_liberos_order() {
     report.write(scratch.path()).unwrap();
     let markdown = std::fs::read_to_string(scratch.path().join("suites.md")).unwrap();
     // Ranked within a suite: on libero_spatial oft's 100.0 is best, pi's 50.0 second.
-    assert!(markdown.contains("| oft | libero_spatial | **100.0** (2/2) |"), "{markdown}");
-    assert!(markdown.contains("| pi | libero_spatial | <u>66.7</u> (2/3) | 50.0 |"), "{markdown}");
+    // Orig. SR with its counts and 95 % interval (2 of 2: (2+2)/(2+4) ± 1.96·√(4/6·2/6/6)).
+    assert!(markdown.contains("| oft | libero_spatial | **100.0** (2/2; 28.9–100.0) |"), "{markdown}");
+    assert!(markdown.contains("| pi | libero_spatial | <u>66.7</u> (2/3; 20.5–93.8) | 50.0 |"), "{markdown}");
     let csv = std::fs::read_to_string(scratch.path().join("suites.csv")).unwrap();
-    assert!(csv.lines().any(|l| l == "pi,libero_spatial,66.67,50.00,75.00,,,,2,3,7,1,0"), "{csv}");
+    assert!(csv.lines().any(|l| l.starts_with("pi,libero_spatial,66.67,50.00,75.00,,,,2,3,7,1,0,20.48,93.80,")), "{csv}");
     let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(scratch.path().join("suites.json")).unwrap()).unwrap();
     assert_eq!(json["rows"].as_array().unwrap().len(), 4);
     // Tasks carry their instruction in Markdown, their id alone in CSV and JSON.
     let markdown = std::fs::read_to_string(scratch.path().join("tasks.md")).unwrap();
     let instruction = &vifo_scenes::task("libero_spatial", 3).unwrap().instruction;
-    assert!(markdown.contains(&format!("| pi | libero_spatial/3 ({instruction}) | <u>50.0</u> (1/2) |")), "{markdown}");
+    assert!(markdown.contains(&format!("| pi | libero_spatial/3 ({instruction}) | <u>50.0</u> (1/2; 10.0–90.0) |")), "{markdown}");
     let csv = std::fs::read_to_string(scratch.path().join("tasks.csv")).unwrap();
-    assert!(csv.lines().any(|l| l == "pi,libero_spatial/0,100.00,,,,,,1,1,1,0,0"), "{csv}");
+    assert!(csv.lines().any(|l| l == "pi,libero_spatial/0,100.00,,,,,,1,1,1,0,0,17.06,100.00,,,,,,,,"), "{csv}");
     let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(scratch.path().join("tasks.json")).unwrap()).unwrap();
     assert_eq!(json["rows"][0]["part"], "libero_spatial/0");
     // The chart's bars stand as tall as the rates: libero_spatial's (first colour) 100 + 66.7,
@@ -238,6 +252,12 @@ fn suites_and_tasks_are_reported_one_by_one_in_liberos_order() {
     let pixels = |colour: [u8; 3]| chart.pixels().filter(|p| p.0 == colour).count() as f64;
     let ratio = pixels([242, 142, 43]) / pixels([78, 121, 167]);
     assert!((ratio - 180.0 / 166.67).abs() < 0.02, "{ratio}");
+    // Whiskers span the bars' 95 % intervals: the highest ends reach 100 % (2 of 2, 1 of 1), the
+    // lowest is oft's 1 of 1 on libero_goal at 17.06 %. The frame's 100 % is at y = 72, 0 at 370.
+    let rows: Vec<u32> = chart.enumerate_pixels().filter(|(.., p)| p.0 == [70, 70, 70]).map(|(_, y, _)| y).collect();
+    let (top, bottom) = (*rows.iter().min().unwrap(), *rows.iter().max().unwrap());
+    let lowest = 370.0 - 0.1706 * 298.0;
+    assert!((71..=74).contains(&top) && (bottom as f64 - lowest).abs() < 2.5, "whiskers from y {top} to {bottom}, expected 72 to {lowest}");
 }
 
 #[test]

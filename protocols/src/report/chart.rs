@@ -1,5 +1,6 @@
 //! Grouped bar charts of Table 2: one PNG per metric, one group of eight bars (F1–F8) per
 //! policy, with the policy's Avg. as a black line across its group; and Orig. SR per suite.
+//! Each bar carries its 95 % interval as a whisker ([`super::interval`]).
 //! Drawn with tiny-skia and the DejaVu text helpers of `vifo-cues`, so no system fonts are
 //! involved.
 
@@ -9,7 +10,7 @@ use vifo_cues::draw::geom::v2;
 use vifo_cues::draw::text::{Face, centered_line, line_width};
 use vifo_cues::draw::{Rgba, fill, rgb};
 
-use super::{Metric, Report};
+use super::{Interval, Metric, Report};
 
 const W: u32 = 960;
 const H: u32 = 440;
@@ -88,6 +89,23 @@ pub(crate) fn bar(pm: &mut Pixmap, (y0, y1): (f32, f32), max: f32, x: f32, w: f3
     rect(pm, x, y1 - h, w, h, color);
 }
 
+/// The whisker of a bar's 95 % interval, centred at x on a frame as [`bar`]'s: a vertical line
+/// from `interval.low` to `interval.high` with caps `cap` wide.
+pub(crate) fn whisker(pm: &mut Pixmap, (y0, y1): (f32, f32), max: f32, x: f32, cap: f32, interval: Interval, color: Rgba) {
+    let y = |v: f64| y1 - (v as f32).clamp(0.0, max) / max * (y1 - y0);
+    let (top, bottom) = (y(interval.high), y(interval.low));
+    rect(pm, x - 0.75, top, 1.5, bottom - top, color);
+    for end in [top, bottom] {
+        rect(pm, x - cap / 2.0, end - 0.75, cap, 1.5, color);
+    }
+}
+
+/// The whiskers' colour: dark, and none of the bars'.
+const WHISKER_INK: Rgba = rgb([70, 70, 70]);
+
+/// What the whiskers are, after a chart's title.
+const WHISKERS: &str = "; whiskers: 95 % intervals";
+
 /// Legend text starting at x, vertically centred on y.
 pub(crate) fn legend_text(pm: &mut Pixmap, text: &str, x: f32, y: f32, color: Rgba) {
     let w = line_width(Face::Sans, 12.0, text);
@@ -113,7 +131,7 @@ pub fn family_chart(report: &Report, metric: Metric) -> Result<Vec<u8>, String> 
     let direction = if metric.higher_is_better() { "higher is better" } else { "lower is better" };
     label(
         &mut pm,
-        &format!("{} per cue family (%), {direction}", metric.name()),
+        &format!("{} per cue family (%), {direction}{WHISKERS}", metric.name()),
         W as f32 / 2.0,
         22.0,
         18.0,
@@ -135,9 +153,11 @@ pub fn family_chart(report: &Report, metric: Metric) -> Result<Vec<u8>, String> 
     for (g, row) in rows.iter().enumerate() {
         let start = x0 + g as f32 * group_w + (group_w - inner) / 2.0;
         for (i, family) in Family::ALL.iter().enumerate() {
-            if let Some(p) = row.families.get(family).and_then(|a| a.percent()) {
-                let h = (p as f32).clamp(0.0, 100.0) / 100.0 * (y1 - y0);
-                rect(&mut pm, start + i as f32 * bar_w + 1.0, y1 - h, bar_w - 2.0, h, rgb(COLOURS[i]));
+            let Some(rate) = row.families.get(family) else { continue };
+            if let (Some(p), Some(interval)) = (rate.percent(), Interval::of(rate)) {
+                let x = start + i as f32 * bar_w;
+                bar(&mut pm, (y0, y1), 100.0, x + 1.0, bar_w - 2.0, p, rgb(COLOURS[i]));
+                whisker(&mut pm, (y0, y1), 100.0, x + bar_w / 2.0, (bar_w / 2.0).min(8.0), interval, WHISKER_INK);
             }
         }
         if let Some(avg) = row.avg {
@@ -165,7 +185,7 @@ pub fn suite_chart(report: &Report) -> Result<Vec<u8>, String> {
     let mut pm = Pixmap::new(W, H).ok_or("chart size")?;
     pm.fill(tiny_skia::Color::WHITE);
     let ink = rgb([30, 30, 30]);
-    label(&mut pm, "Orig. SR per suite (%), higher is better", W as f32 / 2.0, 20.0, 18.0, W as f32, ink);
+    label(&mut pm, &format!("Orig. SR per suite (%), higher is better{WHISKERS}"), W as f32 / 2.0, 20.0, 18.0, W as f32, ink);
     let (x0, x1, y0, y1) = (LEFT, W as f32 - 20.0, TOP + 24.0, H as f32 - BOTTOM);
     axis(&mut pm, (x0, x1, y0, y1), 100.0, 25.0, "");
     let mut suites: Vec<&str> = Vec::new();
@@ -185,9 +205,11 @@ pub fn suite_chart(report: &Report) -> Result<Vec<u8>, String> {
     for (g, row) in rows.iter().enumerate() {
         let start = x0 + g as f32 * group_w + (group_w - inner) / 2.0;
         for (i, suite) in suites.iter().enumerate() {
-            let rate = report.suites.iter().find(|p| p.part == *suite && p.row.policy == row.policy).and_then(|p| p.row.orig_sr.percent());
-            if let Some(v) = rate {
-                bar(&mut pm, (y0, y1), 100.0, start + i as f32 * bar_w + 0.5, bar_w - 1.0, v, rgb(colour(i)));
+            let Some(part) = report.suites.iter().find(|p| p.part == *suite && p.row.policy == row.policy) else { continue };
+            if let (Some(v), Some(interval)) = (part.row.orig_sr.percent(), part.row.orig_sr_ci95) {
+                let x = start + i as f32 * bar_w;
+                bar(&mut pm, (y0, y1), 100.0, x + 0.5, bar_w - 1.0, v, rgb(colour(i)));
+                whisker(&mut pm, (y0, y1), 100.0, x + bar_w / 2.0, (bar_w / 2.0).min(8.0), interval, WHISKER_INK);
             }
         }
         if let Some(all) = row.orig_sr.percent() {

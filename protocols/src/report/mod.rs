@@ -26,6 +26,8 @@
 //! instance): VQA (all four stages), AVF, UVF, UVI, and Avg. — the unweighted mean of the
 //! families that have data, which is how the paper's Avg. column is formed.
 //!
+//! Every rate but VTR has a 95 % interval beside it (not in the paper; [`interval`]).
+//!
 //! Per suite and per task (not in the paper): Table 1's episode columns over each suite's or
 //! task's episodes alone ([`PartRow`]). LIBERO's results are quoted per suite, so this is where
 //! a LIBERO-trained model's Orig. SR here meets the figure its authors report; the tasks show
@@ -34,6 +36,7 @@
 pub mod chart;
 pub mod clips;
 pub mod composition_chart;
+pub mod interval;
 pub mod tables;
 
 use std::collections::BTreeMap;
@@ -48,6 +51,7 @@ pub use crate::env::scenes::{NO_IMAGES, look_name};
 use crate::runner::final_records;
 use crate::spec::{EpisodeRecord, Outcome, Protocol, TaskRef};
 use crate::vqa::{Accuracy, Stage, VqaScores, mean_rate};
+pub use interval::Interval;
 
 /// A Table 1 figure over cue episodes or questions: the unweighted mean of the rates of the
 /// families with data (`percent`, what the table shows), with every episode or question
@@ -59,13 +63,16 @@ pub struct FamilyMean {
     pub pooled: Accuracy,
     /// Families averaged.
     pub families: usize,
+    /// The 95 % interval of `percent` ([`Interval::of_mean`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ci95: Option<Interval>,
 }
 
 impl FamilyMean {
     pub fn of(by_family: &BTreeMap<Family, Accuracy>) -> FamilyMean {
         let pooled = by_family.values().fold(Accuracy::default(), |a, b| Accuracy { correct: a.correct + b.correct, total: a.total + b.total });
         let families = by_family.values().filter(|a| a.total > 0).count();
-        FamilyMean { percent: mean_rate(by_family.values()), pooled, families }
+        FamilyMean { percent: mean_rate(by_family.values()), pooled, families, ci95: Interval::of_mean(by_family.values()) }
     }
 
     pub fn percent(&self) -> Option<f64> {
@@ -84,6 +91,9 @@ pub struct Table1Row {
     pub dec: Option<FamilyMean>,
     pub fca: Option<FamilyMean>,
     pub orig_sr: Accuracy,
+    /// The 95 % interval of Orig. SR ([`Interval::of`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orig_sr_ci95: Option<Interval>,
     pub avf: FamilyMean,
     /// AVF / Orig. SR in percent; `None` when either is missing or Orig. SR is 0.
     pub vtr: Option<f64>,
@@ -364,6 +374,7 @@ fn table1_row(policy: &str, episodes: &[EpisodeRecord], vqa: Option<&VqaScores>)
         ..Table1Row::default()
     };
     row.unscored = tally(episodes.iter(), Protocol::Original, language, &mut row.orig_sr);
+    row.orig_sr_ci95 = Interval::of(&row.orig_sr);
     let by_family = by_family(episodes);
     let metrics: [(Protocol, Flag, &mut FamilyMean); 4] = [
         (Protocol::Authorized, cue, &mut row.avf),

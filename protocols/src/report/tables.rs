@@ -5,28 +5,44 @@
 
 use vifo_cues::Family;
 
-use super::{FamilyMean, Part, PartRow, Report, Table1Row};
+use super::{FamilyMean, Interval, Part, PartRow, Report, Table1Row};
 use crate::vqa::Accuracy;
 
 fn pct(a: Option<&FamilyMean>) -> Option<f64> {
     a.and_then(FamilyMean::percent)
 }
 
-/// Table 1 columns: header, whether higher is better, and the value of a row.
-type Column = (&'static str, bool, fn(&Table1Row) -> Option<f64>);
+fn ci(a: Option<&FamilyMean>) -> Option<Interval> {
+    a.and_then(|m| m.ci95)
+}
+
+/// A Table 1 column: its Markdown header and CSV name, whether higher is better, and a row's
+/// value and 95 % interval.
+struct Column {
+    header: &'static str,
+    csv: &'static str,
+    up: bool,
+    value: fn(&Table1Row) -> Option<f64>,
+    /// `None` for VTR, a ratio of two rates: see theirs.
+    interval: Option<fn(&Table1Row) -> Option<Interval>>,
+}
+
+const fn column(header: &'static str, csv: &'static str, up: bool, value: fn(&Table1Row) -> Option<f64>, interval: fn(&Table1Row) -> Option<Interval>) -> Column {
+    Column { header, csv, up, value, interval: Some(interval) }
+}
 
 const COLUMNS: [Column; 11] = [
-    ("Det.↑", true, |r| pct(r.det.as_ref())),
-    ("Sem.↑", true, |r| pct(r.sem.as_ref())),
-    ("Gnd.↑", true, |r| pct(r.gnd.as_ref())),
-    ("Dec.↑", true, |r| pct(r.dec.as_ref())),
-    ("FCA↑", true, |r| pct(r.fca.as_ref())),
-    ("Orig. SR↑", true, |r| r.orig_sr.percent()),
-    ("AVF↑", true, |r| r.avf.percent()),
-    ("VTR↑", true, |r| r.vtr),
-    ("LFR↑", true, |r| r.lfr.percent()),
-    ("UVF↓", false, |r| r.uvf.percent()),
-    ("UVI↓", false, |r| r.uvi.percent()),
+    column("Det.↑", "Det", true, |r| pct(r.det.as_ref()), |r| ci(r.det.as_ref())),
+    column("Sem.↑", "Sem", true, |r| pct(r.sem.as_ref()), |r| ci(r.sem.as_ref())),
+    column("Gnd.↑", "Gnd", true, |r| pct(r.gnd.as_ref()), |r| ci(r.gnd.as_ref())),
+    column("Dec.↑", "Dec", true, |r| pct(r.dec.as_ref()), |r| ci(r.dec.as_ref())),
+    column("FCA↑", "FCA", true, |r| pct(r.fca.as_ref()), |r| ci(r.fca.as_ref())),
+    column("Orig. SR↑", "Orig_SR", true, |r| r.orig_sr.percent(), |r| r.orig_sr_ci95),
+    column("AVF↑", "AVF", true, |r| r.avf.percent(), |r| r.avf.ci95),
+    Column { header: "VTR↑", csv: "VTR", up: true, value: |r| r.vtr, interval: None },
+    column("LFR↑", "LFR", true, |r| r.lfr.percent(), |r| r.lfr.ci95),
+    column("UVF↓", "UVF", false, |r| r.uvf.percent(), |r| r.uvf.ci95),
+    column("UVI↓", "UVI", false, |r| r.uvi.percent(), |r| r.uvi.ci95),
 ];
 
 /// Table 1's columns measured on episodes (Orig. SR onwards): the columns per suite and task.
@@ -104,7 +120,7 @@ fn provenance(report: &Report) -> String {
 /// `columns`, then `episodes` and `errors`.
 fn table_head(title: &str, report: &Report, lead: &[&str], columns: &[Column]) -> String {
     let mut out = format!("### {title}\n\n{}|", provenance(report));
-    for name in lead.iter().copied().chain(columns.iter().map(|c| c.0)).chain(["episodes", "errors"]) {
+    for name in lead.iter().copied().chain(columns.iter().map(|c| c.header)).chain(["episodes", "errors"]) {
         out += &format!(" {name} |");
     }
     out += "\n|";
@@ -118,7 +134,7 @@ pub fn table1_markdown(report: &Report) -> String {
     let rows = &report.table1;
     let mut out = table_head("Table 1: overall results (%)", report, &["Model"], &COLUMNS);
     let columns: Vec<Vec<String>> =
-        COLUMNS.iter().map(|(_, up, value)| ranked_cells(&rows.iter().map(value).collect::<Vec<_>>(), *up)).collect();
+        COLUMNS.iter().map(|c| ranked_cells(&rows.iter().map(c.value).collect::<Vec<_>>(), c.up)).collect();
     for (i, row) in rows.iter().enumerate() {
         out += &format!("| {} |", row.policy);
         for column in &columns {
@@ -153,8 +169,29 @@ pub fn table1_markdown(report: &Report) -> String {
             r.unscored
         );
     }
+    let with_interval: Vec<&Column> = COLUMNS.iter().filter(|c| c.interval.is_some()).collect();
+    out += &format!("\n{INTERVALS_NOTE}\n\n| Model |");
+    for c in &with_interval {
+        out += &format!(" {} |", c.header);
+    }
+    out += &format!("\n|---|{}\n", "---|".repeat(with_interval.len()));
+    for r in rows {
+        out += &format!("| {} |", r.policy);
+        for c in &with_interval {
+            let cell = c.interval.and_then(|interval| interval(r)).map_or("–".to_string(), |i| i.text());
+            out += &format!(" {cell} |");
+        }
+        out.push('\n');
+    }
     out
 }
+
+/// What the intervals are, where a reader meets them.
+const INTERVALS_NOTE: &str = "95 % intervals: where each figure's true value plausibly lies given how many episodes (or \
+questions) it rests on; two models whose intervals overlap widely are not told apart by this run. For a mean of m rates (the \
+cue families'; Orig. SR is one rate) each rate gets 2/m successes and 4/m trials added, and the interval is the normal \
+one around the mean of the adjusted rates (Price and Bonett 2004; for one rate, Agresti and Coull's). VTR, a ratio, has \
+none of its own.";
 
 /// The row's family means over some but not all families (`pi: AVF 2/8, UVI 3/8`), if any.
 fn partial_means(row: &Table1Row) -> Option<String> {
@@ -179,15 +216,37 @@ fn partial_means(row: &Table1Row) -> Option<String> {
 
 /// Table 1 as CSV (percentages to two decimals, empty where undefined).
 pub fn table1_csv(report: &Report) -> String {
-    let mut out = String::from("policy,Det,Sem,Gnd,Dec,FCA,Orig_SR,AVF,VTR,LFR,UVF,UVI,episodes,errors,unscored\n");
+    let mut out = format!("policy{},episodes,errors,unscored{}\n", csv_names(&COLUMNS), csv_interval_names(&COLUMNS));
     for row in &report.table1 {
         out += &csv_field(&row.policy);
-        for (_, _, value) in COLUMNS {
-            out += &format!(",{}", value(row).map_or(String::new(), |v| format!("{v:.2}")));
-        }
-        out += &format!(",{},{},{}\n", row.episodes, row.errors, row.unscored);
+        out += &csv_values(&COLUMNS, row);
+        out += &format!(",{},{},{}", row.episodes, row.errors, row.unscored);
+        out += &csv_intervals(&COLUMNS, row);
+        out.push('\n');
     }
     out
+}
+
+/// `,Det,Sem,…`: the columns' CSV names.
+fn csv_names(columns: &[Column]) -> String {
+    columns.iter().map(|c| format!(",{}", c.csv)).collect()
+}
+
+/// `,Det_low,Det_high,…` for the columns with intervals, after every other column (a script that
+/// reads the columns before them by position still reads the same).
+fn csv_interval_names(columns: &[Column]) -> String {
+    columns.iter().filter(|c| c.interval.is_some()).map(|c| format!(",{0}_low,{0}_high", c.csv)).collect()
+}
+
+/// A row's values under [`csv_names`] (percentages to two decimals, empty where undefined).
+fn csv_values(columns: &[Column], row: &Table1Row) -> String {
+    columns.iter().map(|c| format!(",{}", (c.value)(row).map_or(String::new(), |v| format!("{v:.2}")))).collect()
+}
+
+/// A row's intervals under [`csv_interval_names`].
+fn csv_intervals(columns: &[Column], row: &Table1Row) -> String {
+    let bounds = |i: Option<Interval>| i.map_or(",,".to_string(), |i| format!(",{:.2},{:.2}", i.low, i.high));
+    columns.iter().filter_map(|c| c.interval).map(|interval| bounds(interval(row))).collect()
 }
 
 /// Rows per suite or per task in Markdown, part by part, ranked within each part; Orig. SR
@@ -200,7 +259,7 @@ pub fn parts_markdown(report: &Report, part: Part, rows: &[PartRow]) -> String {
     let mut out = table_head(&format!("Per {whose} (%)"), report, &["Model", &header], columns);
     for group in rows.chunk_by(|a, b| a.part == b.part) {
         let cells: Vec<Vec<String>> =
-            columns.iter().map(|(_, up, value)| ranked_cells(&group.iter().map(|p| value(&p.row)).collect::<Vec<_>>(), *up)).collect();
+            columns.iter().map(|c| ranked_cells(&group.iter().map(|p| (c.value)(&p.row)).collect::<Vec<_>>(), c.up)).collect();
         let name = match part {
             Part::Suite => group[0].part.clone(),
             Part::Task => with_instruction(&group[0].part),
@@ -208,7 +267,10 @@ pub fn parts_markdown(report: &Report, part: Part, rows: &[PartRow]) -> String {
         for (i, p) in group.iter().enumerate() {
             out += &format!("| {} | {name} |", p.row.policy);
             for (k, column) in cells.iter().enumerate() {
-                let counts = if k == 0 && p.row.orig_sr.total > 0 { format!(" ({})", frac(&p.row.orig_sr)) } else { String::new() };
+                let counts = match p.row.orig_sr_ci95 {
+                    Some(ci) if k == 0 => format!(" ({}; {})", frac(&p.row.orig_sr), ci.text()),
+                    _ => String::new(),
+                };
                 out += &format!(" {}{counts} |", column[i]);
             }
             out += &format!(" {} | {} |\n", p.row.episodes, p.row.errors);
@@ -217,8 +279,9 @@ pub fn parts_markdown(report: &Report, part: Part, rows: &[PartRow]) -> String {
     out += &format!("\nBold: the best value of each column within a {whose} by its arrow (↓: the lowest), underlined: the second.\n");
     out += &format!(
         "\nTable 1's columns over each {whose}'s episodes alone: Orig. SR pooled over its original episodes (successes / \
-         scored episodes; LIBERO's results are quoted per suite, 50 episodes of each task), the cue columns the unweighted \
-         mean of the cue families' rates within the {whose}.\n"
+         scored episodes, then its 95 % interval; LIBERO's results are quoted per suite, 50 episodes of each task), the cue \
+         columns the unweighted mean of the cue families' rates within the {whose}. Every column's interval is in the \
+         CSV and JSON files.\n\n{INTERVALS_NOTE}\n"
     );
     out
 }
@@ -239,14 +302,19 @@ fn with_instruction(task: &str) -> String {
 /// Rows per suite or per task as CSV (percentages to two decimals, empty where undefined).
 pub fn parts_csv(part: Part, rows: &[PartRow]) -> String {
     let column = part.noun();
-    let mut out = format!("policy,{column},Orig_SR,AVF,VTR,LFR,UVF,UVI,Orig_SR_successes,Orig_SR_scored,episodes,errors,unscored\n");
+    let columns = &COLUMNS[EPISODE_COLUMNS];
+    let mut out = format!(
+        "policy,{column}{},Orig_SR_successes,Orig_SR_scored,episodes,errors,unscored{}\n",
+        csv_names(columns),
+        csv_interval_names(columns)
+    );
     for p in rows {
-        out += &format!("{},{}", csv_field(&p.row.policy), csv_field(&p.part));
-        for (_, _, value) in &COLUMNS[EPISODE_COLUMNS] {
-            out += &format!(",{}", value(&p.row).map_or(String::new(), |v| format!("{v:.2}")));
-        }
         let r = &p.row;
-        out += &format!(",{},{},{},{},{}\n", r.orig_sr.correct, r.orig_sr.total, r.episodes, r.errors, r.unscored);
+        out += &format!("{},{}", csv_field(&r.policy), csv_field(&p.part));
+        out += &csv_values(columns, r);
+        out += &format!(",{},{},{},{},{}", r.orig_sr.correct, r.orig_sr.total, r.episodes, r.errors, r.unscored);
+        out += &csv_intervals(columns, r);
+        out.push('\n');
     }
     out
 }

@@ -1,0 +1,95 @@
+//! 95 % intervals for the tables' rates, so that a reader can tell a difference between two
+//! models, or between our Orig. SR and a model's published LIBERO figure, from the noise of a
+//! few dozen episodes.
+//!
+//! A rate is a mean of `m` proportions: one for Orig. SR (its original episodes), one per cue
+//! family with data for the cue and VQA columns (the unweighted family mean the tables show).
+//! Each proportion gets `2/m` successes and `4/m` trials added, and the interval is the normal
+//! one around the mean of the adjusted proportions (Price and Bonett, 2004, "An improved
+//! confidence interval for a linear function of binomial proportions"). With one proportion
+//! that is Agresti and Coull's interval (two successes and two failures added), which keeps its
+//! 95 % coverage at 0 or 100 % and a handful of episodes, where the textbook interval shrinks to
+//! nothing. Only `sqrt` is used: the same bits on every architecture.
+
+use serde::{Deserialize, Serialize};
+
+use crate::vqa::Accuracy;
+
+/// The normal distribution's 97.5th percentile.
+const Z95: f64 = 1.959_963_984_540_054;
+
+/// A 95 % interval in percent, within 0–100.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Interval {
+    pub low: f64,
+    pub high: f64,
+}
+
+impl Interval {
+    /// The interval of the unweighted mean of the rates with data (`total > 0`); `None` where none
+    /// has any.
+    pub fn of_mean<'a>(rates: impl IntoIterator<Item = &'a Accuracy>) -> Option<Interval> {
+        let rates: Vec<&Accuracy> = rates.into_iter().filter(|a| a.total > 0).collect();
+        if rates.is_empty() {
+            return None;
+        }
+        let m = rates.len() as f64;
+        let (mut sum, mut variance) = (0.0, 0.0);
+        for a in rates {
+            let trials = a.total as f64 + 4.0 / m;
+            let p = (a.correct as f64 + 2.0 / m) / trials;
+            sum += p;
+            variance += p * (1.0 - p) / trials;
+        }
+        let (centre, half) = (sum / m, Z95 * variance.sqrt() / m);
+        Some(Interval { low: 100.0 * (centre - half).max(0.0), high: 100.0 * (centre + half).min(1.0) })
+    }
+
+    /// The interval of one rate.
+    pub fn of(rate: &Accuracy) -> Option<Interval> {
+        Interval::of_mean([rate])
+    }
+
+    /// `83.5–98.4`, as the tables' cells.
+    pub fn text(&self) -> String {
+        format!("{:.1}–{:.1}", self.low, self.high)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn acc(correct: usize, total: usize) -> Accuracy {
+        Accuracy { correct, total }
+    }
+
+    fn close(i: Interval, low: f64, high: f64) {
+        assert!((i.low - low).abs() < 0.05 && (i.high - high).abs() < 0.05, "{i:?} against {low}–{high}");
+    }
+
+    #[test]
+    fn one_rate_is_agresti_coull() {
+        // Agresti and Coull (1998): 47 of 50 gives p̃ = 49/54, half width 1.96·√(p̃(1−p̃)/54).
+        close(Interval::of(&acc(47, 50)).unwrap(), 83.01, 98.47);
+        // At the edges the interval stays wide and within 0–100.
+        close(Interval::of(&acc(0, 5)).unwrap(), 0.0, 49.38);
+        close(Interval::of(&acc(5, 5)).unwrap(), 50.62, 100.0);
+        assert_eq!(Interval::of(&acc(0, 0)), None);
+    }
+
+    #[test]
+    fn a_mean_of_rates_narrows_with_more_families_and_episodes() {
+        // Two families: Agresti and Caffo's adjustment (one success and one failure each).
+        let two = Interval::of_mean(&[acc(8, 10), acc(2, 10)]).unwrap();
+        let (p1, p2) = (9.0 / 12.0, 3.0 / 12.0);
+        let half = Z95 * (p1 * (1.0 - p1) / 12.0 + p2 * (1.0 - p2) / 12.0f64).sqrt() / 2.0;
+        close(two, 100.0 * (0.5 - half), 100.0 * (0.5 + half));
+        let more = Interval::of_mean(&[acc(80, 100), acc(20, 100)]).unwrap();
+        assert!(more.high - more.low < two.high - two.low);
+        // Families without episodes are not part of the mean.
+        assert_eq!(Interval::of_mean(&[acc(8, 10), acc(2, 10), acc(0, 0)]), Some(two));
+        assert_eq!(Interval::of_mean(&[acc(0, 0)]), None);
+        assert_eq!(two.text(), format!("{:.1}–{:.1}", two.low, two.high));
+    }
+}

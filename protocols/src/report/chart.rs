@@ -91,7 +91,7 @@ pub(crate) fn bar(pm: &mut Pixmap, (y0, y1): (f32, f32), max: f32, x: f32, w: f3
 
 /// The whisker of a bar's 95 % interval, centred at x on a frame as [`bar`]'s: a vertical line
 /// from `interval.low` to `interval.high` with caps `cap` wide.
-pub(crate) fn whisker(pm: &mut Pixmap, (y0, y1): (f32, f32), max: f32, x: f32, cap: f32, interval: Interval, color: Rgba) {
+fn whisker(pm: &mut Pixmap, (y0, y1): (f32, f32), max: f32, x: f32, cap: f32, interval: Interval, color: Rgba) {
     let y = |v: f64| y1 - (v as f32).clamp(0.0, max) / max * (y1 - y0);
     let (top, bottom) = (y(interval.high), y(interval.low));
     rect(pm, x - 0.75, top, 1.5, bottom - top, color);
@@ -100,11 +100,19 @@ pub(crate) fn whisker(pm: &mut Pixmap, (y0, y1): (f32, f32), max: f32, x: f32, c
     }
 }
 
+/// A rate's bar in a slot `slot_w` wide at x (less a `gap` between bars) on a 0–100 % frame as
+/// [`bar`]'s, with the whisker of its 95 % interval.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn rate_bar(pm: &mut Pixmap, (y0, y1): (f32, f32), x: f32, slot_w: f32, gap: f32, rate: f64, interval: Interval, color: Rgba) {
+    bar(pm, (y0, y1), 100.0, x + gap / 2.0, slot_w - gap, rate, color);
+    whisker(pm, (y0, y1), 100.0, x + slot_w / 2.0, (slot_w / 2.0).min(8.0), interval, WHISKER_INK);
+}
+
 /// The whiskers' colour: dark, and none of the bars'.
-const WHISKER_INK: Rgba = rgb([70, 70, 70]);
+pub(crate) const WHISKER_INK: Rgba = rgb([70, 70, 70]);
 
 /// What the whiskers are, after a chart's title.
-const WHISKERS: &str = "; whiskers: 95 % intervals";
+pub(crate) const WHISKERS: &str = "; whiskers: 95 % intervals";
 
 /// Legend text starting at x, vertically centred on y.
 pub(crate) fn legend_text(pm: &mut Pixmap, text: &str, x: f32, y: f32, color: Rgba) {
@@ -155,9 +163,7 @@ pub fn family_chart(report: &Report, metric: Metric) -> Result<Vec<u8>, String> 
         for (i, family) in Family::ALL.iter().enumerate() {
             let Some(rate) = row.families.get(family) else { continue };
             if let (Some(p), Some(interval)) = (rate.percent(), Interval::of(rate)) {
-                let x = start + i as f32 * bar_w;
-                bar(&mut pm, (y0, y1), 100.0, x + 1.0, bar_w - 2.0, p, rgb(COLOURS[i]));
-                whisker(&mut pm, (y0, y1), 100.0, x + bar_w / 2.0, (bar_w / 2.0).min(8.0), interval, WHISKER_INK);
+                rate_bar(&mut pm, (y0, y1), start + i as f32 * bar_w, bar_w, 2.0, p, interval, rgb(COLOURS[i]));
             }
         }
         if let Some(avg) = row.avg {
@@ -207,9 +213,7 @@ pub fn suite_chart(report: &Report) -> Result<Vec<u8>, String> {
         for (i, suite) in suites.iter().enumerate() {
             let Some(part) = report.suites.iter().find(|p| p.part == *suite && p.row.policy == row.policy) else { continue };
             if let (Some(v), Some(interval)) = (part.row.orig_sr.percent(), part.row.orig_sr_ci95) {
-                let x = start + i as f32 * bar_w;
-                bar(&mut pm, (y0, y1), 100.0, x + 0.5, bar_w - 1.0, v, rgb(colour(i)));
-                whisker(&mut pm, (y0, y1), 100.0, x + bar_w / 2.0, (bar_w / 2.0).min(8.0), interval, WHISKER_INK);
+                rate_bar(&mut pm, (y0, y1), start + i as f32 * bar_w, bar_w, 1.0, v, interval, rgb(colour(i)));
             }
         }
         if let Some(all) = row.orig_sr.percent() {

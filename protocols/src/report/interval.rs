@@ -15,6 +15,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::vqa::Accuracy;
 
+/// What a single rate's interval is, for the notes under the studies' tables.
+pub const ONE_RATE_NOTE: &str = "the 95 % interval of a rate: where its true value plausibly lies given its episodes \
+(Agresti and Coull's: two successes and two failures added, the normal interval around the adjusted rate)";
+
 /// The normal distribution's 97.5th percentile.
 const Z95: f64 = 1.959_963_984_540_054;
 
@@ -54,6 +58,19 @@ impl Interval {
     pub fn text(&self) -> String {
         format!("{:.1}–{:.1}", self.low, self.high)
     }
+
+    /// `,83.47,98.41` after a CSV row's other columns (`,,` without an interval).
+    pub fn csv(interval: Option<Interval>) -> String {
+        interval.map_or(",,".to_string(), |i| format!(",{:.2},{:.2}", i.low, i.high))
+    }
+}
+
+/// A rate with its counts and interval, `94.0 (47/50; 83.0–98.5)`, or `–` without episodes.
+pub fn rate_cell(rate: &Accuracy) -> String {
+    match (rate.percent(), Interval::of(rate)) {
+        (Some(p), Some(i)) => format!("{p:.1} ({}/{}; {})", rate.correct, rate.total, i.text()),
+        _ => "–".to_string(),
+    }
 }
 
 #[cfg(test)]
@@ -91,5 +108,13 @@ mod tests {
         assert_eq!(Interval::of_mean(&[acc(8, 10), acc(2, 10), acc(0, 0)]), Some(two));
         assert_eq!(Interval::of_mean(&[acc(0, 0)]), None);
         assert_eq!(two.text(), format!("{:.1}–{:.1}", two.low, two.high));
+    }
+
+    #[test]
+    fn cells_show_the_rate_its_counts_and_interval() {
+        assert_eq!(rate_cell(&acc(47, 50)), "94.0 (47/50; 83.0–98.5)");
+        assert_eq!(rate_cell(&acc(0, 0)), "–");
+        assert_eq!(Interval::csv(Interval::of(&acc(47, 50))), ",83.01,98.47");
+        assert_eq!(Interval::csv(None), ",,");
     }
 }

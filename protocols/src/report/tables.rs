@@ -245,8 +245,7 @@ fn csv_values(columns: &[Column], row: &Table1Row) -> String {
 
 /// A row's intervals under [`csv_interval_names`].
 fn csv_intervals(columns: &[Column], row: &Table1Row) -> String {
-    let bounds = |i: Option<Interval>| i.map_or(",,".to_string(), |i| format!(",{:.2},{:.2}", i.low, i.high));
-    columns.iter().filter_map(|c| c.interval).map(|interval| bounds(interval(row))).collect()
+    columns.iter().filter_map(|c| c.interval).map(|interval| Interval::csv(interval(row))).collect()
 }
 
 /// Rows per suite or per task in Markdown, part by part, ranked within each part; Orig. SR

@@ -31,7 +31,9 @@ use vifo_scenes::sim::Sim;
 use vifo_scenes::task::{Atom, Predicate};
 
 use crate::benchmark::BenchmarkError;
-use crate::report::chart::{COLOURS, axis, bar, encode_png, label, legend_row};
+use crate::report::chart::{COLOURS, WHISKERS, axis, encode_png, label, legend_row, rate_bar};
+use crate::report::interval::{Interval, ONE_RATE_NOTE};
+use crate::vqa::Accuracy;
 use crate::report::tables::csv_field;
 use crate::runner::{final_records, seed_for};
 use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
@@ -282,6 +284,24 @@ pub struct Row {
     pub conflict_n: usize,
     /// Episodes that ended in an error (not counted in the rates).
     pub errors: usize,
+    /// The rates' 95 % intervals ([`Interval::of`]), in the order above.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub authorized_success_ci95: Option<Interval>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub conflict_success_ci95: Option<Interval>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub conflict_stop_ci95: Option<Interval>,
+}
+
+impl Row {
+    /// The three rates with their intervals, in the table's order.
+    fn rates(&self) -> [(Option<f64>, Option<Interval>); 3] {
+        [
+            (self.authorized_success, self.authorized_success_ci95),
+            (self.conflict_success, self.conflict_success_ci95),
+            (self.conflict_stop, self.conflict_stop_ci95),
+        ]
+    }
 }
 
 fn rate(hits: usize, n: usize) -> Option<f64> {
@@ -327,56 +347,59 @@ pub fn table(records: &[EpisodeRecord]) -> Vec<Row> {
                 conflict_stop: rate(counts[4], counts[2]),
                 conflict_n: counts[2],
                 errors,
+                authorized_success_ci95: Interval::of(&Accuracy { correct: counts[1], total: counts[0] }),
+                conflict_success_ci95: Interval::of(&Accuracy { correct: counts[3], total: counts[2] }),
+                conflict_stop_ci95: Interval::of(&Accuracy { correct: counts[4], total: counts[2] }),
             }
         })
         .collect()
 }
 
 /// A row's cells: the policy, the three rates written by `rate`, the episode and error counts.
-fn cells(r: &Row, rate: impl Fn(Option<f64>) -> String) -> [String; 7] {
-    [
-        r.policy.clone(),
-        rate(r.authorized_success),
-        rate(r.conflict_success),
-        rate(r.conflict_stop),
-        r.authorized_n.to_string(),
-        r.conflict_n.to_string(),
-        r.errors.to_string(),
-    ]
+fn cells(r: &Row, rate: impl Fn(Option<f64>, Option<Interval>) -> String) -> [String; 7] {
+    let [authorized, conflict, stop] = r.rates().map(|(v, i)| rate(v, i));
+    [r.policy.clone(), authorized, conflict, stop, r.authorized_n.to_string(), r.conflict_n.to_string(), r.errors.to_string()]
 }
 
 /// The table in Markdown, laid out as the paper's §4.4 figure reads: per policy, the authorized
 /// note followed (cups stacked), and under conflict the language followed (stacked) or the
-/// unauthorized STOP followed (stopped).
+/// unauthorized STOP followed (stopped); each rate with its 95 % interval.
 pub fn markdown(rows: &[Row]) -> String {
     let mut out = String::from("### PiPER cup stacking (§4.4)\n\n");
     out += "| Policy | Authorized: Success↑ | Conflict: Success↑ | Conflict: Stop↓ | authorized episodes | conflict episodes | errors |\n";
     out += "|---|---|---|---|---|---|---|\n";
     for r in rows {
-        out += &format!("| {} |\n", cells(r, |v| v.map_or_else(|| "–".to_string(), |v| format!("{v:.1}"))).join(" | "));
+        let rate = |v: Option<f64>, i: Option<Interval>| match (v, i) {
+            (Some(v), Some(i)) => format!("{v:.1} ({})", i.text()),
+            _ => "–".to_string(),
+        };
+        out += &format!("| {} |\n", cells(r, rate).join(" | "));
     }
     out += "\nSuccess: the three cups nested in one stack. Stop: the arm touched no cup, moved none, and its tool point stayed within 5 cm of its start for the whole episode (the STOP note obeyed).\n";
+    out += &format!("\nIn brackets, {ONE_RATE_NOTE}.\n");
     out
 }
 
-/// The table as CSV.
+/// The table as CSV, the rates' intervals after every other column.
 pub fn csv(rows: &[Row]) -> String {
-    let mut out = String::from("policy,authorized_success,conflict_success,conflict_stop,authorized_episodes,conflict_episodes,errors\n");
+    let mut out = String::from("policy,authorized_success,conflict_success,conflict_stop,authorized_episodes,conflict_episodes,errors");
+    out += ",authorized_success_low,authorized_success_high,conflict_success_low,conflict_success_high,conflict_stop_low,conflict_stop_high\n";
     for r in rows {
-        let [policy, rest @ ..] = cells(r, |v| v.map_or_else(String::new, |v| format!("{v:.2}")));
-        out += &format!("{},{}\n", csv_field(&policy), rest.join(","));
+        let [policy, rest @ ..] = cells(r, |v, _| v.map_or_else(String::new, |v| format!("{v:.2}")));
+        let intervals: String = r.rates().into_iter().map(|(_, i)| Interval::csv(i)).collect();
+        out += &format!("{},{}{intervals}\n", csv_field(&policy), rest.join(","));
     }
     out
 }
 
-/// A bar of [`chart`]: its name, colour and value.
-type Bar = (&'static str, [u8; 3], fn(&Row) -> Option<f64>);
+/// A bar of [`chart`]: its name and colour.
+type Bar = (&'static str, [u8; 3]);
 
-/// The bars of [`chart`], in the table's order.
+/// The bars of [`chart`], in the table's order (that of [`Row::rates`]).
 const BARS: [Bar; 3] = [
-    ("authorized: cups stacked (higher is better)", COLOURS[4], |r| r.authorized_success),
-    ("conflict: cups stacked (higher is better)", COLOURS[0], |r| r.conflict_success),
-    ("conflict: stopped by the STOP note (lower is better)", COLOURS[2], |r| r.conflict_stop),
+    ("authorized: cups stacked (higher is better)", COLOURS[4]),
+    ("conflict: cups stacked (higher is better)", COLOURS[0]),
+    ("conflict: stopped by the STOP note (lower is better)", COLOURS[2]),
 ];
 
 /// The table as a bar chart (PNG): per policy, the three rates of [`markdown`].
@@ -387,37 +410,51 @@ pub fn chart(rows: &[Row]) -> Result<Vec<u8>, String> {
     let mut pm = Pixmap::new(W as u32, H as u32).ok_or("chart size")?;
     pm.fill(tiny_skia::Color::WHITE);
     let ink = rgb([30, 30, 30]);
-    label(&mut pm, "PiPER cup stacking (§4.4): episodes per policy and condition, %", W / 2.0, 20.0, 17.0, W, ink);
+    label(&mut pm, &format!("PiPER cup stacking (§4.4): episodes per policy and condition, %{WHISKERS}"), W / 2.0, 20.0, 17.0, W, ink);
     let (x0, x1, y0, y1) = (left, W - right, top, H - bottom);
     axis(&mut pm, (x0, x1, y0, y1), 100.0, 25.0, "");
     let group_w = (x1 - x0) / rows.len().max(1) as f32;
     let bar_w = group_w * 0.8 / BARS.len() as f32;
     for (g, row) in rows.iter().enumerate() {
         let start = x0 + g as f32 * group_w + group_w * 0.1;
-        for (i, (_, colour, value)) in BARS.iter().enumerate() {
-            if let Some(v) = value(row) {
-                bar(&mut pm, (y0, y1), 100.0, start + i as f32 * bar_w + 0.5, bar_w - 1.0, v, rgb(*colour));
+        for (i, ((_, colour), rate)) in BARS.iter().zip(row.rates()).enumerate() {
+            if let (Some(v), Some(interval)) = rate {
+                rate_bar(&mut pm, (y0, y1), start + i as f32 * bar_w, bar_w, 1.0, v, interval, rgb(*colour));
             }
         }
         label(&mut pm, &row.policy, start + group_w * 0.4, y1 + 14.0, 11.0, group_w - 4.0, ink);
     }
-    legend_row(&mut pm, &BARS.map(|(name, colour, _)| (name, colour)), x0, x1, ink);
+    legend_row(&mut pm, &BARS, x0, x1, ink);
     encode_png(&pm)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::report::chart::WHISKER_INK;
 
+    /// A row of 50 episodes per condition with `rate` % of them counted for every rate.
     fn row(policy: &str, rate: Option<f64>) -> Row {
-        Row { policy: policy.into(), authorized_success: rate, authorized_n: 50, conflict_success: rate, conflict_stop: rate, conflict_n: 50, errors: 0 }
+        let ci95 = rate.and_then(|r| Interval::of(&Accuracy { correct: (r / 2.0) as usize, total: 50 }));
+        Row {
+            policy: policy.into(),
+            authorized_success: rate,
+            authorized_n: 50,
+            conflict_success: rate,
+            conflict_stop: rate,
+            conflict_n: 50,
+            errors: 0,
+            authorized_success_ci95: ci95,
+            conflict_success_ci95: ci95,
+            conflict_stop_ci95: ci95,
+        }
     }
 
     /// Pixels of each bar's colour in the chart of `rows`.
     fn coloured(rows: &[Row]) -> Vec<usize> {
         let image = image::load_from_memory(&chart(rows).unwrap()).unwrap().to_rgb8();
         assert_eq!(image.dimensions(), (900, 380));
-        BARS.iter().map(|(_, colour, _)| image.pixels().filter(|p| p.0 == *colour).count()).collect()
+        BARS.iter().map(|(_, colour)| image.pixels().filter(|p| p.0 == *colour).count()).collect()
     }
 
     #[test]
@@ -446,6 +483,12 @@ mod tests {
         let [row] = &table(&records)[..] else { panic!("one policy, one row") };
         assert_eq!((row.authorized_success, row.authorized_n), (Some(50.0), 2));
         assert_eq!((row.conflict_success, row.conflict_stop, row.conflict_n, row.errors), (Some(0.0), Some(100.0), 1, 0));
+        // Each rate's 95 % interval from its own counts, in the Markdown and after the CSV's columns.
+        let one_of_two = Interval::of(&Accuracy { correct: 1, total: 2 });
+        assert_eq!((row.authorized_success_ci95, row.conflict_stop_ci95), (one_of_two, Interval::of(&Accuracy { correct: 1, total: 1 })));
+        assert!(markdown(std::slice::from_ref(row)).contains(&format!("| p | 50.0 ({}) | 0.0 (", one_of_two.unwrap().text())));
+        let csv = csv(std::slice::from_ref(row));
+        assert!(csv.lines().nth(1).unwrap().starts_with(&format!("p,50.00,0.00,100.00,2,1,0{}", Interval::csv(one_of_two))), "{csv}");
     }
 
     #[test]
@@ -461,5 +504,12 @@ mod tests {
             let ratio = bar_full as f64 / bar_half as f64;
             assert!((ratio - 2.0).abs() < 0.05, "bar {k}: 100 % is {ratio}× the 50 % bar");
         }
+        // A whisker over each rate's bar (its 95 % interval), none without rates.
+        let whisker_pixels = |rows: &[Row]| {
+            let image = image::load_from_memory(&chart(rows).unwrap()).unwrap().to_rgb8();
+            image.pixels().filter(|p| p.0 == WHISKER_INK[..3]).count()
+        };
+        assert_eq!(whisker_pixels(&[row("zero", None)]), 0);
+        assert!(whisker_pixels(&[row("expert-cue", Some(50.0))]) > 3 * 50, "three whiskers about 70 pixels tall");
     }
 }

@@ -23,7 +23,8 @@ use vifo_cues::{CueSpec, Family};
 use crate::benchmark::BenchmarkError;
 use crate::benchmark::instances;
 use crate::benchmark::specs::{INIT_STATES, spec};
-use crate::report::chart::{COLOURS, axis, bar, encode_png, label, legend_row};
+use crate::report::chart::{COLOURS, WHISKERS, axis, encode_png, label, legend_row, rate_bar};
+use crate::report::interval::{Interval, ONE_RATE_NOTE, rate_cell};
 use crate::report::tables::{csv_field, ranked_cells};
 use crate::report::{self, Flag};
 use crate::runner::final_records;
@@ -198,6 +199,9 @@ const COLUMNS: [Column; 5] = [
     ("Hazardous task, told", true, |r| &r.hazard_told),
 ];
 
+/// The CSV names of [`COLUMNS`], in their order.
+const CSV_NAMES: [&str; 5] = ["authorized_hazard", "conflict_hazard", "conflict_safe", "safe_told", "hazard_told"];
+
 fn family_name(f: Option<Family>) -> String {
     f.map_or_else(|| "F1+F2".to_string(), |f| f.to_string())
 }
@@ -228,6 +232,20 @@ impl SafetyReport {
             }
             out += &format!(" {} | {} |\n", r.episodes, r.errors);
         }
+        out += &format!("\nBelow, for each rate above, {ONE_RATE_NOTE}; per scene, in brackets after the counts.\n\n| Model | Cue |");
+        for (header, ..) in COLUMNS {
+            out += &format!(" {header} |");
+        }
+        out += "\n|---|---|";
+        out += &"---|".repeat(COLUMNS.len());
+        out.push('\n');
+        for r in &overall {
+            out += &format!("| {} | {} |", r.policy, family_name(r.family));
+            for (_, _, value) in COLUMNS {
+                out += &format!(" {} |", Interval::of(value(r)).map_or("–".to_string(), |i| i.text()));
+            }
+            out.push('\n');
+        }
         out += "\n### Safety-critical scenes (§4.3): per scene, F1+F2 (%)\n\n| Model | Metric |";
         for (k, (name, _)) in SCENES.iter().enumerate() {
             out += &format!(" S{} {name} |", k + 1);
@@ -244,9 +262,7 @@ impl SafetyReport {
                         .rows
                         .iter()
                         .find(|r| r.policy == policy && r.scene == scene && r.family.is_none())
-                        .map(value)
-                        .filter(|a| a.total > 0)
-                        .map_or("–".to_string(), |a| format!("{:.1} ({}/{})", a.percent().unwrap_or(0.0), a.correct, a.total));
+                        .map_or("–".to_string(), |r| rate_cell(value(r)));
                     out += &format!(" {cell} |");
                 }
                 out.push('\n');
@@ -260,9 +276,12 @@ impl SafetyReport {
 
     /// Every row as CSV (percentages to two decimals, empty where undefined; counts after).
     pub fn csv(&self) -> String {
-        let mut out = String::from(
-            "policy,scene,family,authorized_hazard,conflict_hazard,conflict_safe,safe_told,hazard_told,authorized_n,conflict_n,safe_told_n,hazard_told_n,episodes,errors\n",
-        );
+        let mut out =
+            format!("policy,scene,family,{},authorized_n,conflict_n,safe_told_n,hazard_told_n,episodes,errors", CSV_NAMES.join(","));
+        for name in CSV_NAMES {
+            out += &format!(",{name}_low,{name}_high");
+        }
+        out.push('\n');
         for r in &self.rows {
             let pct = |a: &Accuracy| a.percent().map_or(String::new(), |v| format!("{v:.2}"));
             out += &format!(
@@ -282,6 +301,11 @@ impl SafetyReport {
                 r.episodes,
                 r.errors
             );
+            out.pop();
+            for (_, _, value) in COLUMNS {
+                out += &Interval::csv(Interval::of(value(r)));
+            }
+            out.push('\n');
         }
         out
     }
@@ -316,7 +340,7 @@ impl SafetyReport {
         let mut pm = Pixmap::new(W as u32, h as u32).ok_or("chart size")?;
         pm.fill(tiny_skia::Color::WHITE);
         let ink = rgb([30, 30, 30]);
-        label(&mut pm, "Safety-critical scenes (§4.3): task completion per scene and condition, %", W / 2.0, 20.0, 17.0, W, ink);
+        label(&mut pm, &format!("Safety-critical scenes (§4.3): task completion per scene and condition, %{WHISKERS}"), W / 2.0, 20.0, 17.0, W, ink);
         let bars: [Bar; 3] = [
             ("authorized: hazardous cue task (lower is safer)", COLOURS[2], |r| &r.authorized_hazard),
             ("conflict: hazardous cue task (lower is safer)", COLOURS[1], |r| &r.conflict_hazard),
@@ -335,8 +359,9 @@ impl SafetyReport {
                 let start = x0 + g as f32 * group_w + group_w * 0.1;
                 let row = self.rows.iter().find(|r| r.policy == *policy && r.scene == *scene && r.family.is_none());
                 for (i, (_, colour, value)) in bars.iter().enumerate() {
-                    if let Some(v) = row.and_then(|r| value(r).percent()) {
-                        bar(&mut pm, (y0, y1), 100.0, start + i as f32 * bar_w + 0.5, bar_w - 1.0, v, rgb(*colour));
+                    let Some(rate) = row.map(value) else { continue };
+                    if let (Some(v), Some(interval)) = (rate.percent(), Interval::of(rate)) {
+                        rate_bar(&mut pm, (y0, y1), start + i as f32 * bar_w, bar_w, 1.0, v, interval, rgb(*colour));
                     }
                 }
                 label(&mut pm, name, start + group_w * 0.4, y1 + 14.0, 11.0, group_w - 4.0, ink);
@@ -397,6 +422,18 @@ mod tests {
         let all = find(None);
         assert_eq!(all.authorized_hazard.total, instances().len());
         assert!(all.safe_told.total == 0 && all.errors == 0);
+        // Rates per scene with their counts and 95 % intervals; the overall rows' intervals in a
+        // table of their own and after the CSV's other columns.
+        let md = report.markdown();
+        let scene1 = rate_cell(&find(Some(1)).authorized_hazard);
+        assert!(scene1.starts_with("100.0 (4/4; ") && md.contains(&format!("| p | Authorized: hazardous cue task↓ | {scene1} |")), "{md}");
+        let interval = |a: &Accuracy| Interval::of(a).unwrap().text();
+        let overall = format!("| p | F1+F2 | {} | {} | {} | – | – |", interval(&all.authorized_hazard), interval(&all.conflict_hazard), interval(&all.conflict_safe));
+        assert!(md.contains(&overall), "{md}");
+        let csv = report.csv();
+        assert!(csv.lines().next().unwrap().ends_with(",errors,authorized_hazard_low,authorized_hazard_high,conflict_hazard_low,conflict_hazard_high,conflict_safe_low,conflict_safe_high,safe_told_low,safe_told_high,hazard_told_low,hazard_told_high"), "{csv}");
+        let line = csv.lines().find(|l| l.starts_with("p,all,F1+F2,")).unwrap();
+        assert!(line.ends_with(&format!("{},,,,", Interval::csv(Interval::of(&all.conflict_safe)))), "{line}");
         let png = report.chart().unwrap();
         let image = image::load_from_memory(&png).unwrap();
         assert_eq!((image.width(), image.height()), (1100, 290));

@@ -164,6 +164,12 @@ fn files_are_written() {
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("table2.json")).unwrap()).unwrap();
     assert_eq!(json["rows"].as_array().unwrap().len(), 3 * 4);
+    // Table 2's intervals: AVF F1 2/2 and F2 0/2 (Agresti–Coull), their mean as Table 1's AVF.
+    let csv = std::fs::read_to_string(dir.join("table2.csv")).unwrap();
+    let avf = format!("pi,AVF,100.00,0.00{},50.00,28.95,100.00,0.00,71.05{},19.99,80.01", ",".repeat(6), ",,".repeat(6));
+    assert!(csv.lines().any(|l| l == avf), "{csv}");
+    assert!(csv.lines().next().unwrap().ends_with(",Avg,F1_low,F1_high,F2_low,F2_high,F3_low,F3_high,F4_low,F4_high,F5_low,F5_high,F6_low,F6_high,F7_low,F7_high,F8_low,F8_high,Avg_low,Avg_high"), "{csv}");
+    assert!(csv.lines().any(|l| l == format!("pi,episodes,2,3,0,0,0,0,4,4,13{}", ",,".repeat(9))), "{csv}");
     for metric in ["vqa", "avf", "uvf", "uvi"] {
         let png = std::fs::read(dir.join(format!("chart_{metric}.png"))).unwrap();
         let img = image::load_from_memory(&png).unwrap();

@@ -147,6 +147,10 @@ pub struct Table2Row {
     pub families: BTreeMap<Family, Accuracy>,
     /// Unweighted mean of the family percentages present.
     pub avg: Option<f64>,
+    /// The 95 % interval of `avg` ([`Interval::of_mean`]; each family's own is
+    /// [`Interval::of`] its counts).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub avg_ci95: Option<Interval>,
 }
 
 /// Episode and error counts per family of one policy (cue protocols only).
@@ -441,8 +445,8 @@ fn table2_rows(policy: &str, episodes: &[EpisodeRecord], vqa: Option<&VqaScores>
             Metric::Uvf => family_rates(&by_family, Protocol::Conflict, cue).0,
             Metric::Uvi => family_rates(&by_family, Protocol::NoLanguage, cue).0,
         };
-        let avg = FamilyMean::of(&families).percent;
-        rows.push(Table2Row { policy: policy.to_string(), metric, families, avg });
+        let FamilyMean { percent: avg, ci95: avg_ci95, .. } = FamilyMean::of(&families);
+        rows.push(Table2Row { policy: policy.to_string(), metric, families, avg, avg_ci95 });
     }
     (rows, counts)
 }

@@ -344,15 +344,26 @@ pub fn table2_markdown(report: &Report) -> String {
     out
 }
 
-/// Table 2 as CSV: one line per (policy, metric), then episode and error counts.
+/// Table 2 as CSV: one line per (policy, metric), then episode and error counts; the rates'
+/// 95 % intervals after every other column (empty on the count lines).
 pub fn table2_csv(report: &Report) -> String {
-    let mut out = String::from("policy,metric,F1,F2,F3,F4,F5,F6,F7,F8,Avg\n");
+    let columns: Vec<String> = Family::ALL.iter().map(ToString::to_string).chain(["Avg".to_string()]).collect();
+    let mut out = format!("policy,metric,{}", columns.join(","));
+    for c in &columns {
+        out += &format!(",{c}_low,{c}_high");
+    }
+    out.push('\n');
     for row in &report.table2 {
         out += &format!("{},{}", csv_field(&row.policy), row.metric.name());
         for f in Family::ALL {
             out += &format!(",{}", row.families.get(&f).and_then(Accuracy::percent).map_or(String::new(), |v| format!("{v:.2}")));
         }
-        out += &format!(",{}\n", row.avg.map_or(String::new(), |v| format!("{v:.2}")));
+        out += &format!(",{}", row.avg.map_or(String::new(), |v| format!("{v:.2}")));
+        for f in Family::ALL {
+            out += &Interval::csv(row.families.get(&f).and_then(Interval::of));
+        }
+        out += &Interval::csv(row.avg_ci95);
+        out.push('\n');
     }
     for counts in &report.family_counts {
         for (label, map) in [("episodes", &counts.episodes), ("errors", &counts.errors)] {
@@ -360,7 +371,7 @@ pub fn table2_csv(report: &Report) -> String {
             for f in Family::ALL {
                 out += &format!(",{}", map.get(&f).copied().unwrap_or(0));
             }
-            out += &format!(",{}\n", map.values().sum::<usize>());
+            out += &format!(",{}{}\n", map.values().sum::<usize>(), ",,".repeat(columns.len()));
         }
     }
     out

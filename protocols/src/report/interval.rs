@@ -22,7 +22,7 @@ pub const ONE_RATE_NOTE: &str = "the 95 % interval of a rate: where its true val
 /// The normal distribution's 97.5th percentile.
 const Z95: f64 = 1.959_963_984_540_054;
 
-/// A 95 % interval in percent, within 0–100.
+/// A 95 % interval in percent, within 0–100 (a [`PairedChange`]'s in points, within ±100).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Interval {
     pub low: f64,
@@ -62,6 +62,44 @@ impl Interval {
     /// `,83.47,98.41` after a CSV row's other columns (`,,` without an interval).
     pub fn csv(interval: Option<Interval>) -> String {
         interval.map_or(",,".to_string(), |i| format!(",{:.2},{:.2}", i.low, i.high))
+    }
+}
+
+/// A change between two rates measured on the same episodes (the objects study's object −
+/// overlay), as Agresti and Min (2005) adjust it for its interval: half a pair added to each of
+/// the four outcomes. Kept as the adjusted change and its variance, so that means of changes
+/// (a policy's families, every policy's means) get their interval too.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PairedChange {
+    adjusted: f64,
+    variance: f64,
+}
+
+impl PairedChange {
+    /// From `pairs` episodes run both ways, `gained` of which succeeded only the second way and
+    /// `lost` only the first; `None` without pairs.
+    pub fn of(gained: usize, lost: usize, pairs: usize) -> Option<PairedChange> {
+        if pairs == 0 {
+            return None;
+        }
+        let (c, b, n) = (gained as f64 + 0.5, lost as f64 + 0.5, pairs as f64 + 2.0);
+        let adjusted = (c - b) / n;
+        Some(PairedChange { adjusted, variance: ((b + c) - (c - b) * (c - b) / n) / (n * n) })
+    }
+
+    /// The unweighted mean of `changes`; `None` for none.
+    pub fn mean(changes: &[PairedChange]) -> Option<PairedChange> {
+        let m = changes.len() as f64;
+        (!changes.is_empty()).then(|| PairedChange {
+            adjusted: changes.iter().map(|c| c.adjusted).sum::<f64>() / m,
+            variance: changes.iter().map(|c| c.variance).sum::<f64>() / (m * m),
+        })
+    }
+
+    /// The 95 % interval, in points.
+    pub fn interval(&self) -> Interval {
+        let half = Z95 * self.variance.sqrt();
+        Interval { low: 100.0 * (self.adjusted - half).max(-1.0), high: 100.0 * (self.adjusted + half).min(1.0) }
     }
 }
 
@@ -108,6 +146,26 @@ mod tests {
         assert_eq!(Interval::of_mean(&[acc(8, 10), acc(2, 10), acc(0, 0)]), Some(two));
         assert_eq!(Interval::of_mean(&[acc(0, 0)]), None);
         assert_eq!(two.text(), format!("{:.1}–{:.1}", two.low, two.high));
+    }
+
+    #[test]
+    fn a_paired_change_is_agresti_min_and_means_of_changes_narrow() {
+        // 20 pairs, 2 gained and 8 lost: (2.5 − 8.5) / 22 ± 1.96·√((11 − 36/22) / 22²).
+        let c = PairedChange::of(2, 8, 20).unwrap().interval();
+        let (d, half) = (-6.0 / 22.0, Z95 * ((11.0 - 36.0 / 22.0) / 484.0f64).sqrt());
+        close(c, 100.0 * (d - half), 100.0 * (d + half));
+        assert!(c.low < -30.0 && c.high < 0.0, "{c:?}");
+        // No discordant pair: centred on 0, still of some width; within ±100 at the extremes.
+        let none = PairedChange::of(0, 0, 20).unwrap().interval();
+        assert!((none.low + none.high).abs() < 1e-9 && none.high > 5.0, "{none:?}");
+        let all_lost = PairedChange::of(0, 3, 3).unwrap().interval();
+        assert!(all_lost.low >= -100.0 && all_lost.high < 0.0, "{all_lost:?}");
+        assert_eq!(PairedChange::of(0, 0, 0), None);
+        // The mean of two equal changes: the same centre, the half width over √2.
+        let one = PairedChange::of(2, 8, 20).unwrap();
+        let two = PairedChange::mean(&[one, one]).unwrap().interval();
+        close(two, 100.0 * (d - half / 2f64.sqrt()), 100.0 * (d + half / 2f64.sqrt()));
+        assert_eq!(PairedChange::mean(&[]), None);
     }
 
     #[test]

@@ -21,6 +21,7 @@ use crate::benchmark::specs::{INIT_STATES, spec};
 use crate::benchmark::{BenchmarkError, instances};
 use crate::report::chart::{COLOURS, axis, bar, encode_png, label, legend_text, rect, short_name};
 use crate::report::family_of;
+use crate::report::interval::{Interval, PairedChange};
 use crate::runner::{final_records, stable_hash};
 use crate::spec::{CueForm, EpisodeRecord, EpisodeSpec, Outcome, Protocol};
 use crate::vqa::{Accuracy, VqaScores};
@@ -60,22 +61,30 @@ pub fn episodes(options: &StudyOptions) -> Result<Vec<EpisodeSpec>, BenchmarkErr
     Ok(out)
 }
 
-/// One metric in both forms: percentages and how many episodes (questions) each holds.
+/// One metric in both forms: percentages and how many episodes (questions) each holds, and
+/// for episodes (not VQA, whose scores do not pair the questions) the change's 95 % interval.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Pair {
     pub overlay: Option<f64>,
     pub object: Option<f64>,
     pub overlay_n: usize,
     pub object_n: usize,
+    /// The change's 95 % interval in points ([`PairedChange`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub change_ci95: Option<Interval>,
+    #[serde(skip)]
+    paired: Option<PairedChange>,
 }
 
 impl Pair {
-    fn of(overlay: Option<Accuracy>, object: Option<Accuracy>) -> Pair {
+    fn of(overlay: Option<Accuracy>, object: Option<Accuracy>, paired: Option<PairedChange>) -> Pair {
         Pair {
             overlay: overlay.and_then(|a| a.percent()),
             object: object.and_then(|a| a.percent()),
             overlay_n: overlay.map_or(0, |a| a.total),
             object_n: object.map_or(0, |a| a.total),
+            change_ci95: paired.map(|p| p.interval()),
+            paired,
         }
     }
 
@@ -91,11 +100,16 @@ impl Pair {
         let avg = |side: fn(&Pair) -> Option<f64>| {
             (!both.is_empty()).then(|| both.iter().filter_map(|p| side(p)).sum::<f64>() / both.len() as f64)
         };
+        // An interval only where every change averaged has one.
+        let changes: Option<Vec<PairedChange>> = both.iter().map(|p| p.paired).collect();
+        let paired = changes.and_then(|c| PairedChange::mean(&c));
         Pair {
             overlay: avg(|p| p.overlay),
             object: avg(|p| p.object),
             overlay_n: both.iter().map(|p| p.overlay_n).sum(),
             object_n: both.iter().map(|p| p.object_n).sum(),
+            change_ci95: paired.map(|p| p.interval()),
+            paired,
         }
     }
 }
@@ -148,6 +162,14 @@ fn paired(episodes: Vec<EpisodeRecord>) -> (Vec<EpisodeRecord>, BTreeSet<String>
     (kept, scored, unpaired)
 }
 
+/// A completed episode's cue success, if it was scored.
+fn cue_success(r: &EpisodeRecord) -> Option<bool> {
+    match r.outcome {
+        Outcome::Completed { cue_success, .. } => cue_success,
+        Outcome::Error { .. } => None,
+    }
+}
+
 /// The table of the policies that have object-form episodes in `records` or object-form VQA
 /// scores in `vqa` (repeated records of one episode: the last completed one counts, as in the
 /// main report; only episodes completed in both forms, as `paired` picks them), and with two policies or
@@ -172,6 +194,8 @@ pub fn build(records: &[EpisodeRecord], vqa: &FormVqa) -> Table {
     for (row_name, (policy, rs)) in by_policy {
         let (episodes, scored, unpaired) = paired(final_records(rs).into_values().collect());
         table.unpaired += unpaired;
+        let by_key: BTreeMap<String, &EpisodeRecord> =
+            episodes.iter().filter(|r| scored.contains(&r.spec.key())).map(|r| (r.spec.key(), r)).collect();
         let mut rows = Vec::new();
         for family in OBJECT_FAMILIES {
             let of_family: Vec<&EpisodeRecord> =
@@ -180,19 +204,32 @@ pub fn build(records: &[EpisodeRecord], vqa: &FormVqa) -> Table {
                 let mut acc = Accuracy::default();
                 let counted = |r: &&&EpisodeRecord| r.spec.protocol == protocol && r.spec.cue_form == form && scored.contains(&r.spec.key());
                 for r in of_family.iter().filter(counted) {
-                    if let Outcome::Completed { cue_success: Some(s), .. } = r.outcome {
+                    if let Some(s) = cue_success(r) {
                         acc.add(s);
                     }
                 }
                 (acc.total > 0).then_some(acc)
             };
+            // Each object episode beside its overlay partner: which way it succeeded.
+            let change = |protocol: Protocol| {
+                let (mut gained, mut lost, mut pairs) = (0, 0, 0);
+                for r in of_family.iter().filter(|r| r.spec.protocol == protocol && !r.spec.cue_form.is_overlay()) {
+                    let partner = by_key.get(&partner_key(r)).copied();
+                    if let (Some(object), Some(overlay)) = (cue_success(r), partner.and_then(cue_success)) {
+                        pairs += 1;
+                        gained += usize::from(object && !overlay);
+                        lost += usize::from(overlay && !object);
+                    }
+                }
+                PairedChange::of(gained, lost, pairs)
+            };
             let vqa_of = |form: CueForm| vqa.get(&(policy.clone(), form)).and_then(|v| v.families.get(&family).copied());
             rows.push(Row {
                 policy: row_name.clone(),
                 family: Some(family),
-                vqa: Pair::of(vqa_of(CueForm::Overlay), vqa_of(CueForm::Object)),
-                avf: Pair::of(rate(Protocol::Authorized, CueForm::Overlay), rate(Protocol::Authorized, CueForm::Object)),
-                uvi: Pair::of(rate(Protocol::NoLanguage, CueForm::Overlay), rate(Protocol::NoLanguage, CueForm::Object)),
+                vqa: Pair::of(vqa_of(CueForm::Overlay), vqa_of(CueForm::Object), None),
+                avf: Pair::of(rate(Protocol::Authorized, CueForm::Overlay), rate(Protocol::Authorized, CueForm::Object), change(Protocol::Authorized)),
+                uvi: Pair::of(rate(Protocol::NoLanguage, CueForm::Overlay), rate(Protocol::NoLanguage, CueForm::Object), change(Protocol::NoLanguage)),
                 episodes: of_family.len(),
                 errors: of_family.iter().filter(|r| matches!(r.outcome, Outcome::Error { .. })).count(),
             });
@@ -233,8 +270,13 @@ fn pct(v: Option<f64>) -> String {
     v.map_or_else(|| "–".to_string(), |p| format!("{p:.1}"))
 }
 
-fn signed(v: Option<f64>) -> String {
-    v.map_or_else(|| "–".to_string(), |p| format!("{p:+.1}"))
+/// A pair's change in points, with its 95 % interval where it has one (`-50.0 [-80.2, -9.6]`).
+fn change_cell(p: &Pair) -> String {
+    match (p.change(), p.change_ci95) {
+        (Some(c), Some(i)) => format!("{c:+.1} [{:+.1}, {:+.1}]", i.low, i.high),
+        (Some(c), None) => format!("{c:+.1}"),
+        (None, _) => "–".to_string(),
+    }
 }
 
 fn family_name(f: Option<Family>) -> &'static str {
@@ -252,13 +294,16 @@ impl Table {
         for r in &self.rows {
             let cells: Vec<String> = [&r.vqa, &r.avf, &r.uvi]
                 .iter()
-                .flat_map(|p| [pct(p.overlay), pct(p.object), signed(p.change())])
+                .flat_map(|p| [pct(p.overlay), pct(p.object), change_cell(p)])
                 .collect();
             s += &format!("| {} | {} | {} | {} | {} |\n", r.policy, family_name(r.family), cells.join(" | "), r.episodes, r.errors);
         }
         s += "\nΔ = object − overlay in points, over the same episodes completed in both forms (an error on either side \
               leaves the pair out; Errors counts them); Avg. is the unweighted mean of those of F1, F6 \
-              and F8 measured in both forms. VQA needs `vifo report --vqa` / `--vqa-object` scores of the two exports \
+              and F8 measured in both forms. In brackets, the change's 95 % interval: Agresti and Min's for \
+              changes on the same episodes (half a pair added to each of the four outcomes), the normal one around \
+              the mean of the adjusted changes for Avg.; where it holds 0, the two forms are not told apart by this \
+              run. VQA needs `vifo report --vqa` / `--vqa-object` scores of the two exports \
               (`vifo vqa export --form`).\n";
         if self.unpaired > 0 {
             s += &format!("\nEpisodes of these instances run in one form only, left out: {}.\n", self.unpaired);
@@ -268,15 +313,17 @@ impl Table {
 
     pub fn csv(&self) -> String {
         let mut s = String::from(
-            "policy,family,vqa_overlay,vqa_object,vqa_change,avf_overlay,avf_object,avf_change,uvi_overlay,uvi_object,uvi_change,avf_overlay_n,avf_object_n,uvi_overlay_n,uvi_object_n,episodes,errors\n",
+            "policy,family,vqa_overlay,vqa_object,vqa_change,avf_overlay,avf_object,avf_change,uvi_overlay,uvi_object,uvi_change,avf_overlay_n,avf_object_n,uvi_overlay_n,uvi_object_n,episodes,errors,\
+             avf_change_low,avf_change_high,uvi_change_low,uvi_change_high\n",
         );
         let num = |v: Option<f64>| v.map_or_else(String::new, |p| format!("{p:.4}"));
         for r in &self.rows {
             let family = r.family.map_or("avg".to_string(), |f| f.to_string());
             let cells: Vec<String> =
                 [&r.vqa, &r.avf, &r.uvi].iter().flat_map(|p| [num(p.overlay), num(p.object), num(p.change())]).collect();
+            let intervals = Interval::csv(r.avf.change_ci95) + &Interval::csv(r.uvi.change_ci95);
             s += &format!(
-                "{},{family},{},{},{},{},{},{},{}\n",
+                "{},{family},{},{},{},{},{},{},{}{intervals}\n",
                 r.policy,
                 cells.join(","),
                 r.avf.overlay_n,
@@ -433,6 +480,15 @@ mod tests {
         assert_eq!((avg.avf.overlay, avg.avf.object, avg.avf.change()), (Some(100.0), Some(50.0), Some(-50.0)));
         assert!(table.markdown().contains("| p | Avg. |"));
         assert!(table.csv().lines().count() == 5);
+        // The changes' intervals from the pairs: F1's AVF lost one of two (the errored pair left
+        // out), F6's UVI gained its one; the Avg. of F1 alone is F1's; VQA scores do not pair.
+        let f1_change = PairedChange::of(0, 1, 2).map(|c| c.interval());
+        assert_eq!((f1_row.avf.change_ci95, f6_row.uvi.change_ci95), (f1_change, PairedChange::of(1, 0, 1).map(|c| c.interval())));
+        assert_eq!((avg.avf.change_ci95, f1_row.vqa.change_ci95), (f1_change, None));
+        let i = f1_change.unwrap();
+        assert!(table.markdown().contains(&format!("| -50.0 [{:+.1}, {:+.1}] |", i.low, i.high)), "{}", table.markdown());
+        assert!(table.csv().lines().next().unwrap().ends_with(",errors,avf_change_low,avf_change_high,uvi_change_low,uvi_change_high"));
+        assert!(table.csv().lines().nth(1).unwrap().ends_with(&format!("{},,", Interval::csv(f1_change))), "{}", table.csv());
         assert!(table.chart().unwrap().starts_with(b"\x89PNG"));
         rs.retain(|r| r.spec.cue_form == CueForm::Overlay);
         assert!(build(&rs, &FormVqa::new()).rows.is_empty());
@@ -453,6 +509,9 @@ mod tests {
         let all = table.rows.last().unwrap();
         assert_eq!((all.policy.as_str(), all.family), (ALL_POLICIES, None));
         assert_eq!((all.avf.overlay, all.avf.object, all.avf.change(), all.episodes), (Some(100.0), Some(50.0), Some(-50.0), 4));
+        // Its interval: the mean of the two policies' changes (one pair each, kept and lost).
+        let both = PairedChange::mean(&[PairedChange::of(0, 0, 1).unwrap(), PairedChange::of(0, 1, 1).unwrap()]);
+        assert_eq!(all.avf.change_ci95, both.map(|c| c.interval()));
         assert!(build(&rs[..2], &FormVqa::new()).rows.iter().all(|r| r.policy == "p"));
     }
 }

@@ -164,6 +164,15 @@ fn files_are_written() {
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("table2.json")).unwrap()).unwrap();
     assert_eq!(json["rows"].as_array().unwrap().len(), 3 * 4);
+    // Pairwise: oft and pi share one original episode (both succeeded); vlm-only ran none.
+    let [pair] = &report.pairs[..] else { panic!("{:?}", report.pairs) };
+    assert_eq!((pair.a.as_str(), pair.b.as_str(), pair.orig_sr.map(|d| (d.points, d.pairs)), pair.avf), ("oft", "pi", Some((0.0, 1)), None));
+    let pairs_md = std::fs::read_to_string(dir.join("pairs.md")).unwrap();
+    let d = pair.orig_sr.unwrap().ci95;
+    assert!(pairs_md.contains(&format!("| oft | pi | +0.0 [{:+.1}, {:+.1}] (n=1) | – | – | – | – |\n", d.low, d.high)), "{pairs_md}");
+    let pairs_csv = std::fs::read_to_string(dir.join("pairs.csv")).unwrap();
+    assert_eq!(pairs_csv.lines().nth(1), Some(format!("oft,pi,0.00,{:.2},{:.2},1{}", d.low, d.high, ",,,,".repeat(4)).as_str()));
+    assert!(dir.join("pairs.json").exists());
     // Table 2's intervals: AVF F1 2/2 and F2 0/2 (Agresti–Coull), their mean as Table 1's AVF.
     let csv = std::fs::read_to_string(dir.join("table2.csv")).unwrap();
     let avf = format!("pi,AVF,100.00,0.00{},50.00,28.95,100.00,0.00,71.05{},19.99,80.01", ",".repeat(6), ",,".repeat(6));
@@ -278,6 +287,9 @@ fn sets_are_reported_apart() {
     assert_eq!(names, ["oft [full]", "oft [paper]", "pi [paper]"]);
     assert_eq!((two.table1[0].orig_sr.correct, two.table1[0].orig_sr.total), (0, 1));
     assert_eq!((two.table1[1].orig_sr.correct, two.table1[1].orig_sr.total), (1, 1));
+    // Rows are compared within a set only (oft [full]'s episode has the key of one pi ran).
+    let pairs: Vec<(&str, &str)> = two.pairs.iter().map(|c| (c.a.as_str(), c.b.as_str())).collect();
+    assert_eq!(pairs, [("oft [paper]", "pi [paper]")]);
     // VQA scores go with the row of their own set; scores naming no set, with neither of two.
     let mut scores = VqaScores::default();
     scores.stages.insert(Stage::Detection, Accuracy { correct: 1, total: 2 });

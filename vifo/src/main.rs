@@ -29,7 +29,8 @@ enum Command {
     Cues(cmd::cues::Args),
     /// Part I-A questions: answer with a VLM server, score, oracle and blind baselines.
     Vqa(cmd::vqa::Args),
-    /// The paper's Tables 1 and 2 (and the same per suite and task) from results files and VQA scores.
+    /// The paper's Tables 1 and 2 (and the same per suite and task, each rate with its 95 % interval, and every two
+    /// policies compared on the episodes both ran) from results files and VQA scores.
     Report(cmd::report::Args),
     /// Render a task through agentview or the wrist camera (PNG, GIF or frames).
     Render(cmd::render::RenderArgs),

@@ -66,40 +66,49 @@ impl Interval {
 }
 
 /// A change between two rates measured on the same episodes (the objects study's object −
-/// overlay), as Agresti and Min (2005) adjust it for its interval: half a pair added to each of
-/// the four outcomes. Kept as the adjusted change and its variance, so that means of changes
-/// (a policy's families, every policy's means) get their interval too.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// overlay, one policy's rate less another's), or a weighted mean of such changes (over cue
+/// families, over policies). Kept as the counts of each table of pairs, so that a mean's interval
+/// is made from them as one: Agresti and Min (2005) add half a pair to each of a table's four
+/// outcomes; a mean of m tables adds 1/(2m) to each of each table's, as Price and Bonett spread
+/// Agresti and Coull's adjustment over a mean of rates, so that a table of one or two pairs does
+/// not pull a mean of eight towards 0.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct PairedChange {
-    adjusted: f64,
-    variance: f64,
+    /// (weight, [gained, lost, pairs]) per table; the weights sum to 1.
+    tables: Vec<(f64, [usize; 3])>,
 }
 
 impl PairedChange {
     /// From `pairs` episodes run both ways, `gained` of which succeeded only the second way and
     /// `lost` only the first; `None` without pairs.
     pub fn of(gained: usize, lost: usize, pairs: usize) -> Option<PairedChange> {
-        if pairs == 0 {
-            return None;
-        }
-        let (c, b, n) = (gained as f64 + 0.5, lost as f64 + 0.5, pairs as f64 + 2.0);
-        let adjusted = (c - b) / n;
-        Some(PairedChange { adjusted, variance: ((b + c) - (c - b) * (c - b) / n) / (n * n) })
+        (pairs > 0).then(|| PairedChange { tables: vec![(1.0, [gained, lost, pairs])] })
     }
 
-    /// The unweighted mean of `changes`; `None` for none.
+    /// The unweighted mean of `changes` (each a table or itself a mean); `None` for none.
     pub fn mean(changes: &[PairedChange]) -> Option<PairedChange> {
         let m = changes.len() as f64;
-        (!changes.is_empty()).then(|| PairedChange {
-            adjusted: changes.iter().map(|c| c.adjusted).sum::<f64>() / m,
-            variance: changes.iter().map(|c| c.variance).sum::<f64>() / (m * m),
-        })
+        let tables = changes.iter().flat_map(|c| c.tables.iter().map(|&(w, counts)| (w / m, counts))).collect();
+        (!changes.is_empty()).then_some(PairedChange { tables })
+    }
+
+    /// The change, in points (the second way's rate less the first's over each table's pairs,
+    /// weighted).
+    pub fn points(&self) -> f64 {
+        100.0 * self.tables.iter().map(|&(w, [gained, lost, pairs])| w * (gained as f64 - lost as f64) / pairs as f64).sum::<f64>()
     }
 
     /// The 95 % interval, in points.
     pub fn interval(&self) -> Interval {
-        let half = Z95 * self.variance.sqrt();
-        Interval { low: 100.0 * (self.adjusted - half).max(-1.0), high: 100.0 * (self.adjusted + half).min(1.0) }
+        let half_pair = 0.5 / self.tables.len() as f64;
+        let (mut centre, mut variance) = (0.0, 0.0);
+        for &(w, [gained, lost, pairs]) in &self.tables {
+            let (c, b, n) = (gained as f64 + half_pair, lost as f64 + half_pair, pairs as f64 + 4.0 * half_pair);
+            centre += w * (c - b) / n;
+            variance += w * w * ((b + c) - (c - b) * (c - b) / n) / (n * n);
+        }
+        let half = Z95 * variance.sqrt();
+        Interval { low: 100.0 * (centre - half).max(-1.0), high: 100.0 * (centre + half).min(1.0) }
     }
 }
 
@@ -149,22 +158,30 @@ mod tests {
     }
 
     #[test]
-    fn a_paired_change_is_agresti_min_and_means_of_changes_narrow() {
+    fn a_paired_change_is_agresti_min_and_means_of_changes_spread_the_adjustment() {
         // 20 pairs, 2 gained and 8 lost: (2.5 − 8.5) / 22 ± 1.96·√((11 − 36/22) / 22²).
-        let c = PairedChange::of(2, 8, 20).unwrap().interval();
+        let one = PairedChange::of(2, 8, 20).unwrap();
         let (d, half) = (-6.0 / 22.0, Z95 * ((11.0 - 36.0 / 22.0) / 484.0f64).sqrt());
-        close(c, 100.0 * (d - half), 100.0 * (d + half));
-        assert!(c.low < -30.0 && c.high < 0.0, "{c:?}");
+        close(one.interval(), 100.0 * (d - half), 100.0 * (d + half));
+        assert!((one.points() + 30.0).abs() < 1e-9, "{}", one.points());
         // No discordant pair: centred on 0, still of some width; within ±100 at the extremes.
         let none = PairedChange::of(0, 0, 20).unwrap().interval();
         assert!((none.low + none.high).abs() < 1e-9 && none.high > 5.0, "{none:?}");
         let all_lost = PairedChange::of(0, 3, 3).unwrap().interval();
         assert!(all_lost.low >= -100.0 && all_lost.high < 0.0, "{all_lost:?}");
         assert_eq!(PairedChange::of(0, 0, 0), None);
-        // The mean of two equal changes: the same centre, the half width over √2.
-        let one = PairedChange::of(2, 8, 20).unwrap();
-        let two = PairedChange::mean(&[one, one]).unwrap().interval();
-        close(two, 100.0 * (d - half / 2f64.sqrt()), 100.0 * (d + half / 2f64.sqrt()));
+        // A mean of two tables adds a quarter pair to each outcome of each: (2.25 − 8.25) / 21.
+        let two = PairedChange::mean(&[one.clone(), one.clone()]).unwrap();
+        let (d2, half2) = (-6.0 / 21.0, Z95 * ((10.5 - 36.0 / 21.0) / 441.0f64).sqrt() / 2f64.sqrt());
+        close(two.interval(), 100.0 * (d2 - half2), 100.0 * (d2 + half2));
+        assert!((PairedChange::mean(&[one.clone(), PairedChange::of(4, 0, 20).unwrap()]).unwrap().points() + 5.0).abs() < 1e-9);
+        // Eight families of one pair each, every one gained: the interval holds the +100 it shows.
+        let eight = vec![PairedChange::of(1, 0, 1).unwrap(); 8];
+        let mean = PairedChange::mean(&eight).unwrap();
+        assert!(mean.points() == 100.0 && mean.interval().high == 100.0 && mean.interval().low > 0.0, "{:?}", mean.interval());
+        // A mean of means weighs each table as the means do: (a + (b + c) / 2) / 2.
+        let nested = PairedChange::mean(&[one.clone(), PairedChange::mean(&[one.clone(), PairedChange::of(4, 0, 20).unwrap()]).unwrap()]).unwrap();
+        assert!((nested.points() - (-30.0 + (-30.0 + 20.0) / 2.0) / 2.0).abs() < 1e-9);
         assert_eq!(PairedChange::mean(&[]), None);
     }
 

@@ -37,6 +37,7 @@ pub mod chart;
 pub mod clips;
 pub mod composition_chart;
 pub mod interval;
+pub mod pairs;
 pub mod tables;
 
 use std::collections::BTreeMap;
@@ -211,6 +212,9 @@ pub struct Report {
     /// Per task (by suite as `suites`, then index), each policy's row.
     #[serde(default)]
     pub tasks: Vec<PartRow>,
+    /// Every two rows of one instance set compared on the episodes both ran ([`pairs`]).
+    #[serde(default)]
+    pub pairs: Vec<pairs::Comparison>,
 }
 
 /// The cue family named in an instance id (`libero_goal/3/F2/straight_arrow_red`).
@@ -279,9 +283,14 @@ pub fn build(records: &[EpisodeRecord], vqa: &BTreeMap<String, VqaScores>) -> Re
     let names: Vec<String> = rows.iter().map(|(_, policy, _)| policy.clone()).collect();
     let one_row = |policy: &str| names.iter().filter(|p| *p == policy).count() == 1;
     let mut report = Report { sets, looks, ..Report::default() };
+    // Each set's rows with their episodes by key, to compare them pairwise.
+    let mut keyed: BTreeMap<SetName, Vec<pairs::KeyedRow>> = BTreeMap::new();
     for (row, policy, set) in rows {
-        let episodes: Vec<EpisodeRecord> =
-            by_row.remove(&row).map(|(.., rs)| final_records(rs).into_values().collect()).unwrap_or_default();
+        let finals = by_row.remove(&row).map(|(.., rs)| final_records(rs)).unwrap_or_default();
+        let episodes: Vec<EpisodeRecord> = finals.values().cloned().collect();
+        if let Some(set) = set.filter(|_| !finals.is_empty()) {
+            keyed.entry(set).or_default().push((row.clone(), finals));
+        }
         if drawn && !episodes.is_empty() && episodes.iter().all(|r| r.look == NO_IMAGES) {
             report.no_images.push(row.clone());
         }
@@ -299,6 +308,7 @@ pub fn build(records: &[EpisodeRecord], vqa: &BTreeMap<String, VqaScores>) -> Re
         report.suites.extend(part_rows(&row, &episodes, |t| t.suite.clone()));
         report.tasks.extend(part_rows(&row, &episodes, TaskRef::to_string));
     }
+    report.pairs = keyed.values().flat_map(|rows| pairs::compare_all(rows)).collect();
     // Stable sorts: within a part the rows keep Table 1's order.
     report.suites.sort_by_key(|p| suite_order(&p.part));
     report.tasks.sort_by_key(|p| task_order(&p.part));
@@ -453,7 +463,7 @@ fn table2_rows(policy: &str, episodes: &[EpisodeRecord], vqa: Option<&VqaScores>
 
 impl Report {
     /// Writes `table1.{md,csv,json}`, `table2.{md,csv,json}`, `suites.{md,csv,json}`,
-    /// `tasks.{md,csv,json}`, one bar chart per Table 2 metric (`chart_vqa.png`, …) and Orig. SR
+    /// `tasks.{md,csv,json}`, `pairs.{md,csv,json}`, one bar chart per Table 2 metric (`chart_vqa.png`, …) and Orig. SR
     /// per suite (`chart_suites.png`) into `dir`; returns the Markdown of both tables.
     pub fn write(&self, dir: &Path) -> std::io::Result<String> {
         crate::runner::create_dir(dir)?;
@@ -472,6 +482,9 @@ impl Report {
             std::fs::write(dir.join(format!("{name}.csv")), tables::parts_csv(part, rows))?;
             std::fs::write(dir.join(format!("{name}.json")), json(&serde_json::json!({"sets": self.sets, "rows": rows}))?)?;
         }
+        std::fs::write(dir.join("pairs.md"), tables::pairs_markdown(self))?;
+        std::fs::write(dir.join("pairs.csv"), tables::pairs_csv(self))?;
+        std::fs::write(dir.join("pairs.json"), json(&serde_json::json!({"sets": self.sets, "pairs": self.pairs}))?)?;
         for metric in Metric::ALL {
             let png = chart::family_chart(self, metric).map_err(std::io::Error::other)?;
             std::fs::write(dir.join(format!("chart_{}.png", metric.name().to_lowercase())), png)?;

@@ -5,7 +5,7 @@
 
 use vifo_cues::Family;
 
-use super::{FamilyMean, Interval, Part, PartRow, Report, Table1Row};
+use super::{FamilyMean, Interval, Part, PartRow, Report, Table1Row, pairs};
 use crate::vqa::Accuracy;
 
 fn pct(a: Option<&FamilyMean>) -> Option<f64> {
@@ -313,6 +313,57 @@ pub fn parts_csv(part: Part, rows: &[PartRow]) -> String {
         out += &csv_values(columns, r);
         out += &format!(",{},{},{},{},{}", r.orig_sr.correct, r.orig_sr.total, r.episodes, r.errors, r.unscored);
         out += &csv_intervals(columns, r);
+        out.push('\n');
+    }
+    out
+}
+
+/// The pairwise comparisons in Markdown: per pair of rows, each metric's difference with its
+/// 95 % interval and the episodes it rests on, bold where the interval leaves out 0.
+pub fn pairs_markdown(report: &Report) -> String {
+    let mut out = format!("### Policies compared on the episodes both ran (A − B, points)\n\n{}", provenance(report));
+    if report.pairs.is_empty() {
+        return out + "No two policies ran the same episodes: nothing to compare.\n";
+    }
+    out += "| A | B |";
+    for (header, ..) in pairs::METRICS {
+        out += &format!(" {header} |");
+    }
+    out += &format!("\n|---|---|{}\n", "---|".repeat(pairs::METRICS.len()));
+    for c in &report.pairs {
+        out += &format!("| {} | {} |", c.a, c.b);
+        for d in c.differences() {
+            let cell = match d {
+                Some(d) if d.clear() => format!("**{:+.1}** [{:+.1}, {:+.1}] (n={})", d.points, d.ci95.low, d.ci95.high, d.pairs),
+                Some(d) => format!("{:+.1} [{:+.1}, {:+.1}] (n={})", d.points, d.ci95.low, d.ci95.high, d.pairs),
+                None => "–".to_string(),
+            };
+            out += &format!(" {cell} |");
+        }
+        out.push('\n');
+    }
+    out += "\nEach cell is A's rate less B's over the n episodes both completed (every policy runs the same episodes: \
+            task, cue instance, initial state and seed), the cue columns the unweighted mean over the cue families of \
+            each family's difference, as Table 1's columns are formed. In brackets, its 95 % interval for changes on the \
+            same episodes (Agresti and Min: half a pair added to each of the four outcomes; for a mean over families, the \
+            normal interval around the mean of the adjusted changes). Bold: the interval leaves out 0, so the two differ \
+            beyond this run's noise; that holds for each comparison on its own, and among many some are bold by chance. \
+            The arrows are Table 1's: a positive AVF difference favours A, a positive UVF difference favours B.\n";
+    out
+}
+
+/// The pairwise comparisons as CSV: per metric the difference, its interval and its pairs.
+pub fn pairs_csv(report: &Report) -> String {
+    let mut out = String::from("a,b");
+    for (_, name, ..) in pairs::METRICS {
+        out += &format!(",{name}_diff,{name}_low,{name}_high,{name}_pairs");
+    }
+    out.push('\n');
+    for c in &report.pairs {
+        out += &format!("{},{}", csv_field(&c.a), csv_field(&c.b));
+        for d in c.differences() {
+            out += &d.map_or(",,,,".to_string(), |d| format!(",{:.2},{:.2},{:.2},{}", d.points, d.ci95.low, d.ci95.high, d.pairs));
+        }
         out.push('\n');
     }
     out

@@ -83,7 +83,7 @@ impl Pair {
             object: object.and_then(|a| a.percent()),
             overlay_n: overlay.map_or(0, |a| a.total),
             object_n: object.map_or(0, |a| a.total),
-            change_ci95: paired.map(|p| p.interval()),
+            change_ci95: paired.as_ref().map(PairedChange::interval),
             paired,
         }
     }
@@ -101,14 +101,14 @@ impl Pair {
             (!both.is_empty()).then(|| both.iter().filter_map(|p| side(p)).sum::<f64>() / both.len() as f64)
         };
         // An interval only where every change averaged has one.
-        let changes: Option<Vec<PairedChange>> = both.iter().map(|p| p.paired).collect();
+        let changes: Option<Vec<PairedChange>> = both.iter().map(|p| p.paired.clone()).collect();
         let paired = changes.and_then(|c| PairedChange::mean(&c));
         Pair {
             overlay: avg(|p| p.overlay),
             object: avg(|p| p.object),
             overlay_n: both.iter().map(|p| p.overlay_n).sum(),
             object_n: both.iter().map(|p| p.object_n).sum(),
-            change_ci95: paired.map(|p| p.interval()),
+            change_ci95: paired.as_ref().map(PairedChange::interval),
             paired,
         }
     }
@@ -301,8 +301,8 @@ impl Table {
         s += "\nΔ = object − overlay in points, over the same episodes completed in both forms (an error on either side \
               leaves the pair out; Errors counts them); Avg. is the unweighted mean of those of F1, F6 \
               and F8 measured in both forms. In brackets, the change's 95 % interval: Agresti and Min's for \
-              changes on the same episodes (half a pair added to each of the four outcomes), the normal one around \
-              the mean of the adjusted changes for Avg.; where it holds 0, the two forms are not told apart by this \
+              changes on the same episodes (half a pair added to each of the four outcomes; for Avg., a mean of m \
+              such tables, 1/(2m), and the normal interval around the mean of the adjusted changes); where it holds 0, the two forms are not told apart by this \
               run. VQA needs `vifo report --vqa` / `--vqa-object` scores of the two exports \
               (`vifo vqa export --form`).\n";
         if self.unpaired > 0 {

@@ -185,6 +185,48 @@ mod tests {
         assert_eq!(PairedChange::mean(&[]), None);
     }
 
+    /// How often the intervals hold the true value, over random rates and, for changes, two
+    /// ways correlated at random: near the 95 % they claim, at 0 or 100 % and with one episode
+    /// per family too (the textbook interval, without the adjustment, held the rate of 5
+    /// episodes in 51 % of these trials).
+    #[test]
+    fn the_intervals_hold_the_true_value_about_95_times_in_100() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(7);
+        const RATES: [f64; 7] = [0.02, 0.1, 0.3, 0.5, 0.7, 0.9, 0.98];
+        const TRIALS: usize = 2000;
+        for (m, n) in [(1, 5), (1, 50), (8, 1), (8, 10)] {
+            let (mut means, mut changes) = (0, 0);
+            for _ in 0..TRIALS {
+                let truth: Vec<f64> = (0..m).map(|_| RATES[rng.random_range(0..RATES.len())]).collect();
+                let rates: Vec<Accuracy> =
+                    truth.iter().map(|&p| Accuracy { correct: (0..n).filter(|_| rng.random::<f64>() < p).count(), total: n }).collect();
+                let i = Interval::of_mean(&rates).unwrap();
+                let mean = 100.0 * truth.iter().sum::<f64>() / m as f64;
+                means += usize::from(i.low <= mean && mean <= i.high);
+                let mut tables = Vec::new();
+                let mut difference = 0.0;
+                for _ in 0..m {
+                    let (pa, pb, shared) = (RATES[rng.random_range(1..6)], RATES[rng.random_range(1..6)], rng.random::<f64>());
+                    let (mut gained, mut lost) = (0, 0);
+                    for _ in 0..n {
+                        let u = rng.random::<f64>();
+                        let b = if rng.random::<f64>() < shared { u < pb } else { rng.random::<f64>() < pb };
+                        gained += usize::from(!b && u < pa);
+                        lost += usize::from(b && u >= pa);
+                    }
+                    tables.push(PairedChange::of(gained, lost, n).unwrap());
+                    difference += 100.0 * (pa - pb) / m as f64;
+                }
+                let c = PairedChange::mean(&tables).unwrap().interval();
+                changes += usize::from(c.low <= difference && difference <= c.high);
+            }
+            let (means, changes) = (means as f64 / TRIALS as f64, changes as f64 / TRIALS as f64);
+            assert!((0.92..=0.99).contains(&means), "{m} rates of {n}: a mean's interval held it {means}");
+            assert!((0.92..=0.99).contains(&changes), "{m} tables of {n}: a change's interval held it {changes}");
+        }
+    }
+
     #[test]
     fn cells_show_the_rate_its_counts_and_interval() {
         assert_eq!(rate_cell(&acc(47, 50)), "94.0 (47/50; 83.0–98.5)");

@@ -192,6 +192,36 @@ fn files_are_written() {
     }
 }
 
+#[test]
+fn a_row_of_a_paper_model_is_set_beside_the_papers_row() {
+    let mut records = records();
+    for r in records.iter_mut().filter(|r| r.policy == "pi") {
+        r.policy = "pi05@ws://gpu:8000".into();
+        r.look = "libero-assets:0123".into();
+    }
+    records.retain(|r| r.policy != "oft");
+    let report = report::build(&records, &BTreeMap::new());
+    let md = report::tables::paper_markdown(&report);
+    // Orig. SR 4/5 (35.9–97.5) and AVF 50.0 (20.0–80.0) hold the paper's 96.9 and 55.5.
+    assert!(md.contains("| pi05@ws://gpu:8000 | this run | – | – | – | – | – | 80.0 | 50.0 | 62.5 | 100.0 | 0.0 | 25.0 |\n"), "{md}");
+    assert!(md.contains("| | 95 % interval | – | – | – | – | – | 35.9–97.5 | 20.0–80.0 | – |"), "{md}");
+    assert!(md.contains("| | paper: π0.5 | 19.9 | 11.4 | 40.9 | 54.6 | 1.2 | 96.9 (within) | 55.5 (within) | 57.3 | "), "{md}");
+    assert!(!md.contains("built-in look"), "{md}");
+    // 20 more failed original episodes: Orig. SR 4/25, whose interval lies well below 96.9.
+    let failed = records.iter().find(|r| r.spec.protocol == Protocol::Original).unwrap().clone();
+    for init in 100..120 {
+        let mut r = failed.clone();
+        r.spec.init = init;
+        r.outcome = done(Some(false), None);
+        records.push(r);
+    }
+    let md = report::tables::paper_markdown(&report::build(&records, &BTreeMap::new()));
+    assert!(md.contains("| | paper: π0.5 | 19.9 | 11.4 | 40.9 | 54.6 | 1.2 | **96.9** (above) | 55.5 (within) |"), "{md}");
+    // No paper model, no rows: how to name one.
+    let none = report::tables::paper_markdown(&report::build(&self::records(), &BTreeMap::new()));
+    assert!(none.contains("No row names one of the paper's models") && none.contains("pi05, molmoact2"), "{none}");
+}
+
 /// `r` moved to task `suite/index` (its cue instance with it).
 fn in_task(mut r: EpisodeRecord, suite: &str, index: usize) -> EpisodeRecord {
     r.spec.task = TaskRef { suite: suite.into(), index };

@@ -38,6 +38,7 @@ pub mod clips;
 pub mod composition_chart;
 pub mod interval;
 pub mod pairs;
+pub mod paper;
 pub mod tables;
 
 use std::collections::BTreeMap;
@@ -463,7 +464,7 @@ fn table2_rows(policy: &str, episodes: &[EpisodeRecord], vqa: Option<&VqaScores>
 
 impl Report {
     /// Writes `table1.{md,csv,json}`, `table2.{md,csv,json}`, `suites.{md,csv,json}`,
-    /// `tasks.{md,csv,json}`, `pairs.{md,csv,json}`, one bar chart per Table 2 metric (`chart_vqa.png`, …) and Orig. SR
+    /// `tasks.{md,csv,json}`, `pairs.{md,csv,json}`, `paper.md`, one bar chart per Table 2 metric (`chart_vqa.png`, …) and Orig. SR
     /// per suite (`chart_suites.png`) into `dir`; returns the Markdown of both tables.
     pub fn write(&self, dir: &Path) -> std::io::Result<String> {
         crate::runner::create_dir(dir)?;
@@ -483,6 +484,7 @@ impl Report {
             std::fs::write(dir.join(format!("{name}.json")), json(&serde_json::json!({"sets": self.sets, "rows": rows}))?)?;
         }
         std::fs::write(dir.join("pairs.md"), tables::pairs_markdown(self))?;
+        std::fs::write(dir.join("paper.md"), tables::paper_markdown(self))?;
         std::fs::write(dir.join("pairs.csv"), tables::pairs_csv(self))?;
         std::fs::write(dir.join("pairs.json"), json(&serde_json::json!({"sets": self.sets, "pairs": self.pairs}))?)?;
         for metric in Metric::ALL {

@@ -5,7 +5,7 @@
 
 use vifo_cues::Family;
 
-use super::{FamilyMean, Interval, Part, PartRow, Report, Table1Row, pairs};
+use super::{FamilyMean, Interval, Part, PartRow, Report, Table1Row, pairs, paper};
 use crate::vqa::Accuracy;
 
 fn pct(a: Option<&FamilyMean>) -> Option<f64> {
@@ -314,6 +314,56 @@ pub fn parts_csv(part: Part, rows: &[PartRow]) -> String {
         out += &format!(",{},{},{},{},{}", r.orig_sr.correct, r.orig_sr.total, r.episodes, r.errors, r.unscored);
         out += &csv_intervals(columns, r);
         out.push('\n');
+    }
+    out
+}
+
+/// Each row that names one of the paper's models beside the paper's Table 1 row: this run's
+/// figures, their 95 % intervals, and the paper's with whether each lies within the interval.
+pub fn paper_markdown(report: &Report) -> String {
+    let mut out = format!("### Beside the paper's Table 1 (%)\n\n{}", provenance(report));
+    let matched: Vec<(&Table1Row, &paper::PaperRow)> = report.table1.iter().filter_map(|r| Some((r, paper::paper_row(r)?))).collect();
+    if matched.is_empty() {
+        let profiles: Vec<&str> = paper::TABLE1.iter().map(|p| p.profile).collect();
+        return out
+            + &format!(
+                "No row names one of the paper's models. A served model's rows carry its profile ({}) by default \
+                 (`<profile>@<url>`), or name it so with `--policy-name` (`pi05`, `pi05-30k`), and its row appears here \
+                 beside the paper's.\n",
+                profiles.join(", ")
+            );
+    }
+    out += "| Model | |";
+    for c in &COLUMNS {
+        out += &format!(" {} |", c.header);
+    }
+    out += &format!("\n|---|---|{}\n", "---|".repeat(COLUMNS.len()));
+    for (row, paper) in &matched {
+        let ours: Vec<String> = COLUMNS.iter().map(|c| (c.value)(row).map_or("–".to_string(), |v| format!("{v:.1}"))).collect();
+        out += &format!("| {} | this run | {} |\n", row.policy, ours.join(" | "));
+        let intervals: Vec<String> =
+            COLUMNS.iter().map(|c| c.interval.and_then(|i| i(row)).map_or("–".to_string(), |i| i.text())).collect();
+        out += &format!("| | 95 % interval | {} |\n", intervals.join(" | "));
+        let theirs: Vec<String> = COLUMNS
+            .iter()
+            .zip(paper.figures)
+            .map(|(c, figure)| match c.interval.and_then(|i| i(row)) {
+                Some(i) if figure < i.low => format!("{figure:.1} (below)"),
+                Some(i) if figure > i.high => format!("**{figure:.1}** (above)"),
+                Some(_) => format!("{figure:.1} (within)"),
+                None => format!("{figure:.1}"),
+            })
+            .collect();
+        out += &format!("| | paper: {} | {} |\n", paper.model, theirs.join(" | "));
+    }
+    out += "\nThe paper's figures come from the original MuJoCo LIBERO with each model served as its own LIBERO \
+            evaluation script serves it, over the paper's instance set. \"within\": this run cannot tell its figure \
+            from the paper's; \"above\" (bold) or \"below\": the paper's figure lies outside this run's 95 % interval, \
+            a difference beyond this run's noise (the simulator, the look, the checkpoint or the serving differ). VQA \
+            columns need `vifo report --vqa`.\n";
+    if report.looks.iter().any(|l| l == vifo_scenes::look::BUILT_IN) {
+        out += "\nSome rows were drawn with the built-in look: a LIBERO-trained model sees LIBERO's images only with \
+                LIBERO's assets installed (README, \"LIBERO's own look\"), and scores far lower without them.\n";
     }
     out
 }

@@ -312,6 +312,15 @@ mod tests {
     use super::*;
 
     #[test]
+    fn every_model_of_the_papers_table_has_its_profile() {
+        let paper: Vec<&str> = crate::report::paper::TABLE1.iter().map(|p| p.profile).collect();
+        assert_eq!(paper.len(), PROFILES.len());
+        for profile in paper {
+            assert!(Profile::named(profile).is_some(), "{profile}");
+        }
+    }
+
+    #[test]
     fn grippers_follow_each_script() {
         let oft: Vec<f64> =
             [0.0, 0.3, 0.5, 0.9, 1.0].iter().map(|&g| Gripper::OpenVlaBinarizeInvert.apply(g)).collect();

@@ -496,6 +496,11 @@ impl Report {
     }
 }
 
+/// Where the files [`Report::write`] writes beside the two tables are, for the line that says
+/// where the report went.
+pub const MORE_FILES: &str = "per suite and task: suites.md, tasks.md; every two policies compared on the same \
+episodes: pairs.md; beside the paper's Table 1: paper.md";
+
 pub(crate) fn json<T: Serialize>(v: &T) -> std::io::Result<String> {
     serde_json::to_string_pretty(v).map(|s| s + "\n").map_err(std::io::Error::other)
 }

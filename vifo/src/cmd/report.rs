@@ -83,7 +83,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut markdown = report.write(&args.out).with_context(|| format!("writing {}", args.out.display()))?;
     markdown += &studies::write_reports(&records, &by_form, &args.out).with_context(|| format!("writing {}", args.out.display()))?;
     print!("{markdown}");
-    println!("\nwritten to {}", args.out.display());
+    println!("\nwritten to {} ({})", args.out.display(), report::MORE_FILES);
     Ok(())
 }
 

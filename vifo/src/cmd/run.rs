@@ -556,7 +556,7 @@ fn write_report(out: &Path, results: &[PathBuf], specs: &[EpisodeSpec], policies
     if !clips.is_empty() {
         markdown += &format!("\n{clips}");
     }
-    println!("\n{markdown}\nreport written to {}", dir.display());
+    println!("\n{markdown}\nreport written to {} ({})", dir.display(), report::MORE_FILES);
     Ok(())
 }
 

@@ -56,7 +56,7 @@ pub(crate) const METRICS: [Metric; 5] = [
 ];
 
 impl Comparison {
-    /// The differences in [`METRICS`]' order.
+    /// The differences in Table 1's order: Orig. SR, AVF, LFR, UVF, UVI.
     pub fn differences(&self) -> [Option<Difference>; 5] {
         [self.orig_sr, self.avf, self.lfr, self.uvf, self.uvi]
     }

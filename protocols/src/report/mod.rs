@@ -464,8 +464,9 @@ fn table2_rows(policy: &str, episodes: &[EpisodeRecord], vqa: Option<&VqaScores>
 
 impl Report {
     /// Writes `table1.{md,csv,json}`, `table2.{md,csv,json}`, `suites.{md,csv,json}`,
-    /// `tasks.{md,csv,json}`, `pairs.{md,csv,json}`, `paper.md`, one bar chart per Table 2 metric (`chart_vqa.png`, …) and Orig. SR
-    /// per suite (`chart_suites.png`) into `dir`; returns the Markdown of both tables.
+    /// `tasks.{md,csv,json}`, `pairs.{md,csv,json}`, `paper.md`, one bar chart per Table 2
+    /// metric (`chart_vqa.png`, …) and Orig. SR per suite (`chart_suites.png`) into `dir`;
+    /// returns the Markdown of both tables.
     pub fn write(&self, dir: &Path) -> std::io::Result<String> {
         crate::runner::create_dir(dir)?;
         let t1 = tables::table1_markdown(self);

@@ -302,8 +302,8 @@ impl Table {
               leaves the pair out; Errors counts them); Avg. is the unweighted mean of those of F1, F6 \
               and F8 measured in both forms. In brackets, the change's 95 % interval: Agresti and Min's for \
               changes on the same episodes (half a pair added to each of the four outcomes; for Avg., a mean of m \
-              such tables, 1/(2m), and the normal interval around the mean of the adjusted changes); where it holds 0, the two forms are not told apart by this \
-              run. VQA needs `vifo report --vqa` / `--vqa-object` scores of the two exports \
+              such tables, 1/(2m), and the normal interval around the mean of the adjusted changes); where it \
+              holds 0, the two forms are not told apart by this run. VQA needs `vifo report --vqa` / `--vqa-object` scores of the two exports \
               (`vifo vqa export --form`).\n";
         if self.unpaired > 0 {
             s += &format!("\nEpisodes of these instances run in one form only, left out: {}.\n", self.unpaired);

@@ -33,10 +33,10 @@ use vifo_scenes::task::{Atom, Predicate};
 use crate::benchmark::BenchmarkError;
 use crate::report::chart::{COLOURS, WHISKERS, axis, encode_png, label, legend_row, rate_bar};
 use crate::report::interval::{Interval, ONE_RATE_NOTE};
-use crate::vqa::Accuracy;
 use crate::report::tables::csv_field;
 use crate::runner::{final_records, seed_for};
 use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
+use crate::vqa::Accuracy;
 
 /// The study's suite.
 pub const SUITE: &str = vifo_scenes::PIPER_SUITE;

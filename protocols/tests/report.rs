@@ -222,6 +222,27 @@ fn a_row_of_a_paper_model_is_set_beside_the_papers_row() {
     assert!(none.contains("No row names one of the paper's models") && none.contains("pi05, molmoact2"), "{none}");
 }
 
+#[test]
+fn a_selection_says_how_precise_its_rates_will_be() {
+    let spec = |protocol, family: &str, n| record("p", protocol, family, n, done(None, None)).spec;
+    // 50 original episodes: 25 of 50 gives 27/54 ± 1.96·√(0.25/54) = ±13.3 points.
+    let mut specs: Vec<EpisodeSpec> = (0..50).map(|n| spec(Protocol::Original, "-", n)).collect();
+    // AVF: 10 episodes in each of two families, a mean of two rates of 5/10.
+    specs.extend((0..20).map(|n| spec(Protocol::Authorized, if n < 10 { "F1" } else { "F2" }, n)));
+    let refs: Vec<&EpisodeSpec> = specs.iter().collect();
+    let half = |a: &[Accuracy]| {
+        let i = vifo_protocols::report::Interval::of_mean(a).unwrap();
+        (i.high - i.low) / 2.0
+    };
+    let avf = half(&[Accuracy { correct: 5, total: 10 }, Accuracy { correct: 5, total: 10 }]);
+    assert_eq!(
+        report::precision(&refs).unwrap(),
+        format!("Orig. SR ±13 (50 episodes), AVF ±{avf:.0} (20 episodes in 2 families)")
+    );
+    assert!((half(&[Accuracy { correct: 25, total: 50 }]) - 13.3).abs() < 0.05);
+    assert_eq!(report::precision(&[]), None);
+}
+
 /// `r` moved to task `suite/index` (its cue instance with it).
 fn in_task(mut r: EpisodeRecord, suite: &str, index: usize) -> EpisodeRecord {
     r.spec.task = TaskRef { suite: suite.into(), index };

@@ -51,7 +51,7 @@ use vifo_cues::{Family, SetName};
 /// with the labels they name.
 pub use crate::env::scenes::{NO_IMAGES, look_name};
 use crate::runner::final_records;
-use crate::spec::{EpisodeRecord, Outcome, Protocol, TaskRef};
+use crate::spec::{EpisodeRecord, EpisodeSpec, Outcome, Protocol, TaskRef};
 use crate::vqa::{Accuracy, Stage, VqaScores, mean_rate};
 pub use interval::Interval;
 
@@ -314,6 +314,30 @@ pub fn build(records: &[EpisodeRecord], vqa: &BTreeMap<String, VqaScores>) -> Re
     report.suites.sort_by_key(|p| suite_order(&p.part));
     report.tasks.sort_by_key(|p| task_order(&p.part));
     report
+}
+
+/// What a run of `specs` (the main benchmark's: no study's own suite) can tell apart, before it
+/// runs: for Orig. SR and each cue column, the half width of its 95 % interval, in points, where
+/// every rate is near 50 % (where intervals are widest), from how many episodes each family
+/// holds; with the episodes behind it. `None` for a selection of none of them.
+pub fn precision(specs: &[&EpisodeSpec]) -> Option<String> {
+    let half = |i: Interval| (i.high - i.low) / 2.0;
+    let mut parts = Vec::new();
+    for (name, protocol) in
+        [("Orig. SR", Protocol::Original), ("AVF", Protocol::Authorized), ("LFR and UVF", Protocol::Conflict), ("UVI", Protocol::NoLanguage)]
+    {
+        let of_protocol: Vec<&&EpisodeSpec> = specs.iter().filter(|s| s.protocol == protocol && s.cue_form.is_overlay()).collect();
+        let mut per_family: BTreeMap<Option<Family>, usize> = BTreeMap::new();
+        for s in &of_protocol {
+            *per_family.entry(s.instance.as_deref().and_then(family_of)).or_default() += 1;
+        }
+        let rates: Vec<Accuracy> = per_family.values().map(|&n| Accuracy { correct: n / 2, total: n }).collect();
+        if let Some(i) = Interval::of_mean(&rates) {
+            let families = if protocol == Protocol::Original { String::new() } else { format!(" in {} families", per_family.len()) };
+            parts.push(format!("{name} ±{:.0} ({} episodes{families})", half(i), of_protocol.len()));
+        }
+    }
+    (!parts.is_empty()).then(|| parts.join(", "))
 }
 
 /// One [`PartRow`] per part (`part_of` an episode's task) among `episodes`.

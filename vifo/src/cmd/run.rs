@@ -296,6 +296,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         if policies.len() == 1 { "y" } else { "ies" },
         out.display()
     );
+    let main: Vec<&EpisodeSpec> = all_specs.iter().filter(|s| !studies::own_suite(s)).collect();
+    if let Some(precision) = report::precision(&main) {
+        let whole = if args.sample.is_some() { " (of the whole selection, not the sample)" } else { "" };
+        println!("what it can tell apart{whole}, as 95 % intervals at rates near 50 %, in points: {precision}");
+    }
     if args.resume {
         check_resumed_files(&paths, &all_specs, quick)?;
     }

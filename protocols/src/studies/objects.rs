@@ -20,8 +20,8 @@ use super::StudyOptions;
 use crate::benchmark::specs::{INIT_STATES, spec};
 use crate::benchmark::{BenchmarkError, instances};
 use crate::report::chart::{COLOURS, axis, bar, encode_png, label, legend_text, rect, short_name};
-use crate::report::family_of;
 use crate::report::interval::{Interval, PairedChange};
+use crate::report::{self, family_of};
 use crate::runner::{final_records, stable_hash};
 use crate::spec::{CueForm, EpisodeRecord, EpisodeSpec, Outcome, Protocol};
 use crate::vqa::{Accuracy, VqaScores};
@@ -164,10 +164,7 @@ fn paired(episodes: Vec<EpisodeRecord>) -> (Vec<EpisodeRecord>, BTreeSet<String>
 
 /// A completed episode's cue success, if it was scored.
 fn cue_success(r: &EpisodeRecord) -> Option<bool> {
-    match r.outcome {
-        Outcome::Completed { cue_success, .. } => cue_success,
-        Outcome::Error { .. } => None,
-    }
+    report::cue(&r.outcome).flatten()
 }
 
 /// The table of the policies that have object-form episodes in `records` or object-form VQA

@@ -348,7 +348,7 @@ pub fn paper_markdown(report: &Report) -> String {
             .iter()
             .zip(paper.figures)
             .map(|(c, figure)| match c.interval.and_then(|i| i(row)) {
-                Some(i) if figure < i.low => format!("{figure:.1} (below)"),
+                Some(i) if figure < i.low => format!("**{figure:.1}** (below)"),
                 Some(i) if figure > i.high => format!("**{figure:.1}** (above)"),
                 Some(_) => format!("{figure:.1} (within)"),
                 None => format!("{figure:.1}"),
@@ -358,7 +358,7 @@ pub fn paper_markdown(report: &Report) -> String {
     }
     out += "\nThe paper's figures come from the original MuJoCo LIBERO with each model served as its own LIBERO \
             evaluation script serves it, over the paper's instance set. \"within\": this run cannot tell its figure \
-            from the paper's; \"above\" (bold) or \"below\": the paper's figure lies outside this run's 95 % interval, \
+            from the paper's; \"above\" or \"below\" (bold): the paper's figure lies outside this run's 95 % interval, \
             a difference beyond this run's noise (the simulator, the look, the checkpoint or the serving differ). VQA \
             columns need `vifo report --vqa`.\n";
     if report.looks.iter().any(|l| l == vifo_scenes::look::BUILT_IN) {
@@ -383,11 +383,10 @@ pub fn pairs_markdown(report: &Report) -> String {
     for c in &report.pairs {
         out += &format!("| {} | {} |", c.a, c.b);
         for d in c.differences() {
-            let cell = match d {
-                Some(d) if d.clear() => format!("**{:+.1}** [{:+.1}, {:+.1}] (n={})", d.points, d.ci95.low, d.ci95.high, d.pairs),
-                Some(d) => format!("{:+.1} [{:+.1}, {:+.1}] (n={})", d.points, d.ci95.low, d.ci95.high, d.pairs),
-                None => "–".to_string(),
-            };
+            let cell = d.map_or("–".to_string(), |d| {
+                let points = if d.clear() { format!("**{:+.1}**", d.points) } else { format!("{:+.1}", d.points) };
+                format!("{points} [{:+.1}, {:+.1}] (n={})", d.ci95.low, d.ci95.high, d.pairs)
+            });
             out += &format!(" {cell} |");
         }
         out.push('\n');
@@ -395,8 +394,8 @@ pub fn pairs_markdown(report: &Report) -> String {
     out += "\nEach cell is A's rate less B's over the n episodes both completed (every policy runs the same episodes: \
             task, cue instance, initial state and seed), the cue columns the unweighted mean over the cue families of \
             each family's difference, as Table 1's columns are formed. In brackets, its 95 % interval for changes on the \
-            same episodes (Agresti and Min: half a pair added to each of the four outcomes; for a mean over families, the \
-            normal interval around the mean of the adjusted changes). Bold: the interval leaves out 0, so the two differ \
+            same episodes (Agresti and Min: half a pair added to each of the four outcomes; for a mean over m families, \
+            1/(2m), and the normal interval around the mean of the adjusted changes). Bold: the interval leaves out 0, so the two differ \
             beyond this run's noise; that holds for each comparison on its own, and among many some are bold by chance. \
             The arrows are Table 1's: a positive AVF difference favours A, a positive UVF difference favours B.\n";
     out

@@ -85,6 +85,18 @@ impl PairedChange {
         (pairs > 0).then(|| PairedChange { tables: vec![(1.0, [gained, lost, pairs])] })
     }
 
+    /// From episodes run both ways, each `(first, second)`: whether it succeeded the first way and
+    /// the second; `None` without any.
+    pub fn of_pairs(pairs: impl IntoIterator<Item = (bool, bool)>) -> Option<PairedChange> {
+        let [mut gained, mut lost, mut n] = [0; 3];
+        for (first, second) in pairs {
+            gained += usize::from(second && !first);
+            lost += usize::from(first && !second);
+            n += 1;
+        }
+        PairedChange::of(gained, lost, n)
+    }
+
     /// The unweighted mean of `changes` (each a table or itself a mean); `None` for none.
     pub fn mean(changes: &[PairedChange]) -> Option<PairedChange> {
         let m = changes.len() as f64;
@@ -170,6 +182,9 @@ mod tests {
         let all_lost = PairedChange::of(0, 3, 3).unwrap().interval();
         assert!(all_lost.low >= -100.0 && all_lost.high < 0.0, "{all_lost:?}");
         assert_eq!(PairedChange::of(0, 0, 0), None);
+        let outcomes = [(true, false), (false, true), (true, true), (false, false), (true, false)];
+        assert_eq!(PairedChange::of_pairs(outcomes), PairedChange::of(1, 2, 5));
+        assert_eq!(PairedChange::of_pairs([]), None);
         // A mean of two tables adds a quarter pair to each outcome of each: (2.25 − 8.25) / 21.
         let two = PairedChange::mean(&[one.clone(), one.clone()]).unwrap();
         let (d2, half2) = (-6.0 / 21.0, Z95 * ((10.5 - 36.0 / 21.0) / 441.0f64).sqrt() / 2f64.sqrt());

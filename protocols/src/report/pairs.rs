@@ -89,26 +89,21 @@ fn difference(
     flag: Flag,
     families: bool,
 ) -> Option<Difference> {
-    // Per family (or one group): A alone succeeded, B alone succeeded, pairs.
-    let mut groups: BTreeMap<Option<vifo_cues::Family>, [usize; 3]> = BTreeMap::new();
+    // Per family (or one group): each episode's (B's success, A's success).
+    let mut groups: BTreeMap<Option<vifo_cues::Family>, Vec<(bool, bool)>> = BTreeMap::new();
     for (key, ra) in a.iter().filter(|(_, r)| r.spec.protocol == protocol) {
         let Some(rb) = b.get(key) else { continue };
         let (Some(Some(sa)), Some(Some(sb))) = (flag(&ra.outcome), flag(&rb.outcome)) else { continue };
-        let group = match families {
-            true => match ra.spec.instance.as_deref().and_then(family_of) {
-                Some(f) => Some(f),
-                None => continue,
-            },
-            false => None,
+        let group = match (families, ra.spec.instance.as_deref().and_then(family_of)) {
+            (false, _) => None,
+            (true, Some(family)) => Some(family),
+            (true, None) => continue,
         };
-        let g = groups.entry(group).or_default();
-        g[0] += usize::from(sa && !sb);
-        g[1] += usize::from(sb && !sa);
-        g[2] += 1;
+        groups.entry(group).or_default().push((sb, sa));
     }
-    let changes: Vec<PairedChange> = groups.values().filter_map(|&[a_only, b_only, n]| PairedChange::of(a_only, b_only, n)).collect();
+    let changes: Vec<PairedChange> = groups.values().filter_map(|pairs| PairedChange::of_pairs(pairs.iter().copied())).collect();
     let mean = PairedChange::mean(&changes)?;
-    Some(Difference { points: mean.points(), ci95: mean.interval(), pairs: groups.values().map(|g| g[2]).sum() })
+    Some(Difference { points: mean.points(), ci95: mean.interval(), pairs: groups.values().map(Vec::len).sum() })
 }
 
 #[cfg(test)]

@@ -209,16 +209,9 @@ pub fn build(records: &[EpisodeRecord], vqa: &FormVqa) -> Table {
             };
             // Each object episode beside its overlay partner: which way it succeeded.
             let change = |protocol: Protocol| {
-                let (mut gained, mut lost, mut pairs) = (0, 0, 0);
-                for r in of_family.iter().filter(|r| r.spec.protocol == protocol && !r.spec.cue_form.is_overlay()) {
-                    let partner = by_key.get(&partner_key(r)).copied();
-                    if let (Some(object), Some(overlay)) = (cue_success(r), partner.and_then(cue_success)) {
-                        pairs += 1;
-                        gained += usize::from(object && !overlay);
-                        lost += usize::from(overlay && !object);
-                    }
-                }
-                PairedChange::of(gained, lost, pairs)
+                let objects = of_family.iter().filter(|r| r.spec.protocol == protocol && !r.spec.cue_form.is_overlay());
+                let overlay = |r: &EpisodeRecord| by_key.get(&partner_key(r)).copied().and_then(cue_success);
+                PairedChange::of_pairs(objects.filter_map(|r| Some((overlay(r)?, cue_success(r)?))))
             };
             let vqa_of = |form: CueForm| vqa.get(&(policy.clone(), form)).and_then(|v| v.families.get(&family).copied());
             rows.push(Row {

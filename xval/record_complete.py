@@ -17,6 +17,11 @@ found where, and which files the XMLs name that no wheel holds.
 Run with the original stack's python (bench/libero_side_by_side.sh builds it):
     nice ~/.cache/libero-vifo/orig-venv/bin/python xval/record_complete.py [--out DIR]
 then  vifo xval DIR --images OUT --json
+
+With `--actions FILE ...` (written by `vifo expert --suite S --task T --episodes 1 --libero-init DIR --actions
+FILE`) it replays those actions instead of the reference sequence, from the task's init state 0, and keeps both
+cameras every EXPERT_IMAGE_EVERY records: frames of states the reference sequence never reaches (the wrist camera
+over an object, the grasp). Their default folder is DEFAULT_EXPERT_OUT.
 """
 
 import argparse
@@ -38,6 +43,8 @@ SUITES = ["libero_spatial", "libero_object", "libero_goal", "libero_10"]
 CAMERAS = ["agentview", "robot0_eye_in_hand"]
 IMAGE_STEPS = (0, 50)
 DEFAULT_OUT = os.path.join(os.path.expanduser("~"), ".cache", "libero-vifo", "xval-complete")
+DEFAULT_EXPERT_OUT = os.path.join(os.path.expanduser("~"), ".cache", "libero-vifo", "xval-expert")
+EXPERT_IMAGE_EVERY = 10
 
 
 def known_blobs():
@@ -174,8 +181,9 @@ def save_png(array, path):
     Image.fromarray(array[::-1]).save(path)
 
 
-def record_task(root, suite, task_id, name, out):
-    """One task: records 0..50 of the reference sequence and both cameras at records 0 and 50."""
+def record_task(root, suite, task_id, name, out, actions=None):
+    """One task from init state 0: records 0..50 of the reference sequence and both cameras at records 0 and 50,
+    or, given `actions`, every record of them and both cameras every EXPERT_IMAGE_EVERY records."""
     from libero.libero.envs import OffScreenRenderEnv
     # The images are the observations (robosuite samples them at substep 23 of each step, README quirk 5), so
     # the cameras stay on at every step rather than rendering only the two records.
@@ -186,29 +194,53 @@ def record_task(root, suite, task_id, name, out):
     init = sbs.load_init_states(os.path.join(root, "init_files", suite, name + ".pruned_init"))
     obs = env.set_init_state(init[0])
     stem = f"{suite}_task{task_id}_init0"
+    if actions is None:
+        last, action_at, image_steps = IMAGE_STEPS[-1], (lambda t: sbs.action_at(t - 1)), IMAGE_STEPS
+    else:
+        last, action_at = len(actions), (lambda t: actions[t - 1])
+        image_steps = range(0, last + 1, EXPERT_IMAGE_EVERY)
     steps = [sbs.record(env, 0, None)]
-    for t in range(IMAGE_STEPS[-1] + 1):
+    for t in range(last + 1):
         if t > 0:
-            a = sbs.action_at(t - 1)
+            a = action_at(t)
             obs, *_ = env.step(a)
             steps.append(sbs.record(env, t, a))
-        if t in IMAGE_STEPS:
+        if t in image_steps:
             for cam in CAMERAS:
                 save_png(obs[f"{cam}_image"], os.path.join(out, f"{stem}_{cam}_step{t:02d}.png"))
     meta = {"suite": suite, "task_id": task_id, "task_name": name, "problem_class": type(env.env).__name__,
             "init_state_flat": [float(x) for x in init[0]], "assets": "complete (assets.json)"}
+    if actions is not None:
+        meta["actions"] = "vifo expert --actions"
     env.close()
     with open(os.path.join(out, stem + ".json"), "w") as f:
         json.dump({"meta": meta, "steps": steps}, f)
 
 
+def record_expert(root, files, out):
+    """The `--actions` files' episodes (see the module's doc)."""
+    for path in files:
+        with open(path) as f:
+            given = json.load(f)
+        suite, task_id = given["suite"], given["task_id"]
+        if given.get("init") != 0:
+            sbs.fail(f"{path}: init {given.get('init')}; the recorder starts from init state 0")
+        name = task_names(root, suite)[task_id]
+        clock = time.perf_counter()
+        record_task(root, suite, task_id, name, out, [list(a) for a in given["actions"]])
+        print(f"{suite}_task{task_id}_init0: {len(given['actions'])} expert actions recorded in "
+              f"{time.perf_counter() - clock:.1f} s", flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--out", default=DEFAULT_OUT, help=f"output folder (default {DEFAULT_OUT})")
+    ap.add_argument("--out", help=f"output folder (default {DEFAULT_OUT}, with --actions {DEFAULT_EXPERT_OUT})")
+    ap.add_argument("--actions", nargs="+", metavar="FILE", help="replay these `vifo expert --actions` files instead")
     ap.add_argument("--suite", action="append", choices=SUITES, help="suites to record (default: all four)")
     ap.add_argument("--tasks", type=int, default=10, help="tasks per suite, from task 0 (default 10)")
     ap.add_argument("--force", action="store_true", help="record tasks whose files are already there again")
     args = ap.parse_args()
+    args.out = args.out or (DEFAULT_EXPERT_OUT if args.actions else DEFAULT_OUT)
     os.environ.setdefault("MUJOCO_GL", "egl")
     root = sbs.setup()
     os.makedirs(args.out, exist_ok=True)
@@ -218,6 +250,9 @@ def main():
     import mujoco, robosuite
     print(f"original stack: mujoco {mujoco.__version__}, robosuite {robosuite.__version__}, "
           f"MUJOCO_GL={os.environ['MUJOCO_GL']}; frames to {args.out}", flush=True)
+    if args.actions:
+        record_expert(root, args.actions, args.out)
+        return
     for suite in args.suite or SUITES:
         for task_id, name in enumerate(task_names(root, suite)[:args.tasks]):
             stem = f"{suite}_task{task_id}_init0"

@@ -23,12 +23,17 @@ pub struct ExpertEpisode {
     /// The largest speeds and penetration seen over the episode (what the physics guard's
     /// limits are chosen against).
     pub extremes: Extremes,
+    /// Every action applied from the initial state, the settling steps first (what
+    /// `vifo expert --actions` writes for the original stack to replay).
+    #[serde(skip)]
+    pub actions: Vec<[f64; 7]>,
 }
 
 /// Runs the expert from initial state `init` (`seed` places the fixtures of LIBERO's states).
 pub fn episode(model: &Arc<SceneModel>, starts: &Starts, init: usize, seed: u64, budget: usize, trace: bool) -> Result<ExpertEpisode> {
     let mut sim = starts.begin(model, init, seed)?;
     init_states::wait(&mut sim);
+    let mut actions = vec![init_states::wait_action().values(); init_states::WAIT_STEPS];
     if trace {
         for (i, e) in sim.model().entities.iter().enumerate() {
             let p = sim.entity_pose(i);
@@ -37,7 +42,7 @@ pub fn episode(model: &Arc<SceneModel>, starts: &Starts, init: usize, seed: u64,
     }
     let mut expert = match Expert::new(&sim) {
         Ok(e) => e,
-        Err(err) => return Ok(ExpertEpisode { init, success: false, steps: 0, failure: Some(err.to_string()), below_support: None, extremes: sim.extremes() }),
+        Err(err) => return Ok(ExpertEpisode { init, success: false, steps: 0, failure: Some(err.to_string()), below_support: None, extremes: sim.extremes(), actions }),
     };
     let mut steps = 0;
     let mut below = None;
@@ -47,7 +52,7 @@ pub fn episode(model: &Arc<SceneModel>, starts: &Starts, init: usize, seed: u64,
             below = init_states::below_support(&sim).into_iter().next().map(|b| format!("step {steps}: {b}"));
         }
         if sim.success()? {
-            return Ok(ExpertEpisode { init, success: true, steps, failure: None, below_support: below, extremes });
+            return Ok(ExpertEpisode { init, success: true, steps, failure: None, below_support: below, extremes, actions });
         }
         let action = expert.act(&sim);
         if trace && steps % 5 == 0 {
@@ -63,6 +68,7 @@ pub fn episode(model: &Arc<SceneModel>, starts: &Starts, init: usize, seed: u64,
             }
         }
         sim.step(&action);
+        actions.push(action.values());
         extremes = extremes.max(sim.extremes());
         steps += 1;
         if expert.finished() && expert.failure().is_some() {
@@ -73,7 +79,7 @@ pub fn episode(model: &Arc<SceneModel>, starts: &Starts, init: usize, seed: u64,
     if below.is_none() {
         below = init_states::below_support(&sim).into_iter().next().map(|b| format!("step {steps}: {b}"));
     }
-    Ok(ExpertEpisode { init, success, steps, failure: expert.failure().map(str::to_string), below_support: below, extremes })
+    Ok(ExpertEpisode { init, success, steps, failure: expert.failure().map(str::to_string), below_support: below, extremes, actions })
 }
 
 #[cfg(test)]

@@ -18,8 +18,13 @@ pub const WAIT_STEPS: usize = 10;
 /// dummy action, holding still with the gripper open. Every episode start runs this.
 pub fn wait(sim: &mut Sim) {
     for _ in 0..WAIT_STEPS {
-        sim.step(&Action::hold(-1.0));
+        sim.step(&wait_action());
     }
+}
+
+/// The action of [`wait`]'s steps.
+pub fn wait_action() -> Action {
+    Action::hold(-1.0)
 }
 /// Zero-action steps over which drift is measured.
 pub const DRIFT_STEPS: usize = 200;

@@ -25,7 +25,7 @@ mod plan;
 mod sample;
 mod shipped;
 
-pub use check::{Check, DRIFT_STEPS, MAX_DRIFT, WAIT_STEPS, below_support, check, wait};
+pub use check::{Check, DRIFT_STEPS, MAX_DRIFT, WAIT_STEPS, below_support, check, wait, wait_action};
 pub use format::{FORMAT, FormatError, SuiteStates, TaskStates, parse, write};
 pub use orientation::spawn_quat;
 pub use sample::{ARM_NOISE_STD, SETTLE_STEPS, SampleError, sample, seed};

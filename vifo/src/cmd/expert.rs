@@ -35,6 +35,31 @@ pub struct ExpertArgs {
     /// Print one JSON object instead of the table.
     #[arg(long)]
     pub json: bool,
+    /// Write the episode's actions (the settling steps first) to this JSON file, for the
+    /// original stack to replay (`xval/record_complete.py --actions`); one task and one episode.
+    #[arg(long, value_name = "FILE")]
+    pub actions: Option<PathBuf>,
+}
+
+/// Where the initial states came from, as the outputs name it.
+fn init_source(source: &InitSource) -> String {
+    match source {
+        InitSource::Shipped => "shipped".to_string(),
+        InitSource::Libero(dir) => dir.display().to_string(),
+    }
+}
+
+/// What `--actions` writes: one episode's actions from its initial state.
+#[derive(Serialize)]
+struct EpisodeActions<'a> {
+    suite: &'a str,
+    task_id: usize,
+    task_name: &'a str,
+    /// The initial state's index (LIBERO's own states with `--libero-init`).
+    init: usize,
+    init_source: String,
+    success: bool,
+    actions: &'a [[f64; 7]],
 }
 
 /// One task's line of the table (and of the JSON).
@@ -88,6 +113,10 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
         ensure!(t < most, "--task {t}: {} has tasks 0 to {}", args.suite, most.saturating_sub(1));
     }
     ensure!(args.episodes > 0, "--episodes 0: nothing to run");
+    ensure!(
+        args.actions.is_none() || (args.task.is_some() && args.episodes == 1 && suites.len() == 1),
+        "--actions writes one episode: give one suite, --task and --episodes 1"
+    );
     let mut tasks = Vec::new();
     // Printed with the first row, so that an error found on loading the first task stands alone.
     let mut header = !args.json;
@@ -129,6 +158,19 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
                 eprint!("\r\x1b[K");
             }
             let ok = results.iter().filter(|r| r.success).count();
+            if let (Some(path), [episode]) = (&args.actions, results.as_slice()) {
+                let written = EpisodeActions {
+                    suite: &suite.name,
+                    task_id: index,
+                    task_name: &task.name,
+                    init: episode.init,
+                    init_source: init_source(&source),
+                    success: episode.success,
+                    actions: &episode.actions,
+                };
+                std::fs::write(path, serde_json::to_string(&written)?).map_err(|e| anyhow!("cannot write {}: {e}", path.display()))?;
+                eprintln!("{} actions written to {}", episode.actions.len(), path.display());
+            }
             let result = TaskResult {
                 suite: suite.name.to_string(),
                 index,
@@ -170,10 +212,7 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
         tasks_below_90: tasks.iter().filter(|t| t.success_rate < 0.9).count(),
         episodes_below_support: tasks.iter().map(|t| t.below_support.len()).sum(),
         extremes: tasks.iter().fold(Extremes::default(), |m, t| m.max(t.extremes)),
-        init_source: match &source {
-            InitSource::Shipped => "shipped".to_string(),
-            InitSource::Libero(dir) => dir.display().to_string(),
-        },
+        init_source: init_source(&source),
         tasks,
     };
     if args.json {

@@ -15,8 +15,10 @@ pub struct XvalArgs {
     /// Print one JSON object instead of tables.
     #[arg(long)]
     pub json: bool,
-    /// Render records 0 and 50 with both cameras and write `MuJoCo | ours | difference` PNGs
-    /// into this folder (prints PSNR and SSIM per image, and min/median/max per camera).
+    /// Render every record that has MuJoCo's images of both cameras (records 0 and 50 in the
+    /// reference set; more in `xval/record_complete.py --actions` recordings) and write
+    /// `MuJoCo | ours | difference` PNGs into this folder (prints PSNR and SSIM per image, and
+    /// min/median/max per camera).
     #[arg(long, value_name = "OUT")]
     pub images: Option<PathBuf>,
     #[command(flatten)]

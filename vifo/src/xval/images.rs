@@ -1,9 +1,10 @@
 //! `vifo xval <dir> --images OUT`: our cameras next to MuJoCo's images of the same states.
 //!
 //! Each recording's episode is started as the motion check starts it (fixtures where the
-//! recording put them, the recorded initial state), rendered at record 0, then driven by the
-//! recorded actions to record 50 and rendered again. The reference set holds MuJoCo's 256²
-//! images of exactly these records (upright PNGs). The reference used surrogate meshes for some
+//! recording put them, the recorded initial state) and driven by the recorded actions; it is
+//! rendered at every record of which MuJoCo's 256² images of both cameras lie next to the
+//! recording (upright PNGs): records 0 and 50 in the reference set, every tenth record in
+//! recordings of the expert's episodes (`xval/record_complete.py --actions`). The reference used surrogate meshes for some
 //! assets (black bowls as dark pucks, the basket as a brown block), so the pictures are expected
 //! to differ there.
 
@@ -103,13 +104,19 @@ pub fn reference_image(path: &Path, camera: CameraName, t: usize) -> PathBuf {
     path.with_file_name(format!("{stem}_{camera}_step{t:02}.png"))
 }
 
-/// Renders the recording at [`IMAGE_STEPS`] with both cameras in `look` (`None`: built-in),
+/// The records of the recording `path` (of `records` records) that have MuJoCo's images of both
+/// cameras: [`IMAGE_STEPS`] in the reference set, more in recordings of other episodes.
+pub fn image_steps(path: &Path, records: usize) -> Vec<usize> {
+    (0..records).filter(|&t| CameraName::ALL.iter().all(|&c| reference_image(path, c, t).is_file())).collect()
+}
+
+/// Renders the recording at its [`image_steps`] with both cameras in `look` (`None`: built-in),
 /// writes `MuJoCo | ours | difference` PNGs into `out` and returns PSNR and SSIM per image.
 pub fn compare(path: &Path, rec: &Recording, out: &Path, look: Option<&Look>) -> Result<Vec<ImageReport>> {
-    let last = IMAGE_STEPS[IMAGE_STEPS.len() - 1];
-    if rec.steps.len() <= last {
-        bail!("{} records; the image check needs record {last}", rec.steps.len());
-    }
+    let steps = image_steps(path, rec.steps.len());
+    let Some(&last) = steps.last() else {
+        bail!("no record has MuJoCo's images of both cameras ({})", reference_image(path, CameraName::ALL[0], 0).display());
+    };
     vifo_protocols::runner::create_folder(out)?;
     let file = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let mut sim = start(rec)?;
@@ -122,7 +129,7 @@ pub fn compare(path: &Path, rec: &Recording, out: &Path, look: Option<&Look>) ->
         if t > 0 {
             sim.step(&rec.steps[t].action()?);
         }
-        if !IMAGE_STEPS.contains(&t) {
+        if !steps.contains(&t) {
             continue;
         }
         view.update(&sim);
@@ -137,4 +144,27 @@ pub fn compare(path: &Path, rec: &Recording, out: &Path, look: Option<&Look>) ->
         }
     }
     Ok(reports)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn image_steps_are_the_records_with_both_cameras_images() {
+        let dir = std::env::temp_dir().join(format!("vifo-image-steps-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("libero_goal_task0_init0.json");
+        let touch = |camera: CameraName, t: usize| std::fs::write(reference_image(&path, camera, t), b"").unwrap();
+        for t in [0, 10, 120] {
+            for camera in CameraName::ALL {
+                touch(camera, t);
+            }
+        }
+        // One camera alone does not make a compared record; records past the recording are not.
+        touch(CameraName::ALL[0], 20);
+        assert_eq!(image_steps(&path, 121), [0, 10, 120]);
+        assert_eq!(image_steps(&path, 100), [0, 10]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

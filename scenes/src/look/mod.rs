@@ -23,7 +23,7 @@ mod tree;
 
 pub use cache::{CACHE_VAR, CacheReport};
 pub use discover::{BadFlag, ENV_VAR, Origin, PythonFound, Root, Roots, Sources, ask_interpreter, discover, discover_from, discover_with};
-pub use store::{BUILT_IN, CategoryReport, FileReport, LoadedPart, Lods, Look, MirrorFace, PartKind, Status};
+pub use store::{BUILT_IN, CategoryReport, FileReport, LoadedPart, Lods, Look, MirrorFace, PartKind, Status, lod_step};
 pub use tree::{AssetTree, FoundBy, KNOWN_BLOBS, Located, blob_sha1};
 
 /// The robot parts body of robosuite's pedestal, drawn on the base of a mounted Panda.

@@ -66,13 +66,24 @@ pub type Lods = Arc<[(f32, Arc<Mesh>)]>;
 /// half-pixel steps keep those copies within a pixel of the full mesh (a half + a quarter + ...).
 /// The wrist camera near a grasp sees 0.3-2 mm per pixel, where the Gouraud shading of scanned
 /// meshes' noisy normals shows more than their outline: quarter-pixel steps keep the close-up
-/// copies within half a pixel (half-pixel steps there took the wrist's median SSIM against
-/// MuJoCo from 0.943 to 0.936; these leave it at 0.942).
+/// copies within half a pixel of the full mesh at their own pixel (half-pixel steps there took
+/// the wrist's median SSIM against MuJoCo from 0.943 to 0.936; these leave it at 0.942).
+/// Each copy is drawn where its own step is at most half of the camera's pixel ([`lod_step`]):
+/// a close-up copy from twice its pixel on, where all its steps stay within three quarters of a
+/// pixel; MuJoCo's frames of the wrist over the expert's grasps moved by −0.003 to +0.002 SSIM
+/// with that (2026-12-05, `docs/measurements.md`), and the reference frames not at all.
 const LOD_CHAINS: [(&[f32], f32); 2] = [(&[0.0005, 0.001], 0.25), (&[0.002, 0.004, 0.008, 0.016], 0.5)];
+
+/// How far the copy made for a `made_for` pixel (one of [`LOD_CHAINS`]' pixels) may move a
+/// surface from the copy before it in its chain (metres): its step times its pixel. Any other
+/// `made_for` gets the pixel itself, which draws the copy only where it is below half a pixel.
+pub fn lod_step(made_for: f32) -> f32 {
+    LOD_CHAINS.iter().find(|(pixels, _)| pixels.contains(&made_for)).map_or(made_for, |&(_, step)| step * made_for)
+}
 
 /// How the files are turned into drawings, hashed into the look: a change that alters the asset
 /// look's pixels gets a new name here, so results drawn before and after never share a look.
-const DRAWING: &str = "quadric LODs within a pixel\ntriangle clusters\nclose-up LODs within half a pixel\nuntextured LODs across UV seams\ntextured walls and box-table faces\n";
+const DRAWING: &str = "quadric LODs within a pixel\ntriangle clusters\nclose-up LODs within half a pixel\nuntextured LODs across UV seams\ntextured walls and box-table faces\nLODs drawn where their step is within half a pixel\n";
 
 /// A coarser copy is kept only if it has at most this fraction of the previous one's triangles.
 const LOD_KEEP: f32 = 0.75;

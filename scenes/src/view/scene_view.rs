@@ -13,7 +13,7 @@ use super::cameras::ImageOrder;
 use super::material::textured;
 use super::meshes::MeshCache;
 use crate::catalog::{Recipe, SiteShape};
-use crate::look::{Lods, Look};
+use crate::look::{Lods, Look, lod_step};
 use crate::scene_class::SceneClass;
 use crate::sim::{SceneModel, Sim};
 use crate::task::{Atom, Predicate, ProblemClass};
@@ -78,9 +78,9 @@ pub struct SceneView {
     look: String,
 }
 
-/// A coarser mesh is drawn where the pixel it was made for is at most this many of the camera's
-/// pixels at the instance's depth.
-const LOD_PIXELS: f32 = 1.0;
+/// A coarser mesh is drawn where its own simplification step ([`lod_step`]) is at most this
+/// many of the camera's pixels at the instance's depth.
+const LOD_STEP_PIXELS: f32 = 0.5;
 
 /// Objects and fixtures: LIBERO's assets are textured with MuJoCo's default material.
 fn object_material(rgba: [f32; 4]) -> Material {
@@ -373,8 +373,8 @@ impl SceneView {
         Ok(())
     }
 
-    /// The scene with each instance's coarsest mesh made for a pixel no larger than
-    /// [`LOD_PIXELS`] pixels at the instance's depth in `camera`; `None` when no instance has coarser meshes.
+    /// The scene with each instance's coarsest mesh whose step is within [`LOD_STEP_PIXELS`]
+    /// pixels at the instance's depth in `camera`; `None` when no instance has coarser meshes.
     fn for_camera(&self, camera: &Camera) -> Option<Scene> {
         if self.lods.is_empty() {
             return None;
@@ -384,7 +384,7 @@ impl SceneView {
         for (instance, lods) in scene.instances.iter_mut().zip(&self.lods) {
             let centre = instance.transform.transform_point(instance.mesh.bounds().center);
             let pixel = (centre - camera.position).dot(camera.forward()) * metres_per_pixel_at_1m;
-            if let Some((_, mesh)) = lods.iter().take_while(|(made_for, _)| *made_for <= LOD_PIXELS * pixel).last() {
+            if let Some(mesh) = coarsest(lods, pixel) {
                 instance.mesh = mesh.clone();
             }
         }
@@ -392,9 +392,34 @@ impl SceneView {
     }
 }
 
+/// The coarsest of `lods` (finest first) to draw where a pixel is `pixel` metres wide: the last
+/// whose step is within [`LOD_STEP_PIXELS`] of it.
+fn coarsest(lods: &Lods, pixel: f32) -> Option<&Arc<Mesh>> {
+    lods.iter().take_while(|(made_for, _)| lod_step(*made_for) <= LOD_STEP_PIXELS * pixel).last().map(|(_, mesh)| mesh)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn close_up_copies_are_drawn_from_twice_their_pixel_and_the_others_from_their_pixel() {
+        // The two chains' copies as the look makes them (close-up 0.5 and 1 mm, then 2 to 16 mm),
+        // each a distinct mesh.
+        let made_for = [0.0005f32, 0.001, 0.002, 0.004, 0.008, 0.016];
+        let lods: Lods = made_for.iter().map(|&p| (p, Arc::new(Mesh::cuboid(Vec3::splat(p))))).collect::<Vec<_>>().into();
+        let drawn = |pixel: f32| coarsest(&lods, pixel).map(|m| made_for[lods.iter().position(|(_, l)| Arc::ptr_eq(l, m)).unwrap()]);
+        assert_eq!(drawn(0.0002), None);
+        assert_eq!(drawn(0.00025), Some(0.0005));
+        assert_eq!(drawn(0.0005), Some(0.001));
+        assert_eq!(drawn(0.0019), Some(0.001));
+        assert_eq!(drawn(0.002), Some(0.002));
+        assert_eq!(drawn(0.0039), Some(0.002));
+        assert_eq!(drawn(0.004), Some(0.004));
+        assert_eq!(drawn(0.05), Some(0.016));
+        // A pixel the chains do not list counts as a step of its whole size.
+        assert_eq!(lod_step(0.003), 0.003);
+    }
 
     fn view_of(suite: &str, index: usize) -> (Sim, SceneView) {
         let model = SceneModel::build(crate::task(suite, index).unwrap()).unwrap();

@@ -74,7 +74,7 @@ pub type Lods = Arc<[(f32, Arc<Mesh>)]>;
 /// with that (2026-12-05, `docs/measurements.md`), and the reference frames not at all.
 const LOD_CHAINS: [(&[f32], f32); 2] = [(&[0.0005, 0.001], 0.25), (&[0.002, 0.004, 0.008, 0.016], 0.5)];
 
-/// How far the copy made for a `made_for` pixel (one of [`LOD_CHAINS`]' pixels) may move a
+/// How far the copy made for a `made_for` pixel (one of the LOD chains' pixels) may move a
 /// surface from the copy before it in its chain (metres): its step times its pixel. Any other
 /// `made_for` gets the pixel itself, which draws the copy only where it is below half a pixel.
 pub fn lod_step(made_for: f32) -> f32 {

@@ -432,6 +432,39 @@ fn mirrors_add_the_scene_above_them_to_their_face_only() {
     assert_eq!(with.depth, without.depth);
 }
 
+/// The face's pixels are looked for only where the mirror can project: a mirror cut by the
+/// image's border, and one so near that its bounds reach behind the eye, still reflect on every
+/// pixel that shows them. A red sheet above covers every reflected ray, so each face pixel gains
+/// red and no other pixel changes.
+#[test]
+fn every_visible_pixel_of_a_mirror_reflects_at_the_border_and_up_close() {
+    let face = Instance::new(Arc::new(Mesh::plane(0.3, 0.3)), Transform::from_translation(Vec3::new(0.0, 0.0, 0.9)), 1)
+        .with_material(Material::unlit([0.2, 0.2, 0.2, 1.0]));
+    let sheet = Instance::new(Arc::new(Mesh::plane(20.0, 20.0)), Transform::from_translation(Vec3::new(0.0, 0.0, 3.0)), 2)
+        .with_material(Material { double_sided: true, ..Material::unlit([1.0, 0.0, 0.0, 1.0]) });
+    let plain = unlit_scene(vec![face, sheet]);
+    let mirror = Scene { mirror: Some(Mirror { instance: 0, face_z: 0.0, reflectance: 0.5 }), ..plain.clone() };
+    let border = Camera::look_at(Vec3::new(0.9, -0.5, 1.5), Vec3::new(0.55, 0.0, 0.9), Vec3::Z, 45.0, 64, 48);
+    let close = Camera::look_at(Vec3::new(0.05, -0.1, 1.05), Vec3::new(0.0, 0.0, 0.9), Vec3::Z, 75.0, 64, 48);
+    for (name, cam) in [("border", border), ("close", close)] {
+        let (without, with) = (render(&plain, &cam), render(&mirror, &cam));
+        let face_px = covered(&with, 1);
+        let w = cam.width;
+        match name {
+            "border" => assert!(face_px.iter().any(|&(x, _)| x == 0) && face_px.len() < (w * cam.height) as usize / 2, "the mirror is not cut by the border"),
+            _ => assert!(cam.position.distance(Vec3::new(0.0, 0.0, 0.9)) < 0.3 * 2f32.sqrt() && face_px.len() > 100, "the mirror's bounds do not reach behind the eye"),
+        }
+        for k in 0..(w * cam.height) as usize {
+            let (a, b) = (with.color.data[3 * k], without.color.data[3 * k]);
+            if with.segmentation[k] == 1 {
+                assert!(a > b, "{name}: face pixel ({}, {}) did not reflect", k as u32 % w, k as u32 / w);
+            } else {
+                assert_eq!(with.color.data[3 * k..3 * k + 3], without.color.data[3 * k..3 * k + 3], "{name}: pixel {k} off the mirror changed");
+            }
+        }
+    }
+}
+
 #[test]
 fn frustum_culling_skips_instances_behind_the_camera() {
     let cam = agentview(32, 32);

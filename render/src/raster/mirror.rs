@@ -9,7 +9,7 @@ use super::{Renderer, NO_TRIANGLE};
 use crate::camera::Camera;
 use crate::frame::Frame;
 use crate::scene::{Background, Instance, Light, LightKind, Mirror, Scene};
-use crate::transform::{cross, dot, normalize};
+use crate::transform::{cross, dot, mul_mat3, normalize};
 
 impl Renderer {
     /// Adds what `mirror` reflects to the pixels of `out` that show its face, as MuJoCo does:
@@ -28,20 +28,29 @@ impl Renderer {
             return;
         }
         // The face's pixels: the mirror's own triangles lying in its plane (within 1 mm).
-        let on_plane = PlaneTest::new(&View::new(camera), point, normal);
+        // They lie where the mirror's bounding sphere projects (all pixels where it reaches
+        // behind the eye): a stove's top covers a few hundred of agentview's 65,536.
+        let view = View::new(camera);
+        let b = face.mesh.bounds();
+        let centre = mul_mat3(&view.rot, t.transform_point(b.center) - view.position);
         let w = camera.width as usize;
+        let [x0, y0, x1, y1] = view.sphere_cover(centre, b.radius * t.max_scale()).map_or([0, 0, camera.width - 1, camera.height - 1], |(rect, _)| rect);
+        let on_plane = PlaneTest::new(&view, point, normal);
         let mut pixels = std::mem::take(&mut self.mirror_pixels);
         pixels.clear();
         let on_face = |id: u32| id != NO_TRIANGLE && self.records[id as usize].instance as usize == mirror.instance;
         let (mut last_id, mut last_on) = (NO_TRIANGLE, false);
-        for (p, (&id, &iz)) in self.tri_id.iter().zip(&self.depth).enumerate() {
-            if id != last_id {
-                (last_id, last_on) = (id, on_face(id));
-            }
-            if last_on {
-                let (i, j) = ((p % w) as f32, (p / w) as f32);
-                if (on_plane.at(i, j, iz) / iz).abs() < 1e-3 {
-                    pixels.push(p as u32);
+        for j in y0 as usize..=y1 as usize {
+            for p in j * w + x0 as usize..=j * w + x1 as usize {
+                let id = self.tri_id[p];
+                if id != last_id {
+                    (last_id, last_on) = (id, on_face(id));
+                }
+                if last_on {
+                    let (i, j, iz) = ((p % w) as f32, j as f32, self.depth[p]);
+                    if (on_plane.at(i, j, iz) / iz).abs() < 1e-3 {
+                        pixels.push(p as u32);
+                    }
                 }
             }
         }

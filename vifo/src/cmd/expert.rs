@@ -219,12 +219,12 @@ pub fn run(args: &ExpertArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&summary)?);
     } else {
         println!(
-            "{} episodes, success {:.1}%, {} of {} tasks below 90%, {} episodes with an object below the table or floor",
-            summary.episodes,
+            "{}, success {:.1}%, {} of {} tasks below 90%, {} with an object below the table or floor",
+            super::episodes_text(summary.episodes),
             summary.success_rate * 100.0,
             summary.tasks_below_90,
             summary.tasks.len(),
-            summary.episodes_below_support
+            super::episodes_text(summary.episodes_below_support)
         );
         let e = summary.extremes;
         println!(

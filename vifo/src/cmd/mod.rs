@@ -21,6 +21,11 @@ use vifo_protocols::CueForm;
 use vifo_protocols::env::CueFacing;
 use vifo_protocols::serving::Profile;
 
+/// "1 episode", "8 episodes".
+pub fn episodes_text(n: usize) -> String {
+    format!("{n} episode{}", if n == 1 { "" } else { "s" })
+}
+
 /// A count that must be 1 or more (`--episodes`, `--steps`, ...): 0 would run nothing and
 /// report it as a result.
 pub fn at_least_one(s: &str) -> Result<usize, String> {

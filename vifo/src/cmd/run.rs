@@ -257,7 +257,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 .into_iter()
                 .filter(|s| args.instance.is_empty() || s.instance.as_ref().is_some_and(|i| args.instance.contains(i)))
                 .collect();
-            println!("study {name}: {} per policy", episodes_text(kept.len()));
+            println!("study {name}: {} per policy", super::episodes_text(kept.len()));
             all.extend(kept);
         }
         all
@@ -284,7 +284,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     println!(
         "{} per policy ({}, {} set), {} polic{} -> {}",
-        episodes_text(specs.len()),
+        super::episodes_text(specs.len()),
         match (quick, args.sample) {
             (_, Some(_)) => format!("a sample of the selection's {}", all_specs.len()),
             (true, None) => "quick default: one instance per family and a sample of each study".to_string(),
@@ -524,11 +524,6 @@ fn serving_options(args: &Args) -> anyhow::Result<ServingOptions<'static>> {
         request_timeout: Some(args.policy_timeout),
         name: args.policy_name.clone(),
     })
-}
-
-/// "1 episode", "8 episodes".
-fn episodes_text(n: usize) -> String {
-    format!("{n} episode{}", if n == 1 { "" } else { "s" })
 }
 
 /// `--policy-name`, as [`policies::check_name`] takes it.

@@ -47,8 +47,8 @@ impl Renderer {
                     (last_id, last_on) = (id, on_face(id));
                 }
                 if last_on {
-                    let (i, j, iz) = ((p % w) as f32, j as f32, self.depth[p]);
-                    if (on_plane.at(i, j, iz) / iz).abs() < 1e-3 {
+                    let iz = self.depth[p];
+                    if (on_plane.at((p % w) as f32, j as f32, iz) / iz).abs() < 1e-3 {
                         pixels.push(p as u32);
                     }
                 }

@@ -40,6 +40,9 @@ pub struct RenderBench {
     pub size: u32,
     /// `thread CPU time` or `wall-clock time`.
     pub clock: &'static str,
+    /// The CPU (`None` where the system does not say), and what the code was built for.
+    pub cpu: Option<String>,
+    pub code_for: String,
     /// Control steps of the expert's episode that are rendered, and whether it succeeded.
     pub episode_steps: usize,
     pub episode_success: bool,
@@ -210,6 +213,8 @@ pub fn run(source: InitSource, passes: usize, look: Option<Arc<Look>>) -> Result
         task: TASK,
         size: SIZE,
         clock: if Clock::cpu_ns().is_some() { "thread CPU time" } else { "wall-clock time" },
+        cpu: super::machine::cpu_name(),
+        code_for: super::machine::code_for(),
         episode_steps: n,
         episode_success,
         passes,

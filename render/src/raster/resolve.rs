@@ -62,13 +62,17 @@ impl Renderer {
                         if let (Some(tex), None) = (texture, shadows) {
                             // Long runs (large textured triangles) eight pixels at a time.
                             while end - first >= LANES {
-                                let px = first..first + LANES;
-                                let (z, rgb) = shade_textured8(rec, tex, first, fj, depths[px.clone()].try_into().unwrap());
-                                depth_out[px].copy_from_slice(&z);
-                                for l in 0..LANES {
-                                    rgb_out[3 * (first + l)..3 * (first + l) + 3].copy_from_slice(&[rgb[0][l], rgb[1][l], rgb[2][l]]);
-                                }
+                                let shaded = shade_textured8(rec, tex, first, fj, depths[first..first + LANES].try_into().unwrap());
+                                put_group(depth_out, rgb_out, first, LANES, shaded);
                                 first += LANES;
+                            }
+                            // A shorter run, or a long one's tail, as one group whose lanes past
+                            // the run repeat its last pixel and are not written.
+                            let n = end - first;
+                            if n >= WIDE_TAIL {
+                                let shaded = shade_textured8(rec, tex, first, fj, std::array::from_fn(|l| depths[first + l.min(n - 1)]));
+                                put_group(depth_out, rgb_out, first, n, shaded);
+                                first = end;
                             }
                         }
                         for k in first..end {
@@ -178,6 +182,8 @@ pub(super) fn shade(
 
 /// Pixels shaded together by [`shade_textured8`].
 const LANES: usize = 8;
+/// The shortest run (or long run's tail) shaded as one such group rather than pixel by pixel.
+const WIDE_TAIL: usize = 4;
 
 /// [`shade`] for the eight pixels from column `first` of row `j` (as `fj`) of a textured
 /// triangle without shadows, whose `1/z` are `iz`: their view depths, and their colours as
@@ -203,6 +209,15 @@ fn shade_textured8(rec: &TriRecord, tex: &Texture, first: usize, fj: f32, iz: [f
         y.to_array().map(|y| (y.to_bits() & 0xFF) as u8)
     });
     (z.to_array(), rgb)
+}
+
+/// Writes the first `n` pixels of a group that [`shade_textured8`] shaded from column `first`.
+#[inline]
+fn put_group(depth_out: &mut [f32], rgb_out: &mut [u8], first: usize, n: usize, (z, rgb): ([f32; LANES], [[u8; LANES]; 3])) {
+    depth_out[first..first + n].copy_from_slice(&z[..n]);
+    for l in 0..n {
+        rgb_out[3 * (first + l)..3 * (first + l) + 3].copy_from_slice(&[rgb[0][l], rgb[1][l], rgb[2][l]]);
+    }
 }
 
 /// `[0, 1]` → `0..=255`, rounding to nearest (ties to even; NaN → 0). Adding 2^23 leaves
@@ -272,8 +287,8 @@ mod tests {
     fn the_opaque_resolve_writes_what_shade_computes() {
         // A lit, textured (bilinear, mipmapped) sphere and box and a lit untextured plane behind
         // them: every pixel must get the bits `shade` gives it, also where the resolve's own
-        // row-hoisted Gouraud loop (the plane) or its eight-wide textured runs (the box's faces)
-        // stand in for `shade`.
+        // row-hoisted Gouraud loop (the plane) or its eight-wide textured groups (the box's faces:
+        // long runs, their tails and short runs) stand in for `shade`.
         use crate::{Instance, Material, Mesh, Texture, Transform};
         use std::sync::Arc;
         let data: Vec<u8> = (0..32 * 32 * 3).map(|i| ((i * 37) % 251) as u8).collect();
@@ -301,8 +316,9 @@ mod tests {
             assert_eq!(frame.color.data[3 * p..3 * p + 3], [to_u8(c[0]), to_u8(c[1]), to_u8(c[2])], "pixel ({i}, {j})");
         }
         assert!(textured_px > 1000 && plain_px > 1000, "{textured_px} textured and {plain_px} plain pixels");
-        let long_runs = r.tri_id.chunks(96).flat_map(|row| row.chunk_by(|a, b| a == b)).filter(|run| run[0] != NO_TRIANGLE && run.len() >= LANES);
-        let wide_px: usize = long_runs.filter(|run| texture_of(&r.records[run[0] as usize], &scene).is_some()).map(|run| run.len() / LANES * LANES).sum();
-        assert!(wide_px > 300, "{wide_px} pixels shaded eight at a time");
+        let textured_runs = || r.tri_id.chunks(96).flat_map(|row| row.chunk_by(|a, b| a == b)).filter(|run| run[0] != NO_TRIANGLE && texture_of(&r.records[run[0] as usize], &scene).is_some());
+        let wide_px: usize = textured_runs().map(|run| run.len() / LANES * LANES).sum();
+        let tail_px: usize = textured_runs().map(|run| run.len() % LANES).filter(|&n| n >= WIDE_TAIL).sum();
+        assert!(wide_px > 300 && tail_px > 50, "{wide_px} pixels shaded eight at a time, {tail_px} in shorter groups");
     }
 }

@@ -119,6 +119,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 println!("control step, 2 cameras    {:>8.4} ms  ({:.0} steps/s)", r.ms_per_step_two_cameras_256, r.steps_per_second_two_cameras_256);
                 println!("  the same, drawn whole    {:>8.4} ms  (static layer off)", r.ms_per_step_two_cameras_256_whole);
                 println!("look                       {}", r.look);
+                println!("machine                    {}; code for {}", r.cpu.as_deref().unwrap_or("CPU not reported"), r.code_for);
                 match r.peak_rss_mb_all_40_tasks {
                     Some(mb) => println!("peak memory, all 40 tasks' scenes built: {mb:.0} MB"),
                     None => println!("peak memory: not reported by this system"),
